@@ -1,0 +1,153 @@
+"""The discrete problem of a scene: mesh, spaces, assembled stiffness and loads, contact points.
+
+Everything here depends only on mesh, material and load *patterns*; friction μ, wear κ, the gap g
+and the foundation velocity v* enter at solve time, so changing them reuses every factorisation.
+Time dependence: f(t) = f · s_F(t), v*(t) = v* · s_v(t) with piecewise-linear tables.
+"""
+from __future__ import annotations
+
+from functools import cached_property
+
+import ngsolve as ngs
+import numpy as np
+import scipy.sparse as sp
+
+from .condense import ElasticOperator
+from .forms import contact_form, contact_points, displacement_space, elastic_form, load_form
+from .geometry import build_mesh
+from .laws import compliance_from, piecewise_linear
+from .scene import Scene
+
+
+class Discretization:
+    """Assembled, factorised pieces of a scene, built lazily and reused across steps and runs."""
+
+    def __init__(self, scene: Scene, mesh: ngs.Mesh | None = None):
+        self.scene = scene
+        self.mesh = mesh if mesh is not None else build_mesh(scene)
+        self.fes = displacement_space(self.mesh, scene)
+        self.free = np.array(list(self.fes.FreeDofs()), dtype=bool)
+        self.points = contact_points(self.fes, scene.dim, scene.mesh.order)
+        self.nu = np.array(scene.contact.direction)
+        n, d = self.points.n, scene.dim
+        self.N = sp.csr_matrix(sp.kron(sp.eye(n), self.nu[None, :]) @ self.points.P)
+        heights = self.points.coords @ self.nu
+        self.d0 = heights.max(initial=0.0) - heights
+        self.law = compliance_from(scene.contact)
+
+    # ---- elastic part (mesh + material) ------------------------------------------------
+    @cached_property
+    def stiffness(self) -> sp.csr_matrix:
+        a = elastic_form(self.fes, self.scene)
+        a.Assemble()
+        vals, cols, ptr = a.mat.CSR()
+        n = self.fes.ndof
+        K = sp.csr_matrix((np.array(vals), np.array(cols), np.array(ptr)), shape=(n, n))
+        return _complete_symmetric(K)
+
+    @cached_property
+    def load(self) -> np.ndarray:
+        """Load vector at unit time factor."""
+        f = load_form(self.fes, self.scene)
+        f.Assemble()
+        return f.vec.FV().NumPy().copy()
+
+    @cached_property
+    def operator(self) -> ElasticOperator:
+        contact_dofs = np.unique(self.points.P.indices)
+        return ElasticOperator(self.stiffness, self.free, contact_dofs)
+
+    @cached_property
+    def u_load(self) -> np.ndarray:
+        """K⁻¹ f at unit time factor."""
+        return self.operator.solve(self.load)
+
+    @cached_property
+    def s_load(self) -> np.ndarray:
+        return self.N @ self.u_load
+
+    @cached_property
+    def point_compliance(self) -> np.ndarray:
+        """G = P K⁻¹ Pᵀ, shape (n, d, n, d): displacement at x_i per unit force at x_j."""
+        op, P = self.operator, self.points.P
+        Pc = P[:, op.contact_dofs].toarray()
+        G = Pc @ op.contact_inverse @ Pc.T
+        n, d = self.points.n, self.scene.dim
+        return G.reshape(n, d, n, d)
+
+    @cached_property
+    def normal_compliance(self) -> np.ndarray:
+        """H = ν·G·ν."""
+        return np.einsum("a,iajb,b->ij", self.nu, self.point_compliance, self.nu)
+
+    def friction_compliance(self, n_star: np.ndarray) -> np.ndarray:
+        """ν·G·n*: normal displacement per unit tangential force along n*."""
+        return np.einsum("a,iajb,b->ij", self.nu, self.point_compliance, n_star)
+
+    # ---- time-dependent data -----------------------------------------------------------
+    def load_factor(self, t: float) -> float:
+        return piecewise_linear(self.scene.loads.time_table, t)
+
+    def velocity(self, t: float) -> np.ndarray:
+        return np.array(self.scene.foundation.velocity) * piecewise_linear(self.scene.foundation.speed_table, t)
+
+    def alpha(self, t: float) -> float:
+        """α(t) = κ ‖v*(t)‖."""
+        return self.scene.contact.wear * float(np.linalg.norm(self.velocity(t)))
+
+    def n_star(self, t: float) -> np.ndarray:
+        """n* = −v*_τ/‖v*_τ‖ (0 where the foundation is at rest)."""
+        v = self.velocity(t)
+        vt = v - (v @ self.nu) * self.nu
+        norm = np.linalg.norm(vt)
+        return -vt / norm if norm > 0 else np.zeros_like(vt)
+
+    def contact_forces(self, pressure, reaction, t: float) -> np.ndarray:
+        """Point forces on the foundation side, f_i = m_i (p_i (ν + μ n*) + λ_i ν), shape (n, d)."""
+        m, mu = self.points.weights, self.scene.contact.friction
+        b = self.nu + mu * self.n_star(t)
+        return m[:, None] * (pressure[:, None] * b[None, :] + reaction[:, None] * self.nu[None, :])
+
+    def recover(self, forces: np.ndarray, t: float) -> np.ndarray:
+        """Displacement DOF vector u = s_F(t) K⁻¹ f − K⁻¹ Pᵀ f_c (one back-substitution)."""
+        return self.load_factor(t) * self.u_load - self.operator.solve(self.points.P.T @ forces.ravel())
+
+    @cached_property
+    def _in_body(self) -> np.ndarray:
+        return np.array([el.mat == "body" for el in self.mesh.Elements(ngs.VOL)])
+
+    def locate(self, points: np.ndarray):
+        """NGSolve mesh points of reference points in the body (Γ_C points are taken from the body side)."""
+        points = np.asarray(points, dtype=float)
+        mips = self.mesh(*points.T)
+        outside = (mips["nr"] < 0) | ~self._in_body[np.maximum(mips["nr"], 0)]
+        if outside.any():
+            nudged = points[outside] - 1e-6 * self.scene.mesh.maxh * self.nu
+            again = self.mesh(*nudged.T)
+            if np.any(again["nr"] < 0) or not self._in_body[again["nr"]].all():
+                bad = points[outside][(again["nr"] < 0) | ~self._in_body[np.maximum(again["nr"], 0)]][0]
+                raise ValueError(f"points: {bad.tolist()} is not in the body")
+            mips[outside] = again
+        return mips
+
+    def gridfunction(self, u: np.ndarray) -> ngs.GridFunction:
+        gf = ngs.GridFunction(self.fes)
+        gf.vec.FV().NumPy()[:] = u
+        return gf
+
+    @cached_property
+    def full_form(self):
+        """Elastic + contact terms as one NGSolve form (for the full-system reference path)."""
+        cf = contact_form(self.fes, self.scene, self.law, with_elastic=True)
+        cf.d0.vec.FV().NumPy()[:] = self.points.Q @ self.d0
+        return cf
+
+
+def _complete_symmetric(K: sp.csr_matrix) -> sp.csr_matrix:
+    """Both triangles of K, whether NGSolve handed back one triangle or the whole matrix."""
+    upper, lower = sp.triu(K, 1), sp.tril(K, -1)
+    if upper.nnz == 0 and lower.nnz:
+        return (K + lower.T).tocsr()
+    if lower.nnz == 0 and upper.nnz:
+        return (K + upper.T).tocsr()
+    return K

@@ -1,0 +1,53 @@
+"""Constitutive laws: normal compliance p and Hooke's elasticity.
+
+Compliance (paper H(p)): p Lipschitz, non-decreasing, p(r) = 0 for r ≤ 0.
+``linear``: p(r) = L r₊ (paper: L = 10);  ``power``: p(r) = c r₊^e, e ≥ 1.
+Elasticity (paper §5): F(ε) = 2η ε + λ tr(ε) I.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Compliance:
+    """p(r) = stiffness · r₊^exponent (exponent 1: the paper's linear law)."""
+
+    stiffness: float
+    exponent: float = 1.0
+
+    def __call__(self, r: np.ndarray) -> np.ndarray:
+        return self.stiffness * np.maximum(r, 0.0) ** self.exponent
+
+    def derivative(self, r: np.ndarray) -> np.ndarray:
+        """Generalised derivative p'(r) (Heaviside · L for the linear law, 0 at the kink)."""
+        rp = np.maximum(r, 0.0)
+        if self.exponent == 1.0:
+            return np.where(r > 0, self.stiffness, 0.0)
+        return np.where(r > 0, self.stiffness * self.exponent * rp ** (self.exponent - 1), 0.0)
+
+    def cf(self, r: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
+        """The same law as an NGSolve CoefficientFunction of r."""
+        rp = ngs.IfPos(r, r, 0)
+        return self.stiffness * (rp if self.exponent == 1.0 else rp ** self.exponent)
+
+
+def compliance_from(contact) -> Compliance:
+    """The compliance law a scene's ``[contact]`` table describes."""
+    return Compliance(contact.stiffness, contact.exponent if contact.law == "power" else 1.0)
+
+
+def hooke_stress(strain: ngs.CoefficientFunction, lam: float, mu: float, dim: int):
+    """σ = 2η ε + λ tr(ε) I."""
+    return 2 * mu * strain + lam * ngs.Trace(strain) * ngs.Id(dim)
+
+
+def piecewise_linear(table, t: float) -> float:
+    """Value at t of the piecewise-linear function through ``[(t, f), ...]`` (1 for an empty table)."""
+    if not table:
+        return 1.0
+    ts, fs = zip(*table)
+    return float(np.interp(t, ts, fs))

@@ -1,0 +1,174 @@
+"""Result of a run: per-step contact-point arrays, Newton records and displacement fields.
+
+Arrays of shape (steps + 1, n_c) over the contact points (fewer rows if the run stopped early):
+``wear`` w, ``normal_displacement`` u_ν, ``pressure`` p(u_ν − d₀ − w), ``reaction`` λ (the
+constraint multiplier, a traction like the pressure).  ``save(dir)`` writes ``result.npz`` (these
+names as keys), ``scene.json``, ``mesh.vol`` and a VTU/PVD series of the stored steps;
+:func:`load_result` reads them back.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .scene import Scene
+from .solver import NewtonRecord
+
+ARRAYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces")
+
+
+@dataclass
+class Result:
+    """What a run produced; see the module docstring for the array layout."""
+
+    scene: Scene
+    contact_points: np.ndarray
+    weights: np.ndarray
+    times: np.ndarray
+    wear: np.ndarray
+    normal_displacement: np.ndarray
+    pressure: np.ndarray
+    reaction: np.ndarray
+    forces: np.ndarray
+    newton: list[NewtonRecord] = field(default_factory=list)
+    status: str = "completed"
+    wall_time: float = 0.0
+    fields: dict[int, np.ndarray] = field(default_factory=dict)
+    discretization: object = field(default=None, repr=False)
+
+    @classmethod
+    def empty(cls, scene: Scene, disc) -> Result:
+        n, d = disc.points.n, scene.dim
+        return cls(scene, disc.points.coords, disc.points.weights, np.zeros(0), *(np.zeros((0, n)),) * 4,
+                   np.zeros((0, n, d)), discretization=disc)
+
+    def append(self, t, w, s, p, lam, forces, record: NewtonRecord) -> None:
+        self.times = np.append(self.times, t)
+        for name, value in (("wear", w), ("normal_displacement", s), ("pressure", p),
+                            ("reaction", lam), ("forces", forces)):
+            setattr(self, name, np.concatenate([getattr(self, name), value[None]]))
+        self.newton.append(record)
+
+    def fail(self, message: str, record: NewtonRecord) -> None:
+        self.status = message
+        self.newton.append(record)
+
+    @property
+    def completed(self) -> bool:
+        return self.status == "completed"
+
+    @property
+    def steps(self) -> int:
+        """Index of the last completed step."""
+        return len(self.times) - 1
+
+    @property
+    def penetration(self) -> np.ndarray:
+        """u_ν − d₀ − w: how far the foundation is inside the remaining layer."""
+        return self.normal_displacement - self.d0[None, :] - self.wear
+
+    @property
+    def d0(self) -> np.ndarray:
+        nu = np.array(self.scene.contact.direction)
+        h = self.contact_points @ nu
+        return h.max(initial=0.0) - h
+
+    @property
+    def stored_steps(self) -> list[int]:
+        """Steps written with full fields: every ``output.every``-th and the last completed."""
+        every = self.scene.output.every
+        return sorted(set(range(0, self.steps + 1, every)) | {self.steps}) if self.steps >= 0 else []
+
+    def displacement(self, step: int) -> np.ndarray:
+        """DOF vector of u at a step, recovered with one back-substitution and cached."""
+        step = range(self.steps + 1)[step]
+        if step not in self.fields:
+            if self.discretization is None:
+                raise KeyError(f"step {step} was not stored; stored steps: {sorted(self.fields)}")
+            self.fields[step] = self.discretization.recover(self.forces[step], self.times[step])
+        return self.fields[step]
+
+    def displacement_at(self, points, step: int) -> np.ndarray:
+        """u at reference points of the body (shape (m, d)) at a step; shape (m, d)."""
+        disc = self._disc()
+        gf = disc.gridfunction(self.displacement(step))
+        pts = np.atleast_2d(np.asarray(points, dtype=float))
+        return np.asarray(gf(disc.locate(pts))).reshape(len(pts), -1)
+
+    def _disc(self):
+        if self.discretization is None:
+            raise RuntimeError("this result has no mesh attached")
+        return self.discretization
+
+    def summary(self) -> dict:
+        """Key numbers of the run (what ``ngwear run`` prints)."""
+        g = self.scene.contact.gap
+        its = [r.iterations for r in self.newton if r.converged]
+        pen = self.normal_displacement - self.d0[None, :] if len(self.times) else np.zeros((1, 1))
+        last = -1
+        return {
+            "status": self.status,
+            "steps": self.steps,
+            "contact_points": len(self.weights),
+            "max_wear": float(self.wear.max(initial=0.0)),
+            "max_penetration": float(pen.max(initial=0.0)),
+            "gap": g,
+            "contact_fraction": float((self.pressure[last] > 0).mean()) if len(self.times) else 0.0,
+            "active_fraction": float((self.reaction[last] > 0).mean()) if len(self.times) else 0.0,
+            "newton_iterations_total": int(sum(its)),
+            "newton_iterations_max": int(max(its, default=0)),
+            "wall_time_s": round(self.wall_time, 3),
+        }
+
+    def save(self, directory) -> Path:
+        """Write result.npz, scene.json, mesh.vol, summary.json and a VTU/PVD series."""
+        out = Path(directory)
+        out.mkdir(parents=True, exist_ok=True)
+        steps = self.stored_steps
+        fields = np.array([self.displacement(s) for s in steps]) if self.discretization else np.zeros((0, 0))
+        np.savez_compressed(
+            out / "result.npz", contact_points=self.contact_points, weights=self.weights,
+            **{name: getattr(self, name) for name in ARRAYS},
+            newton_iterations=np.array([r.iterations for r in self.newton]),
+            newton_converged=np.array([r.converged for r in self.newton]),
+            newton_active=np.array([r.active for r in self.newton]),
+            newton_residuals=np.array([r.residuals[-1] if r.residuals else np.nan for r in self.newton]),
+            field_steps=np.array(steps, dtype=int), fields=fields,
+            status=np.array(self.status), wall_time=np.array(self.wall_time))
+        (out / "scene.json").write_text(json.dumps(self.scene.to_dict(), indent=2))
+        (out / "summary.json").write_text(json.dumps(self.summary(), indent=2))
+        if self.discretization is not None:
+            self.discretization.mesh.ngmesh.Save(str(out / "mesh.vol"))
+            from .vtk import write_series
+            write_series(self, out)
+        return out
+
+
+def load_result(directory) -> Result:
+    """Read a saved result; ``displacement_at`` works for its stored steps."""
+    src = Path(directory)
+    if not (src / "result.npz").is_file():
+        raise FileNotFoundError(f"{src}: no result.npz (not a saved ngwear result)")
+    data = np.load(src / "result.npz")
+    scene = Scene.from_dict(json.loads((src / "scene.json").read_text()))
+    newton = [NewtonRecord(bool(c), int(i), [float(r)], int(a)) for i, c, a, r in zip(
+        data["newton_iterations"], data["newton_converged"], data["newton_active"], data["newton_residuals"])]
+    disc = None
+    if (src / "mesh.vol").is_file():
+        import netgen.meshing
+        import ngsolve as ngs
+
+        from .discrete import Discretization
+        ngmesh = netgen.meshing.Mesh(dim=scene.dim)
+        ngmesh.Load(str(src / "mesh.vol"))
+        disc = Discretization(scene, ngs.Mesh(ngmesh))
+    result = Result(scene, data["contact_points"], data["weights"],
+                    *(data[name] for name in ARRAYS), newton=newton, status=str(data["status"]),
+                    wall_time=float(data["wall_time"]),
+                    fields={int(s): f for s, f in zip(data["field_steps"], data["fields"])},
+                    discretization=disc)
+    return result
+
