@@ -28,12 +28,36 @@ class Discretization:
         self.fes = displacement_space(self.mesh, scene)
         self.free = np.array(list(self.fes.FreeDofs()), dtype=bool)
         self.points = contact_points(self.fes, scene.dim, scene.mesh.order)
+        self.law = compliance_from(scene.contact)
+        self._orient(scene)
+
+    def _orient(self, scene: Scene) -> None:
+        """Contact direction ν, normal evaluation N = ν·P and initial distance d₀ = max ν·x − ν·x_i."""
         self.nu = np.array(scene.contact.direction)
-        n, d = self.points.n, scene.dim
-        self.N = sp.csr_matrix(sp.kron(sp.eye(n), self.nu[None, :]) @ self.points.P)
+        self.N = sp.csr_matrix(sp.kron(sp.eye(self.points.n), self.nu[None, :]) @ self.points.P)
         heights = self.points.coords @ self.nu
         self.d0 = heights.max(initial=0.0) - heights
-        self.law = compliance_from(scene.contact)
+
+    def with_scene(self, scene: Scene) -> Discretization:
+        """A discretization of ``scene`` sharing every assembled/factorised piece the change leaves valid.
+
+        Same body mesh, order and clamping: mesh, space and contact points are kept (a new gap g only
+        rescales the displayed layer); same material too: K, its factorisation and G are kept; same
+        loads too: K⁻¹f is kept.  Friction, wear, g, v* and time never invalidate anything.
+        """
+        old = self.scene
+        body = lambda s: (s.geometry.kind, s.geometry.size, s.geometry.dirichlet, s.mesh)  # noqa: E731
+        if body(old) != body(scene):
+            return Discretization(scene)
+        new = object.__new__(Discretization)
+        new.__dict__.update({k: v for k, v in self.__dict__.items() if k in _MESH_PARTS})
+        new.scene, new.law = scene, compliance_from(scene.contact)
+        new._orient(scene)
+        if old.material == scene.material:
+            new.__dict__.update({k: v for k, v in self.__dict__.items() if k in _MATERIAL_PARTS})
+            if old.loads == scene.loads and old.contact.direction == scene.contact.direction:
+                new.__dict__.update({k: v for k, v in self.__dict__.items() if k in _LOAD_PARTS})
+        return new
 
     # ---- elastic part (mesh + material) ------------------------------------------------
     @cached_property
@@ -141,6 +165,11 @@ class Discretization:
         cf = contact_form(self.fes, self.scene, self.law, with_elastic=True)
         cf.d0.vec.FV().NumPy()[:] = self.points.Q @ self.d0
         return cf
+
+
+_MESH_PARTS = ("mesh", "fes", "free", "points", "_in_body")
+_MATERIAL_PARTS = ("stiffness", "operator", "point_compliance")
+_LOAD_PARTS = ("load", "u_load", "s_load", "normal_compliance")
 
 
 def _complete_symmetric(K: sp.csr_matrix) -> sp.csr_matrix:

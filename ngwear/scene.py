@@ -177,7 +177,11 @@ def load_scene(path: str | Path) -> Scene:
     if not path.is_file():
         raise SceneError(f"scene file: {path} does not exist")
     try:
-        data = tomllib.loads(path.read_text())
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as err:
+        raise SceneError(f"scene file: cannot read {path} ({err})") from None
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise SceneError(f"scene file: {path} is not valid TOML ({err})") from None
     data.setdefault("name", path.stem)
@@ -243,13 +247,15 @@ def _number(sec: dict, prefix: str, key: str, default: Any, *, lo=None, hi=None,
     name = f"{prefix}.{key}"
     if value is None:
         return None
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise SceneError(f"{name}: must be a number (got {value!r})")
-    if integer and (not isinstance(value, int) and not float(value).is_integer()):
-        raise SceneError(f"{name}: must be a whole number (got {value!r})")
-    if not math.isfinite(value):
-        raise SceneError(f"{name}: must be finite (got {value!r})")
+    kind = "a whole number" if integer else "a number"
     rng = _range_text(lo, hi, lo_open)
+    what = f"{kind} {rng}" if rng else kind
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise SceneError(f"{name}: must be {what} (got {value!r})")
+    if not math.isfinite(value):
+        raise SceneError(f"{name}: must be a finite {what.removeprefix('a ')} (got {value!r})")
+    if integer and not float(value).is_integer():
+        raise SceneError(f"{name}: must be {what} (got {value!r})")
     if lo is not None and (value < lo or (lo_open and value == lo)):
         raise SceneError(f"{name}: must be {rng} (got {value!r})")
     if hi is not None and value > hi:
@@ -262,7 +268,9 @@ def _range_text(lo, hi, lo_open) -> str:
         return f"in {'(' if lo_open else '['}{lo}, {hi}]"
     if lo is not None:
         return f"{'>' if lo_open else '>='} {lo}"
-    return f"<= {hi}"
+    if hi is not None:
+        return f"<= {hi}"
+    return ""
 
 
 def _vector(sec: dict, prefix: str, key: str, default: Any, dim: int) -> tuple[float, ...] | None:
@@ -333,7 +341,7 @@ def _build(data: dict[str, Any]) -> Scene:
     for b in dirichlet:
         if b not in boundaries or b == "contact":
             allowed = ", ".join(x for x in boundaries if x != "contact")
-            raise SceneError(f"geometry.dirichlet: unknown boundary {b!r} (allowed: {allowed})")
+            raise SceneError(f"geometry.dirichlet: unknown or non-Dirichlet boundary {b!r} (allowed: {allowed})")
     geometry = Geometry(kind, size, tuple(dirichlet))
 
     m = _section(data, "mesh", _names(MeshSpec))
@@ -345,11 +353,19 @@ def _build(data: dict[str, Any]) -> Scene:
     mesh = MeshSpec(maxh, order, layer)
 
     mat = _section(data, "material", _names(Material))
-    if ("young" in mat) == ("lame_lambda" in mat or "lame_mu" in mat):
-        raise SceneError("material: give either lame_lambda and lame_mu, or young and poisson")
-    if "young" in mat:
+    lame = [k for k in ("lame_lambda", "lame_mu") if k in mat]
+    engineering = [k for k in ("young", "poisson") if k in mat]
+    if lame and engineering:
+        raise SceneError(f"material.{engineering[0]}: cannot be combined with material.{lame[0]} "
+                         "(give either lame_lambda and lame_mu, or young and poisson)")
+    pair = ("young", "poisson") if engineering else ("lame_lambda", "lame_mu")
+    missing = [k for k in pair if k not in mat]
+    if missing:
+        raise SceneError(f"material.{missing[0]}: missing "
+                         "(give either lame_lambda and lame_mu, or young and poisson)")
+    if engineering:
         material = Material(young=_number(mat, "material", "young", None, lo=0, lo_open=True),
-                            poisson=_number(mat, "material", "poisson", 0.3, lo=-1, lo_open=True, hi=0.499))
+                            poisson=_number(mat, "material", "poisson", None, lo=-1, lo_open=True, hi=0.499))
     else:
         lam = _number(mat, "material", "lame_lambda", 1.0, lo=0)
         mu = _number(mat, "material", "lame_mu", 1.0, lo=0, lo_open=True)
@@ -361,7 +377,7 @@ def _build(data: dict[str, Any]) -> Scene:
     direction = _vector(c, "contact", "direction", default_dir, dim)
     norm = math.sqrt(sum(v * v for v in direction))
     if norm == 0:
-        raise SceneError("contact.direction: must be a non-zero vector")
+        raise SceneError(f"contact.direction: must be a non-zero vector (got {list(direction)})")
     contact = Contact(
         law=law,
         stiffness=_number(c, "contact", "stiffness", 10.0, lo=0, lo_open=True),
@@ -372,7 +388,7 @@ def _build(data: dict[str, Any]) -> Scene:
         direction=tuple(v / norm for v in direction),
     )
     if law == "linear" and "exponent" in c and c["exponent"] != 1:
-        raise SceneError("contact.exponent: only used with contact.law = 'power' (got linear law)")
+        raise SceneError(f"contact.exponent: must be 1 with contact.law = 'linear' (got {c['exponent']!r})")
 
     t = _section(data, "time", _names(TimeGrid))
     time = TimeGrid(_number(t, "time", "T", 1.0, lo=0, lo_open=True),
@@ -383,11 +399,13 @@ def _build(data: dict[str, Any]) -> Scene:
     foundation = Foundation(velocity, _table(f, "foundation", "speed_table", time.T))
     nu = contact.direction
     vn = sum(a * b for a, b in zip(velocity, nu))
-    tangential = math.sqrt(max(sum(v * v for v in velocity) - vn * vn, 0.0))
-    if contact.friction > 0 and tangential == 0:
-        raise SceneError("foundation.velocity: needs a non-zero tangential part when contact.friction > 0")
-    if contact.wear > 0 and not any(velocity):
-        raise SceneError("foundation.velocity: must be non-zero when contact.wear > 0")
+    speed = math.sqrt(sum(v * v for v in velocity))
+    tangential = math.sqrt(max(speed * speed - vn * vn, 0.0))
+    if contact.friction > 0 and tangential <= 1e-12 * speed:
+        raise SceneError("foundation.velocity: must have a non-zero part tangential to contact.direction "
+                         f"when contact.friction > 0 (got {list(velocity)})")
+    if contact.wear > 0 and speed == 0:
+        raise SceneError(f"foundation.velocity: must be non-zero when contact.wear > 0 (got {list(velocity)})")
 
     ld = _section(data, "loads", _names(Loads))
     traction = ld.get("traction", {})
@@ -398,6 +416,8 @@ def _build(data: dict[str, Any]) -> Scene:
         if bname not in boundaries or bname == "contact" or bname in geometry.dirichlet:
             allowed = ", ".join(x for x in boundaries if x != "contact" and x not in geometry.dirichlet)
             raise SceneError(f"loads.traction.{bname}: unknown or non-Neumann boundary (allowed: {allowed})")
+        if vec is None:
+            raise SceneError(f"loads.traction.{bname}: must be a list of {dim} numbers (got None)")
         pairs.append((bname, _vector(traction, "loads.traction", bname, None, dim)))
     loads = Loads(tuple(pairs), _vector(ld, "loads", "body_force", None, dim),
                   _table(ld, "loads", "time_table", time.T))
@@ -409,6 +429,9 @@ def _build(data: dict[str, Any]) -> Scene:
     solver = SolverSpec(_choice(s, "solver", "method", "condensed", SOLVERS),
                         _number(s, "solver", "tolerance", 1e-10, lo=1e-15, hi=1e-2),
                         _number(s, "solver", "max_iterations", 50, lo=1, hi=10_000, integer=True))
+    if solver.method == "full" and wear.integrator != "explicit":
+        raise SceneError(f"solver.method: 'full' supports only wear.integrator = 'explicit' "
+                         f"(got {wear.integrator!r}; use solver.method = 'condensed')")
 
     o = _section(data, "output", _names(Output))
     output = Output(_number(o, "output", "every", max(1, time.steps // 4), lo=1, integer=True))

@@ -23,9 +23,16 @@ log = logging.getLogger(__name__)
 
 def simulate(scene: Scene, *, discretization: Discretization | None = None,
              progress: bool = True) -> Result:
-    """Run the scene's time loop; a run that fails part-way returns the steps it completed."""
+    """Run the scene's time loop; a run that fails part-way returns the steps it completed.
+
+    Pass the ``discretization`` of an earlier run to reuse its mesh, factorisation and contact
+    compliance wherever the scene change allows (see :meth:`Discretization.with_scene`).
+    """
     start = time.perf_counter()
-    disc = discretization if discretization is not None else Discretization(scene)
+    if discretization is None:
+        disc = Discretization(scene)
+    else:
+        disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
     k, steps = scene.dt, scene.time.steps
     n = disc.points.n
     g, mu = scene.contact.gap, scene.contact.friction
