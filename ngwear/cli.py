@@ -42,7 +42,9 @@ def run(args) -> int:
     summary = result.summary()
     width = max(map(len, summary))
     for key, value in summary.items():
-        print(f"{key:<{width}}  {value}")
+        print(f"{key:<{width}}  {value:.4g}" if isinstance(value, float) else f"{key:<{width}}  {value}")
+    for warning in result.warnings:
+        print(f"{'warning':<{width}}  {warning}")
     print(f"{'written':<{width}}  {out}/ (result.npz, fields.pvd, {len(pictures)} PNG)")
     if not result.completed:
         print(f"ngwear: run stopped early: {result.status}", file=sys.stderr)

@@ -35,6 +35,7 @@ class Result:
     forces: np.ndarray
     newton: list[NewtonRecord] = field(default_factory=list)
     status: str = "completed"
+    warnings: list[str] = field(default_factory=list)
     wall_time: float = 0.0
     fields: dict[int, np.ndarray] = field(default_factory=dict)
     discretization: object = field(default=None, repr=False)

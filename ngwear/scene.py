@@ -252,9 +252,9 @@ def _number(sec: dict, prefix: str, key: str, default: Any, *, lo=None, hi=None,
     what = f"{kind} {rng}" if rng else kind
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise SceneError(f"{name}: must be {what} (got {value!r})")
-    if not math.isfinite(value):
+    if isinstance(value, float) and not math.isfinite(value):
         raise SceneError(f"{name}: must be a finite {what.removeprefix('a ')} (got {value!r})")
-    if integer and not float(value).is_integer():
+    if integer and isinstance(value, float) and not value.is_integer():
         raise SceneError(f"{name}: must be {what} (got {value!r})")
     if lo is not None and (value < lo or (lo_open and value == lo)):
         raise SceneError(f"{name}: must be {rng} (got {value!r})")

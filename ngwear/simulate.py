@@ -16,7 +16,7 @@ from .discrete import Discretization
 from .result import Result
 from .scene import Scene
 from .solver import CondensedSystem, ConvergenceError, FullSystem, semismooth_newton
-from .wear import WearIntegrator
+from .wear import WearIntegrator, explicit_stability
 
 log = logging.getLogger(__name__)
 
@@ -38,6 +38,10 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None,
     g, mu = scene.contact.gap, scene.contact.friction
     integrator = WearIntegrator(scene.wear.integrator, disc.law, k, n)
     result = Result.empty(scene, disc)
+    warning = explicit_stability(scene)
+    if warning:
+        log.warning("%s", warning)
+        result.warnings.append(warning)
     x = np.zeros(n) if scene.solver.method == "condensed" else np.zeros(int(disc.free.sum()))
     lam = np.zeros(n)
     step_range = range(steps + 1)

@@ -74,3 +74,24 @@ class WearIntegrator:
         k = self.k
         self.a = w + self.theta_old * k * alpha * pressure if alpha and self.theta_old else w
         self.c = self.theta_new * k * alpha_next
+
+
+def explicit_stability(scene) -> str | None:
+    """Warning text when the explicit update k α L_p oscillates (> 1) or diverges (> 2), else None.
+
+    L_p is the largest slope of p over [0, g]; α = κ max_t ‖v*(t)‖.
+    """
+    if scene.wear.integrator != "explicit" or scene.contact.wear == 0:
+        return None
+    c = scene.contact
+    e = c.exponent if c.law == "power" else 1.0
+    slope = c.stiffness * e * c.gap ** (e - 1)
+    speeds = [abs(f) for _, f in scene.foundation.speed_table] or [1.0]
+    alpha = c.wear * float(np.linalg.norm(scene.foundation.velocity)) * max(speeds)
+    r = scene.dt * alpha * slope
+    if r <= 1:
+        return None
+    kind = "diverges" if r > 2 else "oscillates"
+    return (f"time.steps: explicit wear with k·α·L = {r:.3g} > {1 if r <= 2 else 2} {kind}; "
+            f"use wear.integrator = 'implicit' or 'trapezoidal', or time.steps >= "
+            f"{int(np.ceil(scene.time.T * alpha * slope))}")

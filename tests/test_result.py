@@ -1,0 +1,45 @@
+"""Result files: npz/JSON round trip, VTU/PVD series, displacement at stored steps, partial runs."""
+import numpy as np
+import pytest
+
+import ngwear
+from ngwear.result import ARRAYS
+
+
+@pytest.fixture(scope="module")
+def small(paper_scene):
+    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 8, "output.every": 4})
+    return ngwear.simulate(scene, progress=False)
+
+
+def test_save_and_load_round_trip(small, tmp_path):
+    small.save(tmp_path)
+    assert (tmp_path / "fields.pvd").is_file() and len(list(tmp_path.glob("fields*.vtu"))) == 3
+    back = ngwear.load_result(tmp_path)
+    assert back.scene == small.scene and back.status == small.status
+    for name in ARRAYS + ("contact_points", "weights"):
+        assert np.array_equal(getattr(back, name), getattr(small, name)), name
+    data = np.load(tmp_path / "result.npz")
+    assert {"wear", "normal_displacement", "pressure", "reaction", "times"} <= set(data.files)
+    pts = [[3.0, 1.0], [2.0, 0.0]]
+    for step in small.stored_steps:
+        assert np.allclose(back.displacement_at(pts, step), small.displacement_at(pts, step), atol=1e-14)
+
+
+def test_shapes(small):
+    n = len(small.weights)
+    assert small.contact_points.shape == (n, 2)
+    for name in ("wear", "normal_displacement", "pressure", "reaction"):
+        assert getattr(small, name).shape == (9, n)
+    assert small.stored_steps == [0, 4, 8]
+
+
+def test_failed_run_keeps_completed_steps(paper_scene, tmp_path):
+    """A Newton failure mid-run stops with a message naming the step and keeps what was computed."""
+    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 10, "solver.max_iterations": 2,
+                                   "loads.time_table": [[0, 0], [0.5, 0], [0.6, 1], [1, 1]]})
+    r = ngwear.simulate(scene, progress=False)
+    assert not r.completed and "step 7" in r.status, r.status
+    assert r.wear.shape[0] == r.steps + 1 == 7
+    r.save(tmp_path)
+    assert ngwear.load_result(tmp_path).status == r.status
