@@ -60,8 +60,8 @@ def main(argv: list[str] | None = None) -> int:
     except SceneError as err:
         print(f"ngwear: {err}", file=sys.stderr)
         return 2
-    except (FileNotFoundError, ValueError) as err:
-        print(f"ngwear: {err}", file=sys.stderr)
+    except OSError as err:
+        print(f"ngwear: --out: cannot write {err.filename or args.out} ({err.strerror or err})", file=sys.stderr)
         return 2
 
 

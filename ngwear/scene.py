@@ -234,7 +234,7 @@ def _to_plain(obj: Any) -> Any:
 def _section(data: dict, name: str, allowed: tuple[str, ...]) -> dict:
     sec = data.get(name, {})
     if not isinstance(sec, dict):
-        raise SceneError(f"{name}: must be a table")
+        raise SceneError(f"{name}: must be a table (got {sec!r})")
     for key in sec:
         if key not in allowed:
             raise SceneError(f"{name}.{key}: unknown key (allowed: {', '.join(allowed)})")
@@ -358,12 +358,10 @@ def _build(data: dict[str, Any]) -> Scene:
     if lame and engineering:
         raise SceneError(f"material.{engineering[0]}: cannot be combined with material.{lame[0]} "
                          "(give either lame_lambda and lame_mu, or young and poisson)")
-    pair = ("young", "poisson") if engineering else ("lame_lambda", "lame_mu")
-    missing = [k for k in pair if k not in mat]
-    if missing:
-        raise SceneError(f"material.{missing[0]}: missing "
-                         "(give either lame_lambda and lame_mu, or young and poisson)")
     if engineering:
+        missing = [k for k in ("young", "poisson") if k not in mat]
+        if missing:
+            raise SceneError(f"material.{missing[0]}: missing (young and poisson go together)")
         material = Material(young=_number(mat, "material", "young", None, lo=0, lo_open=True),
                             poisson=_number(mat, "material", "poisson", None, lo=-1, lo_open=True, hi=0.499))
     else:
@@ -400,7 +398,7 @@ def _build(data: dict[str, Any]) -> Scene:
     nu = contact.direction
     vn = sum(a * b for a, b in zip(velocity, nu))
     speed = math.sqrt(sum(v * v for v in velocity))
-    tangential = math.sqrt(max(speed * speed - vn * vn, 0.0))
+    tangential = math.sqrt(sum((v - vn * n) ** 2 for v, n in zip(velocity, nu)))
     if contact.friction > 0 and tangential <= 1e-12 * speed:
         raise SceneError("foundation.velocity: must have a non-zero part tangential to contact.direction "
                          f"when contact.friction > 0 (got {list(velocity)})")
@@ -410,7 +408,7 @@ def _build(data: dict[str, Any]) -> Scene:
     ld = _section(data, "loads", _names(Loads))
     traction = ld.get("traction", {})
     if not isinstance(traction, dict):
-        raise SceneError("loads.traction: must be a table of boundary = [vector]")
+        raise SceneError(f"loads.traction: must be a table of boundary = [vector] (got {traction!r})")
     pairs = []
     for bname, vec in traction.items():
         if bname not in boundaries or bname == "contact" or bname in geometry.dirichlet:
