@@ -145,13 +145,16 @@ class Discretization:
         points = np.asarray(points, dtype=float)
         mips = self.mesh(*points.T)
         outside = (mips["nr"] < 0) | ~self._in_body[np.maximum(mips["nr"], 0)]
+        for nudge in (1e-8, 1e-6, 1e-4):
+            if not outside.any():
+                break
+            again = self.mesh(*(points[outside] - nudge * self.scene.mesh.maxh * self.nu).T)
+            found = (again["nr"] >= 0) & self._in_body[np.maximum(again["nr"], 0)]
+            idx = np.flatnonzero(outside)[found]
+            mips[idx] = again[found]
+            outside[idx] = False
         if outside.any():
-            nudged = points[outside] - 1e-6 * self.scene.mesh.maxh * self.nu
-            again = self.mesh(*nudged.T)
-            if np.any(again["nr"] < 0) or not self._in_body[again["nr"]].all():
-                bad = points[outside][(again["nr"] < 0) | ~self._in_body[np.maximum(again["nr"], 0)]][0]
-                raise ValueError(f"points: {bad.tolist()} is not in the body")
-            mips[outside] = again
+            raise ValueError(f"points: {points[outside][0].tolist()} is not in the body")
         return mips
 
     def gridfunction(self, u: np.ndarray) -> ngs.GridFunction:

@@ -89,9 +89,9 @@ def contact_form(fes: ngs.FESpace, scene: Scene, law: Compliance, with_elastic: 
     form = ngs.BilinearForm(fes)
     if with_elastic:
         form += elastic_integrand(fes, scene)
-    penetration = ngs.InnerProduct(u, nu) - d0 - w
+    compression = ngs.InnerProduct(u, nu) - d0 - w
     direction = nu + mu * ngs.CF(tuple(n_star))
-    form += law.cf(penetration) * ngs.InnerProduct(direction, v) * contact_ds(dim, order)
+    form += law.cf(compression) * ngs.InnerProduct(direction, v) * contact_ds(dim, order)
     return ContactForm(form, w, d0, mu, n_star)
 
 

@@ -67,8 +67,8 @@ class Result:
         return len(self.times) - 1
 
     @property
-    def penetration(self) -> np.ndarray:
-        """u_ν − d₀ − w: how far the foundation is inside the remaining layer."""
+    def compression(self) -> np.ndarray:
+        """u_ν − d₀ − w: how far the remaining (unworn) layer is compressed (p acts where > 0)."""
         return self.normal_displacement - self.d0[None, :] - self.wear
 
     @property
@@ -108,6 +108,7 @@ class Result:
         """Key numbers of the run (what ``ngwear run`` prints)."""
         g = self.scene.contact.gap
         its = [r.iterations for r in self.newton if r.converged]
+        # the paper's "penetration": how far Γ_C has moved into the layer, u_ν − d₀ ≤ g
         pen = self.normal_displacement - self.d0[None, :] if len(self.times) else np.zeros((1, 1))
         last = -1
         return {

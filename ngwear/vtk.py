@@ -7,7 +7,7 @@ import ngsolve as ngs
 
 
 def write_series(result, directory: Path) -> Path:
-    """Write ``fields_stepNNNNN.vtu`` (displacement, wear) per stored step and ``fields.pvd`` linking them."""
+    """Write one VTU (displacement, wear) per stored step and ``fields.pvd`` with their times."""
     disc = result.discretization
     mesh = disc.mesh
     u = ngs.GridFunction(disc.fes)

@@ -43,3 +43,15 @@ def test_failed_run_keeps_completed_steps(paper_scene, tmp_path):
     assert r.wear.shape[0] == r.steps + 1 == 7
     r.save(tmp_path)
     assert ngwear.load_result(tmp_path).status == r.status
+
+
+def test_displacement_on_contact_boundary(small):
+    """Points of Γ_C (shared with the layer) are evaluated from the body side."""
+    u = small.displacement_at([[0.0, 0.0], [3.0, 0.0], [1.5, 0.0]], -1)
+    assert np.allclose(u[0], 0, atol=1e-12)
+    s = -u[1:, 1]
+    x = small.contact_points[:, 0]
+    for xi, si in zip((3.0, 1.5), s):
+        j = np.argmin(abs(x - xi))
+        if abs(x[j] - xi) < 1e-12:
+            assert abs(small.normal_displacement[-1, j] - si) < 1e-6

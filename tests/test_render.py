@@ -1,0 +1,130 @@
+"""Off-screen pictures and line plots: checks that fail on a blank or wrong picture.
+
+The 2D pictures are drawn unlit, so the flat colours are exact: the foundation is dimgray, the body
+with ``field="wear"`` is lightsteelblue, the worn-away layer is white at opacity 0.5 over dimgray, and
+the remaining layer takes YlOrRd colours of w / g.  At the end of the paper's run the layer is worn
+through near x = 3 and untouched at the clamped end x = 0.
+"""
+import numpy as np
+import pytest
+from conftest import PAPER
+from matplotlib import colormaps
+from PIL import Image
+
+import ngwear
+from ngwear import plots, render
+
+FOUNDATION = (105, 105, 105)
+BODY = (176, 196, 222)
+WORN = (180, 180, 180)
+
+
+@pytest.fixture(scope="module")
+def strip():
+    scene = ngwear.load_scene(PAPER).replace(**{"mesh.maxh": 0.1, "time.steps": 20})
+    return ngwear.simulate(scene, progress=False)
+
+
+@pytest.fixture(scope="module")
+def box():
+    scene = ngwear.Scene.from_dict({
+        "name": "box", "geometry": {"kind": "box", "size": [1.0, 0.5, 0.5]}, "mesh": {"maxh": 0.2},
+        "material": {"lame_lambda": 1.0, "lame_mu": 1.0},
+        "contact": {"gap": 0.1, "friction": 0.5, "wear": 1.5, "direction": [0, 0, -1]},
+        "foundation": {"velocity": [1, 0, 0]}, "loads": {"traction": {"top": [0, 0, -0.2]}},
+        "time": {"steps": 16}})
+    return ngwear.simulate(scene, progress=False)
+
+
+@pytest.fixture(scope="module")
+def first_last(strip):
+    """Pictures at step 0 and at the last step, body plain so that it has one exact colour."""
+    return render.frame(strip, 0, field="wear"), render.frame(strip, -1, field="wear")
+
+
+def mask(image, colour, tol=3):
+    return np.abs(image.astype(int) - colour).max(axis=-1) <= tol
+
+
+def near_cmap(image, name, lo, hi, tol=12):
+    """Pixels within ``tol`` of the colour map's colours between lo and hi (fractions of the range)."""
+    codes, inverse = np.unique(image.astype(np.int32) @ (65536, 256, 1), return_inverse=True)
+    rgb = np.column_stack([codes >> 16, (codes >> 8) & 255, codes & 255])
+    colours = colormaps[name](np.linspace(lo, hi, 64))[:, :3] * 255
+    near = (np.abs(rgb[:, None] - colours[None]).max(axis=-1) <= tol).any(axis=1)
+    return near[inverse].reshape(image.shape[:2])
+
+
+def rows(m, fraction=0.3):
+    """Rows in which the mask covers more than ``fraction`` of the width (text and edges do not)."""
+    return np.flatnonzero(m.mean(axis=1) > fraction)
+
+
+def layer_band(image):
+    """The part of the picture around the foundation's surface, and the body's first/last column."""
+    top = rows(mask(image, FOUNDATION)).min()
+    body = mask(image, BODY)
+    x = np.flatnonzero(body.mean(axis=0) > 0.2)
+    return image[top - 70:top + 40], x[0], x[-1]
+
+
+def test_frame_is_an_rgb_picture_with_body_above_foundation(first_last):
+    image = first_last[1]
+    assert image.shape == (500, 1200, 3) and image.dtype == np.uint8
+    assert image.std() > 20
+    body, ground = rows(mask(image, BODY)), rows(mask(image, FOUNDATION))
+    assert len(body) > 0.4 * image.shape[0] and len(ground) > 0.1 * image.shape[0]
+    assert body.max() < ground.min() < ground.max() and ground.min() > 0.5 * image.shape[0]
+
+
+def test_layer_is_worn_at_the_right_end_not_at_the_clamped_end(first_last):
+    band, x0, x1 = layer_band(first_last[1])
+    left, right = band[:, x0:x0 + (x1 - x0) // 25], band[:, (x0 + x1) // 2:x1]
+    assert near_cmap(left, "YlOrRd", 0.0, 0.1).sum() > 100 and not near_cmap(left, "YlOrRd", 0.5, 1.0).any()
+    assert near_cmap(right, "YlOrRd", 0.5, 1.0).sum() > 50
+    worn_thickness = [mask(part, WORN).sum(axis=0).mean() for part in (left, right)]
+    assert worn_thickness[0] < 2 < 20 < worn_thickness[1]
+
+
+def test_wear_changes_the_layer_between_first_and_last_step(first_last):
+    (first, *_), (last, *_) = map(layer_band, first_last)
+    assert mask(first, WORN).sum() < 20 and mask(last, WORN).sum() > 5000
+    assert np.abs(first.astype(int) - last).mean() > 10
+
+
+def test_displacement_field_colours_the_body(strip):
+    image = render.frame(strip, -1, window_size=(600, 250))
+    assert image.shape == (250, 600, 3)
+    assert near_cmap(image, "viridis", 0.05, 1.0).mean() > 0.1
+    assert not mask(image, BODY).any()
+
+
+def test_unknown_field_is_rejected(strip):
+    with pytest.raises(ValueError, match="field"):
+        render.frame(strip, 0, field="temperature")
+
+
+def test_paper_figures_in_3d(box, tmp_path):
+    paths = render.paper_figures(box, tmp_path)
+    assert [p.name for p in paths] == ["fig1_step004.png", "fig2_step008.png", "fig3_step012.png",
+                                       "fig4_step016.png"]
+    images = [np.asarray(Image.open(p).convert("RGB")) for p in paths]
+    assert all(im.std() > 20 for im in images)
+    assert np.abs(images[0].astype(int) - images[-1]).mean() > 1
+
+
+def test_animation_and_saved_frame(strip, tmp_path):
+    gif = render.animation(strip, tmp_path / "run.gif", fps=5, steps=[0, 10, 20], window_size=(300, 130))
+    with Image.open(gif) as im:
+        assert im.n_frames == 3
+    png = render.save_frame(strip, 10, tmp_path / "sub" / "f.png", field="pressure", magnify=2.0)
+    assert np.asarray(Image.open(png)).std() > 20
+
+
+@pytest.mark.parametrize("plot", [plots.wear_profiles, plots.pressure_history])
+@pytest.mark.parametrize("result", ["strip", "box"])
+def test_plots_are_nontrivial_pngs(plot, result, request, tmp_path):
+    path = plot(request.getfixturevalue(result), tmp_path / "plot.png")
+    image = np.asarray(Image.open(path).convert("L"))
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and image.shape[1] > 600
+    assert (image < 128).mean() > 0.005 and image.std() > 20
