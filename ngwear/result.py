@@ -39,18 +39,25 @@ class Result:
     wall_time: float = 0.0
     fields: dict[int, np.ndarray] = field(default_factory=dict)
     discretization: object = field(default=None, repr=False)
+    _buffers: dict = field(default_factory=dict, repr=False)
 
     @classmethod
     def empty(cls, scene: Scene, disc) -> Result:
-        n, d = disc.points.n, scene.dim
-        return cls(scene, disc.points.coords, disc.points.weights, np.zeros(0), *(np.zeros((0, n)),) * 4,
-                   np.zeros((0, n, d)), discretization=disc)
+        """A result with room for every step; the public arrays are views of the completed rows."""
+        rows, n, d = scene.time.steps + 1, disc.points.n, scene.dim
+        buffers = {name: np.zeros((rows, n, d) if name == "forces" else (rows, n) if name != "times" else rows)
+                   for name in ARRAYS}
+        result = cls(scene, disc.points.coords, disc.points.weights,
+                     *(buf[:0] for buf in buffers.values()), discretization=disc)
+        result._buffers = buffers
+        return result
 
     def append(self, t, w, s, p, lam, forces, record: NewtonRecord) -> None:
-        self.times = np.append(self.times, t)
-        for name, value in (("wear", w), ("normal_displacement", s), ("pressure", p),
-                            ("reaction", lam), ("forces", forces)):
-            setattr(self, name, np.concatenate([getattr(self, name), value[None]]))
+        """Record step j = number of steps so far."""
+        j = len(self.times)
+        for name, value in zip(ARRAYS, (t, w, s, p, lam, forces)):
+            self._buffers[name][j] = value
+            setattr(self, name, self._buffers[name][:j + 1])
         self.newton.append(record)
 
     def fail(self, message: str, record: NewtonRecord) -> None:
