@@ -20,7 +20,9 @@ dissection of K_ii (graph build + pymetis), permutation, ``splu``, materialising
 extracting the trailing blocks, and the dense ``inv(L_cc U_cc)``; plus two what-ifs that ngwear does
 not do (marked "what-if"): METIS on the vertex graph (one node per mesh vertex instead of per DOF)
 and S⁻¹ from the triangular factors (``dtrtri`` of L_cc and U_cc, one product) instead of
-``inv(L_cc @ U_cc)``.
+``inv(L_cc @ U_cc)``.  The dense Newton solves are replayed (a second, untimed run of the loop) to
+time ``numpy.linalg.solve`` and LU reuse (``lu_factor`` only when the Newton matrix differs from the
+previous one, else ``lu_solve``) on the same systems, against ``scipy.linalg.solve`` in the same replay.
 
     /work/venv/bin/python benchmarks/breakdown.py [--quick] [--sizes 10k,50k,200k] [--orders 1]
 """
@@ -43,8 +45,8 @@ import ngwear.solver as SV
 import ngwear.vtk as V
 import ngwear.wear as W
 from ngwear.condense import nested_dissection
-from ngwear.discrete import Discretization
-from ngwear.forms import contact_points, displacement_space
+from ngwear.discrete import Discretization, _complete_symmetric
+from ngwear.forms import contact_points, displacement_space, elastic_form
 from ngwear.geometry import build_mesh
 
 S = importlib.import_module("ngwear.simulate")  # (ngwear.simulate the attribute is the function)
@@ -59,6 +61,9 @@ STAGES = [
     ("init_free", "  of which: free-DOF mask (list(FreeDofs))", False),
     ("init_points", "  of which: contact points + P, Q", False),
     ("stiffness", "stiffness K (assemble + CSR + symmetric)", True),
+    ("stiff_assemble", "  of which: NGSolve BilinearForm.Assemble", False),
+    ("stiff_csr", "  of which: mat.CSR() -> scipy csr_matrix", False),
+    ("stiff_sym", "  of which: _complete_symmetric (triu/tril + add)", False),
     ("load", "load vector f", True),
     ("operator", "operator: METIS + splu + Schur + inverse", True),
     ("op_prep", "  prep: free/interior submatrices", False),
@@ -82,12 +87,17 @@ STAGES = [
     ("system", "  CondensedSystem setup per step", False),
     ("wear", "  wear integrator (law, w, advance)", False),
     ("forces", "  contact forces", False),
-    ("append", "  Result.append (O(steps^2) concatenation)", False),
+    ("append", "  Result.append (per-step bookkeeping)", False),
     ("loop_other", "  rest of the loop", False),
+    ("whatif_np_solve", "  what-if: dense solves by numpy.linalg.solve", False),
+    ("whatif_lu_reuse", "  what-if: lu_factor only when M changes, else lu_solve", False),
+    ("replay_sla_solve", "  (replay: scipy.linalg.solve as in ngwear)", False),
     ("fast_total", "FAST TOTAL (mesh given)", False),
     ("recover", "output: recover stored steps", False),
     ("save", "output: Result.save (npz, json, mesh, VTU)", False),
-    ("save_vtk", "  of which: VTU series", False),
+    ("save_npz", "  of which: np.savez_compressed", False),
+    ("save_vtk", "  of which: VTU series (write_series)", False),
+    ("save_fullform", "  of which: disc.full_form built in write_series", False),
     ("elastic", "reference: one NGSolve elastic solve", False),
 ]
 LABELS = {k: label for k, label, _ in STAGES}
@@ -127,6 +137,7 @@ class Instrument:
         self.wrap(Discretization, "contact_forces", "forces")
         self.wrap(R.Result, "append", "append")
         self.wrap(V, "write_series", "save_vtk")
+        self.wrap(np, "savez_compressed", "save_npz")
         return self
 
     def __exit__(self, *exc):
@@ -218,6 +229,63 @@ def init_parts(scene, mesh) -> dict:
     return {"init_fes": p1 - p0, "init_free": p2 - p1, "init_points": p3 - p2}
 
 
+def stiffness_parts(disc) -> dict:
+    """An instrumented copy of Discretization.stiffness."""
+    p0 = C.perf()
+    a = elastic_form(disc.fes, disc.scene)
+    a.Assemble()
+    p1 = C.perf()
+    vals, cols, ptr = a.mat.CSR()
+    n = disc.fes.ndof
+    K = sp.csr_matrix((np.array(vals), np.array(cols), np.array(ptr)), shape=(n, n))
+    p2 = C.perf()
+    _complete_symmetric(K)
+    p3 = C.perf()
+    return {"stiff_assemble": p1 - p0, "stiff_csr": p2 - p1, "stiff_sym": p3 - p2}
+
+
+def dense_solve_whatifs(scene, disc) -> tuple[dict, dict]:
+    """Replay the loop's dense Newton solves: numpy.linalg.solve, and LU reuse while M repeats.
+
+    A second (untimed) run of the loop with ``ngwear.solver.sla.solve`` replaced by a recorder that,
+    at every call, times the alternatives on the very same (M, rhs) and checks the answer.
+    """
+    acc = {"whatif_np_solve": 0.0, "whatif_lu_reuse": 0.0, "sla": 0.0}
+    state = {"prev": None, "lu": None, "calls": 0, "repeats": 0, "maxdiff": 0.0}
+
+    def recorder(M, rhs, **kw):
+        t0 = C.perf()
+        ref = sla.solve(M, rhs, **kw)
+        t1 = C.perf()
+        np.linalg.solve(M, rhs)
+        t2 = C.perf()
+        same = state["prev"] is not None and state["prev"].shape == M.shape and np.array_equal(state["prev"], M)
+        t3 = C.perf()
+        if not same:
+            state["lu"] = sla.lu_factor(M, check_finite=False)
+        x = sla.lu_solve(state["lu"], rhs, check_finite=False)
+        t4 = C.perf()
+        acc["sla"] += t1 - t0
+        acc["whatif_np_solve"] += t2 - t1
+        acc["whatif_lu_reuse"] += t4 - t3
+        state["calls"] += 1
+        state["repeats"] += same
+        state["maxdiff"] = max(state["maxdiff"], float(np.abs(x - ref).max() / max(np.abs(ref).max(), 1e-300)))
+        state["prev"] = M.copy()
+        return ref
+
+    orig = SV.sla
+    SV.sla = types.SimpleNamespace(solve=recorder)
+    try:
+        ngwear.simulate(scene, discretization=disc, progress=False)
+    finally:
+        SV.sla = orig
+    scale = 1.0  # times are reported as measured in this replay (same calls as the timed loop)
+    return ({"whatif_np_solve": scale * acc["whatif_np_solve"], "whatif_lu_reuse": scale * acc["whatif_lu_reuse"],
+             "replay_sla_solve": acc["sla"]},
+            {"newton_matrix_repeats": f"{state['repeats']}/{state['calls']}", "lu_reuse_maxrel": state["maxdiff"]})
+
+
 def one_rep(scene, mesh) -> tuple[dict, dict]:
     t = {}
     with C.stopwatch(t, "init"):
@@ -230,22 +298,29 @@ def one_rep(scene, mesh) -> tuple[dict, dict]:
     with Instrument() as ins:
         with C.stopwatch(t, "loop"):
             result = ngwear.simulate(scene, discretization=disc, progress=False)
-        t.update({k: v for k, v in ins.acc.items() if k != "save_vtk"})
+        t.update({k: v for k, v in ins.acc.items() if k not in ("save_vtk", "save_npz")})
         top = ("newton", "system", "wear", "forces", "append")
         t["loop_other"] = t["loop"] - sum(t.get(k, 0.0) for k in top)
         t["fast_total"] = sum(t[k] for k in IN_TOTAL)
         with C.stopwatch(t, "recover"):
             for s in result.stored_steps:
                 result.displacement(s)
-        ins.acc["save_vtk"] = 0.0
+        ins.acc["save_vtk"] = ins.acc["save_npz"] = 0.0
         shutil.rmtree(SCRATCH, ignore_errors=True)
         with C.stopwatch(t, "save"):
+            with C.stopwatch(t, "save_fullform"):
+                disc.full_form  # noqa: B018 - first built by vtk.write_series (for its H1 wear space)
             result.save(SCRATCH)
         t["save_vtk"] = ins.acc["save_vtk"]
+        t["save_npz"] = ins.acc["save_npz"]
     shutil.rmtree(SCRATCH, ignore_errors=True)
     t.update(init_parts(scene, mesh))
+    t.update(stiffness_parts(disc))
     parts, info = operator_parts(disc)
     t.update(parts)
+    reuse, reuse_info = dense_solve_whatifs(scene, disc)
+    t.update(reuse)
+    info.update(reuse_info)
     info.update(free_dofs=C.free_dofs(disc), contact_points=disc.points.n,
                 newton_its=C.newton_iterations(result), stored_steps=len(result.stored_steps))
     return t, info
@@ -301,7 +376,9 @@ def main():
     for ikey, ilabel in (("free_dofs", "free DOFs"), ("contact_points", "contact points"),
                          ("nc", "contact DOFs (Schur block)"), ("lu_nnz", "nnz(L+U)"),
                          ("whatif_lu_nnz_vertex", "nnz(L+U), vertex-METIS"),
-                         ("newton_its", "Newton iterations"), ("replica_maxdiff", "replica max|ΔC|"),
+                         ("newton_its", "Newton iterations"),
+                         ("newton_matrix_repeats", "Newton matrices M equal to the previous"),
+                         ("lu_reuse_maxrel", "LU-reuse what-if rel. diff"), ("replica_maxdiff", "replica max|ΔC|"),
                          ("whatif_inverse_maxrel", "trtri inverse rel. diff")):
         rows.append({"stage": ilabel, "key": ikey, **{f"{c} [s]": infos[c].get(ikey) for c in cols}})
     columns = [("stage", "stage", None)]

@@ -123,10 +123,25 @@ def machine_lines(args=None) -> list[str]:
         lines.append(f"BLAS pools (default): {pools}")
     else:
         lines.append("BLAS pools: threadpoolctl not installed (threads not controlled)")
+    lines.append(f"ngwear: {git_state()}")
     if args is not None:
         lines.append(f"benchmark BLAS threads: {args.blas_threads}; repetitions: {args.reps} (median); "
                      f"quick: {args.quick}")
     return lines
+
+
+def git_state() -> str:
+    """Commit of the work tree and the ngwear/ files modified in it (others edit it concurrently)."""
+    import subprocess
+    try:
+        sha = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                             text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--", "ngwear"], cwd=ROOT,
+                               capture_output=True, text=True, check=True).stdout.split("\n")
+        dirty = [line[3:] for line in dirty if line.strip()]
+    except (OSError, subprocess.CalledProcessError):
+        return "git state unknown"
+    return f"git {sha}" + (f" + uncommitted changes in {', '.join(dirty)}" if dirty else " (clean)")
 
 
 # ---- scenes and meshes ---------------------------------------------------------------------
@@ -238,7 +253,7 @@ def newton_iterations(result) -> int:
 def _fmt(v, spec):
     if v is None or (isinstance(v, float) and math.isnan(v)):
         return "-"
-    if spec:
+    if spec and not isinstance(v, str):
         return format(v, spec)
     if isinstance(v, float):
         return f"{v:.4g}"

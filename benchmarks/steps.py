@@ -8,14 +8,18 @@ oscillates), interleaved over repetitions, with the BLAS pools limited to 1 and 
 Linear fit  t(S) = a + b (S + 1)  on the medians (relative least squares), and the local exponents
 d log t / d log S (1 = linear; S = 10 → 100 also changes k, hence Newton iterations per step): b is the marginal cost of one more step, compared
 with one back-substitution with the elastic factorisation (``disc.operator.solve(rhs)``, SuperLU)
-and with NGSolve's sparsecholesky back-substitution (``inv * f``).  The O(S²) part of the run,
-``Result.append`` re-concatenating the per-step arrays, is timed on its own (S appends of arrays of
-the run's shapes) and extrapolated to 10 000 steps.
+and with NGSolve's sparsecholesky back-substitution (``inv * f``).  ``Result.append`` (the per-step
+bookkeeping; O(S²) in total while it re-concatenated the arrays, as at commit 9a56360) is timed on
+its own (S appends of arrays of the run's shapes) and extrapolated quadratically to 10 000 steps.
 Targets (issue 3): b ≤ one back-substitution; t(S) linear in S.
 
-    /work/venv/bin/python benchmarks/steps.py [--quick] [--sizes 10k,50k] [--orders 1]
+``--extra 10000`` adds single runs at larger step counts (shown, not fitted).
+
+    /work/venv/bin/python benchmarks/steps.py [--quick] [--sizes 10k,50k] [--orders 1] [--extra 10000]
 """
 from __future__ import annotations
+
+import logging
 
 import numpy as np
 import ngsolve as ngs
@@ -60,7 +64,7 @@ def backsubstitutions(disc, scene, mesh) -> dict:
 def append_cost(disc, scene, steps: int) -> float:
     """Seconds of ``steps + 1`` Result.append calls with arrays of this run's shapes."""
     n, d = disc.points.n, scene.dim
-    res = Result.empty(scene, disc)
+    res = Result.empty(scene.replace(**{"time.steps": steps}), disc)
     z, f, rec = np.zeros(n), np.zeros((n, d)), NewtonRecord()
     t = C.perf()
     for j in range(steps + 1):
@@ -120,10 +124,32 @@ def measure(size, order, args) -> list[dict]:
     return rows
 
 
+def extra_runs(size, order, counts, args) -> list[dict]:
+    """One run each at larger step counts (not in the fit): does linearity hold beyond 1000?"""
+    scene = C.scene_for(size, order)
+    mesh = C.mesh_for(scene)
+    rows = []
+    with C.blas_limit(args.blas_threads):
+        disc, setup_s = setup(scene, mesh)
+        for s in counts:
+            sc = scene.replace(**{"time.steps": s})
+            dt, res = C.timed(ngwear.simulate, sc, discretization=disc, progress=False)
+            its = C.newton_iterations(res)
+            rows.append({"size": size, "order": order, "free_dofs": C.free_dofs(disc),
+                         "contact_points": disc.points.n, "blas_threads": args.blas_threads, "steps": s,
+                         "loop_s": dt, "total_s": setup_s + dt, "newton_its": its, "its_per_step": its / (s + 1),
+                         "ms_per_step": 1e3 * dt / (s + 1), "ms_per_newton_it": 1e3 * dt / its,
+                         "append_s": append_cost(disc, scene, s), "status": res.status, "extra": True})
+    return rows
+
+
 def main():
     p = C.parser(__doc__.splitlines()[0])
     p.set_defaults(orders="1")
+    p.add_argument("--extra", default="", help="extra step counts, one run each, not fitted (e.g. 10000)")
     args = p.parse_args()
+    # S = 10 has k α L = 1.5 > 1: ngwear warns (once per run) that explicit wear oscillates
+    logging.getLogger("ngwear").setLevel(logging.ERROR)
     sizes = C.selected_sizes(args, default=("10k", "50k"))
     header = C.machine_lines(args) + [
         "loop = simulate(scene.replace(time.steps=S), discretization=disc) with disc built once (setup); "
@@ -141,6 +167,11 @@ def main():
                     print(f"  P{order} {size} {r['blas_threads']} thr: {r['fit_ms_per_step']:.3f} ms/step "
                           f"(backsub {r['backsub_superlu_ms']:.2f} ms SuperLU, {r['backsub_ngs_ms']:.2f} ms NGSolve)",
                           flush=True)
+    extra = [int(x) for x in args.extra.split(",") if x.strip()]
+    if extra:
+        for order in C.selected_orders(args):
+            for size in sizes:
+                rows += extra_runs(size, order, extra, args)
     columns = [("order", "P", None), ("size", "size", None), ("free_dofs", "free DOFs", "d"),
                ("contact_points", "n_c", "d"), ("blas_threads", "BLAS thr", "d"), ("steps", "steps", "d"),
                ("loop_s", "loop [s]", ".3f"), ("total_s", "setup+loop [s]", ".3f"),
@@ -154,12 +185,17 @@ def main():
     fig, (ax1, ax2) = C.new_figure(2)
     for (order, size), marker in zip(sorted({(r["order"], r["size"]) for r in rows}), "osd^v<>"):
         for threads, ls in zip(THREADS, ("-", ":")):
-            sub = [r for r in rows if r["order"] == order and r["size"] == size and r["blas_threads"] == threads]
+            sub = [r for r in rows if r["order"] == order and r["size"] == size and r["blas_threads"] == threads
+                   and not r.get("extra")]
             x = np.array([r["steps"] + 1 for r in sub])
             ax1.loglog(x, [r["loop_s"] for r in sub], marker + ls, label=f"P{order} {size}, {threads} thr")
             fx = np.geomspace(x.min(), x.max(), 50)
             ax1.loglog(fx, sub[0]["fit_intercept_s"] + 1e-3 * sub[0]["fit_ms_per_step"] * fx, "k-", lw=0.5)
-        one = [r for r in rows if r["order"] == order and r["size"] == size]
+        one = [r for r in rows if r["order"] == order and r["size"] == size and not r.get("extra")]
+        ext = [r for r in rows if r["order"] == order and r["size"] == size and r.get("extra")]
+        if ext:
+            ax1.loglog([r["steps"] + 1 for r in ext], [r["loop_s"] for r in ext], "k*", ms=10,
+                       label=f"P{order} {size} extra (1 run)")
         lab = f"P{order} {size}"
         ax2.bar([lab + "\nstep 1thr", lab + "\nstep 2thr", lab + "\nSuperLU", lab + "\nNGS"],
                 [next(r["fit_ms_per_step"] for r in one if r["blas_threads"] == 1),
