@@ -14,7 +14,8 @@ Every script in this folder:
   the things compared (so a burst of load from other processes hits both), and reports ratios
   measured in the same run;
 * prints a table headed by the machine description and writes ``results/NAME.csv`` (with the
-  header as ``#`` comment lines: ``pandas.read_csv(path, comment="#")``) and ``results/NAME.png``.
+  header as ``#`` comment lines: ``pandas.read_csv(path, comment="#")``) and ``results/NAME.png``
+  (``NAME_quick.*`` with ``--quick``, so a check run does not overwrite the full results).
 """
 from __future__ import annotations
 
@@ -313,7 +314,10 @@ def save_figure(fig, name: str, header_lines: list[str]) -> Path:
     return path
 
 
-def finish(name: str, title: str, header_lines: list[str], rows: list[dict], columns, fig=None):
+def finish(name: str, title: str, header_lines: list[str], rows: list[dict], columns, fig=None,
+           quick: bool = False):
+    """Print the table, write results/NAME.csv and .png (NAME_quick.* for --quick runs)."""
+    name = f"{name}_quick" if quick else name
     print_table(title, header_lines, rows, columns)
     csv_path = write_csv(name, header_lines, rows)
     out = [str(csv_path.relative_to(ROOT))]

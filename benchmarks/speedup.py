@@ -86,7 +86,8 @@ def main():
     p = C.parser(__doc__.splitlines()[0])
     p.add_argument("--full-budget", type=float, default=150.0,
                    help="measure the full 100-step run only if its estimate is below this [s]")
-    p.add_argument("--full-skip", default="200k:2", help="size:order pairs without full path (comma-separated)")
+    p.add_argument("--full-skip", default="200k:2",
+                   help="size:order pairs without full path (comma-separated)")
     args = p.parse_args()
     skip = {s.strip() for s in args.full_skip.split(",") if s.strip()}
     header = C.machine_lines(args) + [
@@ -99,7 +100,8 @@ def main():
             for size in C.selected_sizes(args):
                 row = measure(size, order, args, skip)
                 rows.append(row)
-                print(f"  P{order} {size}: fast {row['fast_s']:.3f}s, full {C._fmt(row.get('full_s'), '.2f')}s "
+                full = C._fmt(row.get("full_s"), ".2f")
+                print(f"  P{order} {size}: fast {row['fast_s']:.3f}s, full {full}s "
                       f"[{row['full_mode']}], speedup {C._fmt(row.get('speedup'), '.0f')}", flush=True)
     columns = [("order", "P", None), ("size", "size", None), ("free_dofs", "free DOFs", "d"),
                ("fast_its", "Newton its", "d"), ("fast_s", "fast [s]", ".3f"),
@@ -126,7 +128,8 @@ def main():
     for ax in (ax1, ax2):
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
-    C.finish("speedup", "fast (condensed) vs straightforward (full) Newton", header, rows, columns, fig)
+    C.finish("speedup", "fast (condensed) vs straightforward (full) Newton", header, rows, columns, fig,
+             quick=args.quick)
 
 
 if __name__ == "__main__":

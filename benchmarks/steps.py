@@ -6,7 +6,8 @@ fixed, so k = T/S; S = 10 is the paper's literal k = 0.1, for which ngwear warns
 oscillates), interleaved over repetitions, with the BLAS pools limited to 1 and to 2 threads.
 
 Linear fit  t(S) = a + b (S + 1)  on the medians (relative least squares), and the local exponents
-d log t / d log S (1 = linear; S = 10 → 100 also changes k, hence Newton iterations per step): b is the marginal cost of one more step, compared
+d log t / d log S (1 = linear; S = 10 → 100 also changes k, hence Newton iterations per step):
+b is the marginal cost of one more step, compared
 with one back-substitution with the elastic factorisation (``disc.operator.solve(rhs)``, SuperLU)
 and with NGSolve's sparsecholesky back-substitution (``inv * f``).  ``Result.append`` (the per-step
 bookkeeping; O(S²) in total while it re-concatenated the arrays, as at commit 9a56360) is timed on
@@ -22,7 +23,6 @@ from __future__ import annotations
 import logging
 
 import numpy as np
-import ngsolve as ngs
 
 import common as C
 import ngwear
@@ -119,7 +119,8 @@ def measure(size, order, args) -> list[dict]:
                                            if r["blas_threads"] == t and r["steps"] == 1000))
     for r in rows:
         r["faster_threads_1000"] = best
-        r["target_marginal"] = C.verdict(r["fit_ms_per_step"] <= min(r["backsub_superlu_ms"], r["backsub_ngs_ms"]))
+        backsub = min(r["backsub_superlu_ms"], r["backsub_ngs_ms"])
+        r["target_marginal"] = C.verdict(r["fit_ms_per_step"] <= backsub)
         r["target_linear"] = C.verdict(r["exponent_100_1000"] <= 1.10 and r["fit_max_rel_residual"] <= 0.25)
     return rows
 
@@ -137,7 +138,8 @@ def extra_runs(size, order, counts, args) -> list[dict]:
             its = C.newton_iterations(res)
             rows.append({"size": size, "order": order, "free_dofs": C.free_dofs(disc),
                          "contact_points": disc.points.n, "blas_threads": args.blas_threads, "steps": s,
-                         "loop_s": dt, "total_s": setup_s + dt, "newton_its": its, "its_per_step": its / (s + 1),
+                         "loop_s": dt, "total_s": setup_s + dt, "newton_its": its,
+                         "its_per_step": its / (s + 1),
                          "ms_per_step": 1e3 * dt / (s + 1), "ms_per_newton_it": 1e3 * dt / its,
                          "append_s": append_cost(disc, scene, s), "status": res.status, "extra": True})
     return rows
@@ -165,7 +167,8 @@ def main():
             for r in new:
                 if r["steps"] == 1000:
                     print(f"  P{order} {size} {r['blas_threads']} thr: {r['fit_ms_per_step']:.3f} ms/step "
-                          f"(backsub {r['backsub_superlu_ms']:.2f} ms SuperLU, {r['backsub_ngs_ms']:.2f} ms NGSolve)",
+                          f"(backsub {r['backsub_superlu_ms']:.2f} ms SuperLU, "
+                          f"{r['backsub_ngs_ms']:.2f} ms NGSolve)",
                           flush=True)
     extra = [int(x) for x in args.extra.split(",") if x.strip()]
     if extra:
@@ -178,15 +181,16 @@ def main():
                ("its_per_step", "its/step", ".2f"), ("ms_per_newton_it", "ms/it", ".3f"),
                ("append_s", "append [s]", ".3f"), ("fit_ms_per_step", "fit ms/step", ".3f"),
                ("marginal_100_1000_ms", "Δ100→1000 ms/step", ".3f"),
-               ("backsub_superlu_ms", "backsub SuperLU ms", ".2f"), ("backsub_ngs_ms", "backsub NGS ms", ".2f"),
+               ("backsub_superlu_ms", "backsub SuperLU ms", ".2f"),
+               ("backsub_ngs_ms", "backsub NGS ms", ".2f"),
                ("exponent_10_100", "exp 10→100", ".2f"), ("exponent_100_1000", "exp 100→1000", ".2f"),
                ("fit_max_rel_residual", "fit max rel res", ".2f"),
                ("target_marginal", "marginal<=backsub", None), ("target_linear", "linear", None)]
     fig, (ax1, ax2) = C.new_figure(2)
     for (order, size), marker in zip(sorted({(r["order"], r["size"]) for r in rows}), "osd^v<>"):
         for threads, ls in zip(THREADS, ("-", ":")):
-            sub = [r for r in rows if r["order"] == order and r["size"] == size and r["blas_threads"] == threads
-                   and not r.get("extra")]
+            sub = [r for r in rows if r["order"] == order and r["size"] == size
+                   and r["blas_threads"] == threads and not r.get("extra")]
             x = np.array([r["steps"] + 1 for r in sub])
             ax1.loglog(x, [r["loop_s"] for r in sub], marker + ls, label=f"P{order} {size}, {threads} thr")
             fx = np.geomspace(x.min(), x.max(), 50)
@@ -207,7 +211,7 @@ def main():
     ax1.legend(fontsize=7)
     ax2.set(ylabel="ms", title="marginal cost per step vs one back-substitution", yscale="log")
     ax2.tick_params(axis="x", labelsize=6, rotation=90)
-    C.finish("steps", "cost vs number of steps", header, rows, columns, fig)
+    C.finish("steps", "cost vs number of steps", header, rows, columns, fig, quick=args.quick)
 
 
 if __name__ == "__main__":
