@@ -14,22 +14,33 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 
-def nested_dissection(K: sp.csr_matrix) -> np.ndarray:
-    """Fill-reducing (METIS nested dissection) ordering of a sparse symmetric matrix."""
+def nested_dissection(K: sp.csr_matrix, nodes: np.ndarray) -> np.ndarray:
+    """Fill-reducing ordering of a symmetric matrix: METIS nested dissection of its node graph.
+
+    ``nodes[i]`` is the mesh node of unknown i; the d components of a node stay together, which
+    halves (2D) or thirds (3D) the graph METIS orders at no cost in fill.
+    """
     if K.shape[0] < 3:
         return np.arange(K.shape[0])
-    graph = (abs(K) + abs(K.T)).tocsr()
+    ids, node = np.unique(nodes, return_inverse=True)
+    B = sp.csr_matrix((np.ones(len(node)), (np.arange(len(node)), node)), shape=(len(node), len(ids)))
+    graph = (B.T @ abs(K) @ B).tocsr()
     graph.setdiag(0)
     graph.eliminate_zeros()
     adjacency = pymetis.CSRAdjacency(graph.indptr.astype(np.int32), graph.indices.astype(np.int32))
     perm, _ = pymetis.nested_dissection(adjacency)
-    return np.asarray(perm)
+    rank = np.empty(len(ids), dtype=int)
+    rank[np.asarray(perm)] = np.arange(len(ids))
+    return np.argsort(rank[node], kind="stable")
 
 
 class ElasticOperator:
-    """K⁻¹ on the free DOFs, with (K⁻¹)_cc for the given contact DOFs (full numbering)."""
+    """K⁻¹ on the free DOFs, with (K⁻¹)_cc for the given contact DOFs (full numbering).
 
-    def __init__(self, K: sp.csr_matrix, free: np.ndarray, contact_dofs: np.ndarray):
+    ``nodes`` maps every DOF to its mesh node (for the ordering).
+    """
+
+    def __init__(self, K: sp.csr_matrix, free: np.ndarray, contact_dofs: np.ndarray, nodes: np.ndarray):
         self.ndof = K.shape[0]
         self.free = np.flatnonzero(free)
         local = np.full(self.ndof, -1)
@@ -38,7 +49,8 @@ class ElasticOperator:
         c = local[self.contact_dofs]
         Kf = K[self.free][:, self.free].tocsr()
         interior = np.setdiff1d(np.arange(len(self.free)), c)
-        order = np.concatenate([interior[nested_dissection(Kf[interior][:, interior])], c]).astype(int)
+        inner = nested_dissection(Kf[interior][:, interior], nodes[self.free[interior]])
+        order = np.concatenate([interior[inner], c]).astype(int)
         self._order = order
         self._lu = spla.splu(Kf[order][:, order].tocsc(), permc_spec="NATURAL",
                              diag_pivot_thresh=0.0, options={"SymmetricMode": True})

@@ -79,7 +79,8 @@ class Discretization:
     @cached_property
     def operator(self) -> ElasticOperator:
         contact_dofs = np.unique(self.points.P.indices)
-        return ElasticOperator(self.stiffness, self.free, contact_dofs)
+        nodes = np.arange(self.fes.ndof) % (self.fes.ndof // self.scene.dim)  # VectorH1: component blocks
+        return ElasticOperator(self.stiffness, self.free, contact_dofs, nodes)
 
     @cached_property
     def u_load(self) -> np.ndarray:

@@ -35,51 +35,90 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None,
         disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
     k, steps = scene.dt, scene.time.steps
     n = disc.points.n
-    g, mu = scene.contact.gap, scene.contact.friction
     integrator = WearIntegrator(scene.wear.integrator, disc.law, k, n)
     result = Result.empty(scene, disc)
     warning = explicit_stability(scene)
     if warning:
         log.warning("%s", warning)
         result.warnings.append(warning)
+    stepper = _Stepper(disc)
     x = np.zeros(n) if scene.solver.method == "condensed" else np.zeros(int(disc.free.sum()))
     lam = np.zeros(n)
-    step_range = range(steps + 1)
-    bar = _progress(step_range, scene.name) if progress else step_range
-    matrices = {}
+    t_prev = 0.0
+    bar = _progress(range(steps + 1), scene.name) if progress else range(steps + 1)
     for j in bar:
         t = j * k
         law = integrator.point_law()
-        if scene.solver.method == "condensed":
-            n_star = disc.n_star(t)
-            key = tuple(n_star)
-            if key not in matrices:
-                H = disc.normal_compliance
-                A = H + disc.friction_compliance(n_star) * mu if mu > 0 and n_star.any() else H
-                matrices = {key: A}
-            system = CondensedSystem(disc.normal_compliance, matrices[key], disc.points.weights,
-                                     disc.load_factor(t) * disc.s_load, disc.d0, g, law)
-        else:
-            system = _full_system(disc, t, integrator)
         try:
-            x, lam, record = semismooth_newton(system, x, lam, scene.solver.tolerance,
-                                               scene.solver.max_iterations)
+            x, lam, record = stepper.solve(t, t_prev, law, x, lam, integrator)
         except ConvergenceError as err:
-            result.fail(f"step {j} (t = {t:.4g}): {err}", err.record)
+            result.fail(f"step {j} (t = {t:.4g}): {err}; try smaller time steps, a finer mesh or "
+                        f"solver.max_iterations > {scene.solver.max_iterations}", err.record)
             break
-        s = x if scene.solver.method == "condensed" else disc.N[:, disc.free] @ x
-        z = s - disc.d0
-        pressure = law.pressure(z)
-        if not (np.all(np.isfinite(s)) and np.all(np.isfinite(lam))):
+        s = stepper.normal(x)
+        pressure = law.pressure(s - disc.d0)
+        if not (np.all(np.isfinite(s)) and np.all(np.isfinite(lam)) and np.all(np.isfinite(pressure))):
             result.fail(f"step {j} (t = {t:.4g}): non-finite solution", record)
             break
-        w = integrator.wear_at(z)
+        w = integrator.wear_at(s - disc.d0)
         result.append(t, w, s, pressure, lam, disc.contact_forces(pressure, lam, t), record)
         integrator.advance(w, pressure, disc.alpha(t), disc.alpha(t + k))
+        t_prev = t
     result.wall_time = time.perf_counter() - start
     if result.status != "completed":
         log.warning("%s: %s", scene.name, result.status)
     return result
+
+
+class _Stepper:
+    """Solves one step; on a Newton failure it retries from a load continuation (cut-back).
+
+    The cut-back does not change the scheme: it solves the same step's problem at loads
+    f(t_prev + θ (t − t_prev)), θ = 1/m … 1, each warm-starting the next, with m = 2, 4, 8.
+    """
+
+    CUTBACKS = (2, 4, 8)
+
+    def __init__(self, disc: Discretization):
+        self.disc, self.scene = disc, disc.scene
+        self._matrices: dict = {}
+        self._factors: dict = {}
+
+    def normal(self, x):
+        return x if self.scene.solver.method == "condensed" else self.disc.N[:, self.disc.free] @ x
+
+    def solve(self, t, t_prev, law, x, lam, integrator):
+        try:
+            return self._newton(t, law, x, lam, integrator)
+        except ConvergenceError as first:
+            for m in self.CUTBACKS:
+                try:
+                    xs, ls = x, lam
+                    for theta in np.arange(1, m + 1) / m:
+                        xs, ls, record = self._newton(t_prev + theta * (t - t_prev), law, xs, ls, integrator)
+                    log.info("t = %.4g: converged after cutting the step into %d", t, m)
+                    return xs, ls, record
+                except ConvergenceError:
+                    continue
+            raise first
+
+    def _newton(self, t, law, x, lam, integrator):
+        sc = self.scene.solver
+        return semismooth_newton(self._system(t, law, integrator), x, lam, sc.tolerance, sc.max_iterations)
+
+    def _system(self, t, law, integrator):
+        disc = self.disc
+        if self.scene.solver.method == "full":
+            return _full_system(disc, t, integrator)
+        n_star, mu = disc.n_star(t), self.scene.contact.friction
+        key = tuple(n_star)
+        if key not in self._matrices:
+            H = disc.normal_compliance
+            self._matrices = {key: H + mu * disc.friction_compliance(n_star) if mu > 0 and n_star.any() else H}
+            self._factors = {}
+        return CondensedSystem(disc.normal_compliance, self._matrices[key], disc.points.weights,
+                               disc.load_factor(t) * disc.s_load, disc.d0, self.scene.contact.gap, law,
+                               self._factors)
 
 
 def _full_system(disc: Discretization, t: float, integrator: WearIntegrator) -> FullSystem:

@@ -87,14 +87,19 @@ class PointLaw:
 
 
 class CondensedSystem:
-    """The step problem condensed onto the n contact points (dense n × n algebra)."""
+    """The step problem condensed onto the n contact points (dense n × n algebra).
 
-    def __init__(self, H, A, weights, s_load, d0, gap, law: PointLaw):
+    ``factors`` caches LU factorisations of the Newton matrix by (active set, p'): with a
+    piecewise-linear law the matrix repeats across iterations and steps and is factorised once.
+    """
+
+    def __init__(self, H, A, weights, s_load, d0, gap, law: PointLaw, factors: dict | None = None):
         self.H, self.A, self.m = H, A, weights
         self.s_load, self.d0, self.g, self.law = s_load, d0, gap, law
         diag = np.maximum(np.diag(H) * weights, 1e-300)
         self.c = 1.0 / diag
         self.scale = max(np.abs(s_load).max(initial=0.0), gap)
+        self.factors = {} if factors is None else factors
 
     def gap(self, s):
         return s - self.d0 - self.g
@@ -107,21 +112,25 @@ class CondensedSystem:
         comp = np.minimum(lam / self.c, -self.gap(s))
         return max(np.abs(self.residual(s, lam)).max(initial=0), np.abs(comp).max(initial=0)) / self.scale
 
+    def _factor(self, active, dp):
+        """LU of M = [J_{:,I} | H_{:,A} diag(m_A)] with J = I + A diag(m p')."""
+        key = active.tobytes() + dp.tobytes()
+        if key not in self.factors:
+            inactive = ~active
+            M = self.A * (self.m * dp * inactive)[None, :] + self.H * (self.m * active)[None, :]
+            M[np.diag_indices(len(dp))] += inactive
+            if len(self.factors) >= 16:
+                self.factors.clear()
+            self.factors[key] = sla.lu_factor(M, check_finite=False)
+        return self.factors[key]
+
     def step(self, s, lam, active):
-        n = len(s)
         dp = self.law.derivative(s - self.d0)
-        J = self.A * (self.m * dp)[None, :]
-        J[np.diag_indices(n)] += 1.0
-        rhs = -self.residual(s, lam) + self.H @ (self.m * lam)
-        ds = np.zeros(n)
+        ds = np.zeros(len(s))
         ds[active] = -self.gap(s)[active]
-        rhs -= J[:, active] @ ds[active]
-        M = np.empty((n, n))
-        M[:, ~active] = J[:, ~active]
-        M[:, active] = self.H[:, active] * self.m[active][None, :]
-        sol = sla.solve(M, rhs, check_finite=False)
-        lam_new = np.zeros(n)
-        lam_new[active] = sol[active]
+        rhs = -self.residual(s, lam) + self.H @ (self.m * lam) - ds - self.A @ (self.m * dp * ds)
+        sol = sla.lu_solve(self._factor(active, dp), rhs, check_finite=False)
+        lam_new = np.where(active, sol, 0.0)
         ds[~active] = sol[~active]
         return ds, lam_new
 
