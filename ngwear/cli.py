@@ -23,15 +23,53 @@ def _parser() -> argparse.ArgumentParser:
                      help="override scene fields, e.g. time.steps=10 mesh.maxh=0.05")
     run.add_argument("--no-pictures", action="store_true", help="skip the pyvista PNGs")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
+    ver = sub.add_parser("verify", help="convergence study (h and k) and the (H_S) check of a scene")
+    ver.add_argument("scene", help="scene TOML file")
+    ver.add_argument("--out", help="output directory (default: out/<scene name>-verify)")
+    ver.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE", help="override scene fields")
+    ver.add_argument("--quick", action="store_true", help="coarse meshes and few steps (about 10 s)")
     return parser
+
+
+def _scene(args):
+    scene = load_scene(args.scene)
+    if args.set:
+        scene = scene.replace(**dict(parse_override(item) for item in args.set))
+    return scene
+
+
+def verify(args) -> int:
+    from . import verify as study
+    from .discrete import Discretization
+    from .theory import smallness
+
+    scene = _scene(args)
+    out = Path(args.out or Path("out") / f"{scene.name}-verify")
+    out.mkdir(parents=True, exist_ok=True)
+    h0 = scene.mesh.maxh
+    hs, h_ref = ([4 * h0, 2 * h0, h0], h0 / 2) if args.quick else ([8 * h0, 4 * h0, 2 * h0, h0], h0 / 4)
+    steps = [10, 20, 40] if args.quick else [10, 20, 40, 80]
+    base = scene.replace(**{"time.steps": 20, "output.every": 20})
+    sections = [f"# Convergence of {scene.name}\n",
+                f"{smallness(Discretization(scene)).message()}\n",
+                f"## h-refinement (P{scene.mesh.order}, {base.time.steps} steps, reference maxh = {h_ref:g})\n",
+                study.markdown(study.h_study(base, [h for h in hs], h_ref), "h")]
+    for integrator in ("explicit", "implicit", "trapezoidal"):
+        k_scene = base.replace(**{"wear.integrator": integrator, "mesh.maxh": 2 * h0})
+        rows = study.k_study(k_scene, steps, 8 * steps[-1])
+        sections += [f"\n## k-refinement, {integrator} wear (maxh = {2 * h0:g}, reference {8 * steps[-1]} steps)\n",
+                     study.markdown(rows, "k")]
+    text = "\n".join(sections) + "\n"
+    (out / "convergence.md").write_text(text)
+    print(text)
+    print(f"written  {out}/convergence.md")
+    return 0
 
 
 def run(args) -> int:
     from .simulate import simulate
 
-    scene = load_scene(args.scene)
-    if args.set:
-        scene = scene.replace(**dict(parse_override(item) for item in args.set))
+    scene = _scene(args)
     out = Path(args.out or Path("out") / scene.name)
     result = simulate(scene, progress=not args.quiet)
     result.save(out)
@@ -43,6 +81,12 @@ def run(args) -> int:
     width = max(map(len, summary))
     for key, value in summary.items():
         print(f"{key:<{width}}  {value:.4g}" if isinstance(value, float) else f"{key:<{width}}  {value}")
+    if scene.contact.friction > 0 and result.discretization is not None:
+        from .theory import smallness
+        check = smallness(result.discretization)
+        print(f"{'uniqueness':<{width}}  {check.message()}")
+        if not check.holds:
+            logging.getLogger("ngwear").warning("%s", check.message())
     for warning in result.warnings:
         print(f"{'warning':<{width}}  {warning}")
     print(f"{'written':<{width}}  {out}/ (result.npz, fields.pvd, {len(pictures)} PNG)")
@@ -56,7 +100,7 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     logging.basicConfig(level=logging.WARNING, format="ngwear: %(message)s")
     try:
-        return run(args)
+        return {"run": run, "verify": verify}[args.command](args)
     except SceneError as err:
         print(f"ngwear: {err}", file=sys.stderr)
         return 2

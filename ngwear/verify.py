@@ -1,0 +1,121 @@
+"""Convergence studies against a fine reference computed by the tool (paper Theorems 4–5).
+
+Errors are measured in the paper's norms: the V-norm ‖v‖_V = ‖ε(v)‖_{L²(Ω)} of the displacement
+and the L²(Γ_C) norm of the wear, both
+
+* summed in time as in Theorem 4:  E = ( k Σ_{j=1..N} ‖u_j − u_j^{ref}‖_V² + ‖w_j − w_j^{ref}‖_W² )^{1/2},
+* and at the final time.
+
+Theorem 5 predicts E² ≲ k² + k h² + h for P1 (so E = O(h^{1/2} + k)); observed orders are the
+least-squares slopes of log E against log h (or log k).  Coarse displacements are interpolated
+onto the reference mesh (NGSolve ``Set``), wear profiles onto the reference contact points.
+The studies mesh the body alone (``mesh.layer = false``): the layer is display-only and would make
+the cross-mesh interpolation see the layer side of Γ_C.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+
+from .discrete import Discretization
+from .result import Result
+from .scene import Scene
+from .simulate import simulate
+
+
+@dataclass(frozen=True)
+class Errors:
+    """Errors of one run against the reference (see the module docstring)."""
+
+    V_sum: float
+    W_sum: float
+    V_final: float
+    W_final: float
+
+
+def _run(scene: Scene) -> tuple[Result, float]:
+    scene = scene.replace(**{"mesh.layer": False})
+    start = time.perf_counter()
+    result = simulate(scene, progress=False)
+    if not result.completed:
+        raise RuntimeError(f"{scene.name}: {result.status}")
+    return result, time.perf_counter() - start
+
+
+def _wear_on(result: Result, ref: Result, step: int) -> np.ndarray:
+    """Wear of ``result`` at ``step`` evaluated at the reference contact points (linear interpolation)."""
+    if result.contact_points.shape == ref.contact_points.shape and np.allclose(
+            result.contact_points, ref.contact_points):
+        return result.wear[step]
+    if result.scene.dim != 2:
+        raise ValueError("verify: wear interpolation between different meshes is implemented in 2D")
+    nu = np.array(result.scene.contact.direction)
+    tangent = np.array([-nu[1], nu[0]])
+    x, xr = result.contact_points @ tangent, ref.contact_points @ tangent
+    order = np.argsort(x)
+    return np.interp(xr, x[order], result.wear[step][order])
+
+
+def errors(result: Result, ref: Result) -> Errors:
+    """Errors of ``result`` against ``ref`` at the common times t_j (ref may have finer steps)."""
+    ratio = ref.steps // result.steps
+    if ratio * result.steps != ref.steps or not np.isclose(ref.times[-1], result.times[-1]):
+        raise ValueError("verify: reference steps must be a multiple of the run's steps, same T")
+    rdisc: Discretization = ref.discretization
+    coarse = ngs.GridFunction(rdisc.fes)
+    e_V, e_W = [], []
+    for j in range(1, result.steps + 1):
+        coarse.Set(result.discretization.gridfunction(result.displacement(j)))
+        diff = ngs.Sym(ngs.Grad(coarse)) - ngs.Sym(ngs.Grad(rdisc.gridfunction(ref.displacement(j * ratio))))
+        e_V.append(ngs.Integrate(ngs.InnerProduct(diff, diff), rdisc.mesh, definedon=rdisc.mesh.Materials("body")))
+        dw = _wear_on(result, ref, j) - ref.wear[j * ratio]
+        e_W.append(dw @ (ref.weights * dw))
+    k = result.scene.dt
+    return Errors(float(np.sqrt(k * np.sum(e_V))), float(np.sqrt(k * np.sum(e_W))),
+                  float(np.sqrt(e_V[-1])), float(np.sqrt(e_W[-1])))
+
+
+def observed_order(sizes, errs) -> float:
+    """Least-squares slope of log(err) against log(size)."""
+    return float(np.polyfit(np.log(sizes), np.log(errs), 1)[0])
+
+
+def h_study(scene: Scene, maxhs, ref_maxh: float) -> list[dict]:
+    """Errors of the scene at mesh sizes ``maxhs`` against a run at ``ref_maxh`` (same time grid)."""
+    ref, _ = _run(scene.replace(**{"mesh.maxh": ref_maxh}))
+    rows = []
+    for h in maxhs:
+        result, seconds = _run(scene.replace(**{"mesh.maxh": h}))
+        e = errors(result, ref)
+        rows.append({"h": h, "dofs": int(result.discretization.free.sum()), "seconds": seconds, **e.__dict__})
+    return rows
+
+
+def k_study(scene: Scene, steps, ref_steps: int) -> list[dict]:
+    """Errors of the scene with ``steps`` time steps against ``ref_steps`` steps (same mesh)."""
+    ref, _ = _run(scene.replace(**{"time.steps": ref_steps, "output.every": ref_steps}))
+    rows = []
+    for n in steps:
+        result, seconds = _run(scene.replace(**{"time.steps": n, "output.every": n}))
+        rows.append({"k": scene.time.T / n, "steps": n, "seconds": seconds, **errors(result, ref).__dict__})
+    return rows
+
+
+def orders(rows: list[dict], size: str) -> dict[str, float]:
+    """Observed orders of each error column of a study."""
+    sizes = [r[size] for r in rows]
+    return {name: observed_order(sizes, [r[name] for r in rows]) for name in Errors.__dataclass_fields__}
+
+
+def markdown(rows: list[dict], size: str) -> str:
+    """A Markdown table of a study with the observed orders in the last row."""
+    cols = [size] + [c for c in rows[0] if c != size]
+    lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    for r in rows:
+        lines.append("| " + " | ".join(f"{r[c]:.4g}" if isinstance(r[c], float) else str(r[c]) for c in cols) + " |")
+    rates = orders(rows, size)
+    lines.append("| order | " + " | ".join(f"{rates[c]:.2f}" if c in rates else "" for c in cols[1:]) + " |")
+    return "\n".join(lines)

@@ -1,0 +1,58 @@
+"""Observed convergence orders (Theorem 5 predicts at least 1/2 in h and 1 in k) and the (H_S) check."""
+import ngsolve as ngs
+import numpy as np
+import pytest
+
+from ngwear import verify
+from ngwear.discrete import Discretization
+from ngwear.forms import elastic_form, load_form
+from ngwear.theory import smallness, trace_constant
+
+
+@pytest.fixture(scope="module")
+def scene(paper_scene):
+    return paper_scene.replace(**{"time.steps": 20, "output.every": 20})
+
+
+@pytest.mark.slow
+def test_h_orders(scene):
+    rows = verify.h_study(scene, [0.4, 0.2, 0.1], 0.025)
+    rates = verify.orders(rows, "h")
+    assert rates["V_sum"] > 0.7 and rates["V_final"] > 0.7, rates   # theory: 0.5; observed ≈ 1
+    assert rates["W_sum"] > 1.3 and rates["W_final"] > 1.3, rates   # observed ≈ 1.7–1.9
+
+
+@pytest.mark.parametrize("integrator, low, high", [("explicit", 0.8, 1.6), ("implicit", 0.8, 1.3),
+                                                   ("trapezoidal", 1.6, 2.4)])
+def test_k_orders_of_wear_integrators(scene, integrator, low, high):
+    rows = verify.k_study(scene.replace(**{"wear.integrator": integrator, "mesh.maxh": 0.2}), [20, 40, 80], 640)
+    rate = verify.orders(rows, "k")["W_sum"]
+    assert low < rate < high, f"{integrator}: observed order {rate:.2f}"
+
+
+def test_error_of_reference_against_itself_is_zero(scene):
+    result, _ = verify._run(scene.replace(**{"mesh.maxh": 0.3, "time.steps": 4, "output.every": 4}))
+    e = verify.errors(result, result)
+    assert max(e.V_sum, e.W_sum, e.V_final, e.W_final) < 1e-12
+
+
+def test_trace_constant_bounds_a_rayleigh_quotient(paper_scene):
+    """c₀² is the maximum of ‖v‖²_ΓC / ‖ε(v)‖² over V: any v (here the elastic response) stays below it."""
+    disc = Discretization(paper_scene.replace(**{"mesh.maxh": 0.2}))
+    c0 = trace_constant(disc)
+    a, f = elastic_form(disc.fes, disc.scene), load_form(disc.fes, disc.scene)
+    a.Assemble(), f.Assemble()
+    v = ngs.GridFunction(disc.fes)
+    v.vec.data = a.mat.Inverse(disc.fes.FreeDofs()) * f.vec
+    strain = ngs.Sym(ngs.Grad(v))
+    quotient = ngs.Integrate(ngs.InnerProduct(v, v), disc.mesh, definedon=disc.mesh.Boundaries("contact")) / \
+        ngs.Integrate(ngs.InnerProduct(strain, strain), disc.mesh, definedon=disc.mesh.Materials("body"))
+    assert 0.3 * c0**2 < quotient <= c0**2 * (1 + 1e-9)
+
+
+def test_smallness_hypothesis(paper_scene):
+    disc = Discretization(paper_scene.replace(**{"mesh.maxh": 0.2}))
+    paper = smallness(disc)
+    assert not paper.holds and "not guaranteed" in paper.message()
+    tiny = smallness(disc.with_scene(disc.scene.replace(**{"contact.friction": 1e-4})))
+    assert tiny.holds and tiny.c0 == pytest.approx(paper.c0)
