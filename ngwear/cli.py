@@ -84,9 +84,7 @@ def run(args) -> int:
     if scene.contact.friction > 0 and result.discretization is not None:
         from .theory import smallness
         check = smallness(result.discretization)
-        print(f"{'uniqueness':<{width}}  {check.message()}")
-        if not check.holds:
-            logging.getLogger("ngwear").warning("%s", check.message())
+        print(f"{'uniqueness' if check.holds else 'warning':<{width}}  {check.message()}")
     for warning in result.warnings:
         print(f"{'warning':<{width}}  {warning}")
     print(f"{'written':<{width}}  {out}/ (result.npz, fields.pvd, {len(pictures)} PNG)")
