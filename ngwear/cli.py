@@ -59,6 +59,8 @@ def verify(args) -> int:
         rows = study.k_study(k_scene, steps, 8 * steps[-1])
         sections += [f"\n## k-refinement, {integrator} wear (maxh = {2 * h0:g}, reference {8 * steps[-1]} steps)\n",
                      study.markdown(rows, "k")]
+    sections += ["\n## Stability of the wear integrators (overshoot = max (w − u_ν)₊ / g; exact: 0)\n",
+                 study.table(study.stability_study(base.replace(**{"mesh.maxh": 2 * h0}), [30, 15, 10, 6, 3]))]
     text = "\n".join(sections) + "\n"
     (out / "convergence.md").write_text(text)
     print(text)

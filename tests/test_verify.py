@@ -56,3 +56,13 @@ def test_smallness_hypothesis(paper_scene):
     assert not paper.holds and "not guaranteed" in paper.message()
     tiny = smallness(disc.with_scene(disc.scene.replace(**{"contact.friction": 1e-4})))
     assert tiny.holds and tiny.c0 == pytest.approx(paper.c0)
+
+
+def test_stability_picture(paper_scene):
+    """Wear passes the body's surface for explicit once kαL > 1, trapezoidal once kαL > 2, implicit never."""
+    rows = {r["steps"]: r for r in verify.stability_study(paper_scene.replace(**{"mesh.maxh": 0.3}),
+                                                          [30, 10, 6], ref_steps=320)}
+    assert rows[30]["explicit_overshoot"] == 0 and rows[10]["explicit_overshoot"] > 0.005   # kαL = 0.5, 1.5
+    assert rows[10]["trapezoidal_overshoot"] == 0 and rows[6]["trapezoidal_overshoot"] > 0.005  # 1.5, 2.5
+    assert all(r["implicit_overshoot"] == 0 for r in rows.values())
+    assert rows[10]["trapezoidal_W_final"] < rows[10]["implicit_W_final"] < rows[10]["explicit_W_final"]
