@@ -3,26 +3,40 @@
 The body is the region ``body``; its contact face/edge is named ``contact``.  With
 ``mesh.layer = true`` the soft layer of thickness g (the region ``layer``, outer face
 ``foundation``) is meshed too: it is not part of the elastic solve but carries the layer's
-compression and wear for results and pictures.  Meshes are cached on disk by a hash of what
-determines them (``$NGWEAR_CACHE`` or ``~/.cache/ngwear``).
+compression and wear for results and pictures (flat Γ_C only: ``strip`` and ``box``).
+``mesh.contact_maxh`` refines Γ_C (for ``half_disk`` the arc within ``mesh.contact_zone`` of its
+lowest point) and ``mesh.grading`` (Netgen's, default 0.3) slows the growth of the elements away
+from it.  Meshes are cached on disk by a hash of what determines them (``$NGWEAR_CACHE`` or
+``~/.cache/ngwear``).
+
+Shapes, all with Γ_C at and above x_d = 0 and touching it:
+
+* ``strip`` [0,Lx]×[0,Ly]: boundaries left, right, top, contact (y = 0);
+* ``box`` [0,Lx]×[0,Ly]×[0,Lz]: left, right, front, back, top, contact (z = 0);
+* ``half_disk``: the lower half of the disk of radius R centred at (0, R) — a section of a
+  half-cylinder (plane strain): ``top`` the flat edge y = R, ``contact`` the arc, which touches
+  y = 0 at its lowest point (0, 0).  The arc is four OCC edges split at x = ±zone and at x = 0, so
+  the lowest point is always a mesh vertex and the zone can be refined on its own.
 """
 from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 from pathlib import Path
 
 import netgen.meshing
 import ngsolve as ngs
-from netgen.occ import X, Y, Z, Box, Glue, MoveTo, OCCGeometry, Pnt, Rectangle
+from netgen.occ import (X, Y, Z, ArcOfCircle, Box, Face, Glue, MoveTo, OCCGeometry, Pnt, Rectangle, Segment,
+                        Wire)
 
 from .scene import Scene, SceneError
 
 CACHE_VERSION = 1
 
 
-def _strip(size, gap, layer):
+def _strip(size, gap, layer, mesh):
     lx, ly = size
     body = Rectangle(lx, ly).Face()
     body.faces.name = "body"
@@ -30,6 +44,8 @@ def _strip(size, gap, layer):
     body.edges.Max(X).name = "right"
     body.edges.Max(Y).name = "top"
     body.edges.Min(Y).name = "contact"
+    if mesh.contact_maxh is not None:
+        body.edges.Min(Y).maxh = mesh.contact_maxh
     if not layer:
         return body
     soft = MoveTo(0, -gap).Rectangle(lx, gap).Face()
@@ -37,10 +53,40 @@ def _strip(size, gap, layer):
     soft.edges.name = "layer_side"
     soft.edges.Min(Y).name = "foundation"
     soft.edges.Max(Y).name = "contact"
+    if mesh.contact_maxh is not None:
+        soft.edges.Max(Y).maxh = mesh.contact_maxh
     return Glue([body, soft])
 
 
-def _box(size, gap, layer):
+def _half_disk(size, gap, layer, mesh):
+    """Lower half of the disk |x − (0, R)| ≤ R: flat edge ``top`` at y = R, arc ``contact``."""
+    radius = size[0]
+    zone = mesh.contact_zone if mesh.contact_zone is not None else radius / 4
+    quarter = math.pi / 2
+    theta = min(math.asin(min(zone / radius, 1.0)), quarter)
+
+    def at(phi):  # point of the arc at angle phi from the downward vertical, positive towards +x
+        return Pnt(radius * math.sin(phi), radius * (1 - math.cos(phi)), 0)
+
+    def arc(a, b):
+        return ArcOfCircle(at(a), at((a + b) / 2), at(b))
+
+    zone_arcs = [arc(-theta, 0.0), arc(0.0, theta)]
+    full = theta >= quarter * (1 - 1e-9)
+    arcs = zone_arcs if full else [arc(-quarter, -theta), *zone_arcs, arc(theta, quarter)]
+    top = Segment(at(quarter), at(-quarter))
+    body = Face(Wire([*arcs, top]))
+    body.faces.name = "body"
+    body.edges.name = "contact"
+    body.edges.Max(Y).name = "top"
+    if mesh.contact_maxh is not None:
+        for edge in body.edges:
+            if edge.name == "contact" and abs(edge.center.x) < zone:
+                edge.maxh = mesh.contact_maxh
+    return body
+
+
+def _box(size, gap, layer, mesh):
     lx, ly, lz = size
     body = Box(Pnt(0, 0, 0), Pnt(lx, ly, lz))
     body.solids.name = "body"
@@ -48,6 +94,8 @@ def _box(size, gap, layer):
                        ("front", body.faces.Min(Y)), ("back", body.faces.Max(Y)),
                        ("top", body.faces.Max(Z)), ("contact", body.faces.Min(Z))):
         face.name = name
+    if mesh.contact_maxh is not None:
+        body.faces.Min(Z).maxh = mesh.contact_maxh
     if not layer:
         return body
     soft = Box(Pnt(0, 0, -gap), Pnt(lx, ly, 0))
@@ -55,10 +103,12 @@ def _box(size, gap, layer):
     soft.faces.name = "layer_side"
     soft.faces.Min(Z).name = "foundation"
     soft.faces.Max(Z).name = "contact"
+    if mesh.contact_maxh is not None:
+        soft.faces.Max(Z).maxh = mesh.contact_maxh
     return Glue([body, soft])
 
 
-SHAPES = {"strip": _strip, "box": _box}
+SHAPES = {"strip": _strip, "box": _box, "half_disk": _half_disk}
 
 
 def mesh_key(scene: Scene) -> str:
@@ -66,6 +116,8 @@ def mesh_key(scene: Scene) -> str:
     g, m = scene.geometry, scene.mesh
     spec = {"v": CACHE_VERSION, "kind": g.kind, "size": g.size, "maxh": m.maxh, "layer": m.layer,
             "gap": scene.contact.gap if m.layer else None}
+    optional = {"contact_maxh": m.contact_maxh, "contact_zone": m.contact_zone, "grading": m.grading}
+    spec.update({k: v for k, v in optional.items() if v is not None})  # unset: keys stay as they were
     return hashlib.sha256(json.dumps(spec, sort_keys=True).encode()).hexdigest()[:16]
 
 
@@ -85,8 +137,9 @@ def build_mesh(scene: Scene, use_cache: bool = True) -> ngs.Mesh:
         ngmesh = netgen.meshing.Mesh(dim=g.dim)
         ngmesh.Load(str(path))
         return ngs.Mesh(ngmesh)
-    shape = SHAPES[g.kind](g.size, gap, m.layer)
-    ngmesh = OCCGeometry(shape, dim=g.dim).GenerateMesh(maxh=m.maxh)
+    shape = SHAPES[g.kind](g.size, gap, m.layer, m)
+    options = {"grading": m.grading} if m.grading is not None else {}
+    ngmesh = OCCGeometry(shape, dim=g.dim).GenerateMesh(maxh=m.maxh, **options)
     if use_cache:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(f".{os.getpid()}.tmp.vol")

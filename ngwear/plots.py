@@ -65,3 +65,96 @@ def _save(fig: Figure, path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=120)
     return path
+
+
+class Dashboard:
+    """Three small panels at one step of a run, redrawn in place (the explorer's plots).
+
+    Left: the wear w along Γ_C at the step, at the end of the run (thin grey) and g (dashed).
+    Middle: the pressure p and the rigid reaction λ along Γ_C at the step.
+    Right: max w and max u_ν − d₀ over the run, g dashed, the step's time as a vertical line.
+    Axis ranges are fixed per result over the whole run, so that scrubbing through it compares.
+
+    Parameters
+    ----------
+    size : (float, float)
+        Figure width and height in inches.
+    dpi : int
+        Pixels per inch of the image.
+    """
+
+    def __init__(self, size=(10.0, 2.6), dpi: int = 80):
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        self.figure = Figure(figsize=size, dpi=dpi)
+        self._canvas = FigureCanvasAgg(self.figure)
+        self._result, self._lines, self._dim = None, {}, None
+
+    def image(self, result, step: int) -> np.ndarray:
+        """RGB image (height, width, 3) of the panels for ``step`` of ``result``."""
+        step = range(result.steps + 1)[step]
+        if self._dim != result.scene.dim:
+            self._build(result.scene.dim)
+        if self._result is not result:
+            self._show_run(result)
+        x = result.contact_points[self._order, 0]
+        for name in ("wear", "pressure", "reaction"):
+            self._lines[name].set_data(x, getattr(result, name)[step, self._order])
+        self._lines["now"].set_xdata([result.times[step]] * 2)
+        self._lines["title"].set_text(f"t = {result.times[step]:.2f}")
+        self._canvas.draw()
+        return np.asarray(self._canvas.buffer_rgba())[..., :3].copy()
+
+    def _build(self, dim: int) -> None:
+        """Axes, labels and (empty) lines; contact points are joined in 2D and marked in 3D."""
+        self.figure.clear()
+        self.figure.subplots_adjust(left=0.06, right=0.99, bottom=0.18, top=0.85, wspace=0.25)
+        wear, traction, history = self.figure.subplots(1, 3)
+        style = {} if dim == 2 else dict(marker=".", ms=3, ls="none")
+        dotted = dict(ls=":") if dim == 2 else dict(style, marker="x")
+        lines = {
+            "end": wear.plot([], [], color="0.7", lw=1, label="end of run", **style)[0],
+            "wear": wear.plot([], [], color="C3", label="w at t", **style)[0],
+            "gap": wear.axhline(0, color="black", ls="--", lw=1, label="g"),
+            "pressure": traction.plot([], [], color="C0", label="p", **style)[0],
+            "reaction": traction.plot([], [], color="C1", label="λ", **dotted)[0],
+            "max_wear": history.plot([], [], color="C3", label="max w")[0],
+            "max_pen": history.plot([], [], color="C2", label="max u_ν − d₀")[0],
+            "gap_t": history.axhline(0, color="black", ls="--", lw=1),
+            "now": history.axvline(0, color="0.4", lw=1),
+            "title": self.figure.suptitle("", x=0.5, y=0.99, fontsize=9),
+        }
+        wear.set(xlabel="x on Γ_C", title="wear w")
+        traction.set(xlabel="x on Γ_C", title="pressure p, reaction λ")
+        history.set(xlabel="time t", title="max wear and penetration")
+        for ax in (wear, traction, history):
+            ax.legend(fontsize=7, loc="upper left")
+            ax.tick_params(labelsize=7)
+            ax.title.set_fontsize(9)
+            ax.xaxis.label.set_fontsize(8)
+        self._axes, self._lines, self._dim, self._result = (wear, traction, history), lines, dim, None
+
+    def _show_run(self, result) -> None:
+        """Lines and axis ranges that stay while scrubbing through ``result``."""
+        wear, traction, history = self._axes
+        g, t = result.scene.contact.gap, result.times
+        self._order = np.argsort(result.contact_points[:, 0])
+        x = result.contact_points[self._order, 0]
+        lines = self._lines
+        lines["end"].set_data(x, result.wear[-1, self._order])
+        lines["gap"].set_ydata([g, g])
+        lines["gap_t"].set_ydata([g, g])
+        lines["max_wear"].set_data(t, result.wear.max(axis=1, initial=0.0))
+        lines["max_pen"].set_data(t, (result.normal_displacement - result.d0).max(axis=1, initial=0.0))
+        span = (x.min(), x.max()) if x.max() > x.min() else (x.min() - 1, x.max() + 1)
+        top = 1.1 * max(g, result.wear.max(initial=0.0), lines["max_pen"].get_ydata().max(initial=0.0))
+        traction_top = max(result.pressure.max(initial=0.0), result.reaction.max(initial=0.0))
+        wear.set(xlim=span, ylim=(0, top))
+        traction.set(xlim=span, ylim=(0, 1.1 * _positive(traction_top)))
+        history.set(xlim=(t[0], max(t[-1], t[0] + 1e-12)), ylim=(0, top))
+        self._result = result
+
+
+def _positive(value: float) -> float:
+    """An axis end that is never zero."""
+    return float(value) if value > 0 else 1.0

@@ -10,10 +10,12 @@ point of Γ_C with displacement u, wear w and compression r = u_ν − d₀ − 
 so the remaining layer is pressed flat on the foundation (b = −g) where r > 0, and the worn part,
 drawn translucent, shows the material the foundation has removed.  ``m`` is ``magnify``.
 The numbers come from the :class:`~ngwear.result.Result`; no numerical module imports this one.
+A :class:`Canvas` keeps one plotter for many pictures (figures, animations, the explorer).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 import ngsolve as ngs
@@ -39,6 +41,11 @@ class _Mesh:
     points: np.ndarray
     body: np.ndarray
     layer: np.ndarray
+
+    @property
+    def depth(self) -> float:
+        """Thickness of the meshed layer (the g the mesh was made for; a scene change may alter g)."""
+        return float(-self.points[self.layer.ravel(), -1].min()) if len(self.layer) else 0.0
 
     @classmethod
     def of(cls, mesh: ngs.Mesh) -> _Mesh:
@@ -66,94 +73,191 @@ class _Scales:
 
 
 class _Picture:
-    """One run's geometry and colour ranges; ``plotter(step)`` draws a step."""
+    """One run's geometry, colour ranges and view; the arrays a :class:`Canvas` draws at each step."""
 
-    def __init__(self, result, steps, field: str = "displacement", magnify: float = 1.0,
-                 window_size=(1200, 500)):
-        if field not in LAYER_FIELDS:
-            raise ValueError(f"field: must be one of {', '.join(LAYER_FIELDS)} (got {field!r})")
-        if result.discretization is None:
-            raise ValueError("result: has no mesh attached (save it with its mesh.vol to render it)")
-        self.result, self.field, self.magnify, self.window_size = result, field, magnify, window_size
-        self.mesh = _Mesh.of(result.discretization.mesh)
+    def __init__(self, result, steps, field: str, magnify: float, mesh: _Mesh):
+        self.result, self.field, self.magnify, self.mesh = result, field, magnify, mesh
         shown = [_vertex_displacement(result, s) for s in sorted(set(result.stored_steps) | set(steps))]
         self.scales = _Scales.of(result, shown)
-        moved = np.array([self.mesh.points + magnify * u for u in shown])
+        moved = np.array([mesh.points + magnify * u for u in shown])
         self.lo, self.hi = moved.min(axis=(0, 1)), moved.max(axis=(0, 1))
-        self.interpolate = _contact_interpolator(result.contact_points, self.mesh.points[:, :-1])
-        self.lit = dict(lighting=result.scene.dim == 3)
+        self.interpolate = _contact_interpolator(result.contact_points, mesh.points[:, :-1])
 
-    def plotter(self, step: int) -> pv.Plotter:
-        """A plotter showing body, layer, foundation, scalar bars and the time of a step."""
-        with pv.vtk_verbosity("error"):
-            pl = pv.Plotter(off_screen=True, window_size=list(self.window_size))
-        pl.set_background("white")
-        self._body(pl, step)
-        if len(self.mesh.layer):
-            self._layer(pl, step)
-        self._foundation(pl, step)
-        pl.add_text(f"t = {self.result.times[step]:.2f} (step {step})",
-                    position=(12, self.window_size[1] - 36), font_size=12, color="black")
-        pl.add_text("light grey: worn-away part of the layer", position="lower_right", font_size=9,
-                    color="black")
-        view = np.array(self._box())
-        view[2 * self.result.scene.dim - 1] = self.hi[-1]
-        _camera(pl, self.result.scene.dim, view, self.window_size)
-        return pl
+    @property
+    def dim(self) -> int:
+        return self.result.scene.dim
 
-    def _body(self, pl: pv.Plotter, step: int) -> None:
-        """The body at X + m u, coloured by |u| when ``field == "displacement"``."""
+    def body(self, step: int) -> tuple[np.ndarray, np.ndarray]:
+        """Vertices at X + m u and |u| there."""
         u = _vertex_displacement(self.result, step)
-        body = _grid(self.mesh.points + self.magnify * u, self.mesh.body, {"|u|": np.linalg.norm(u, axis=1)})
-        colour = (dict(scalars="|u|", cmap=CMAPS["displacement"], clim=(0, self.scales.displacement),
-                       scalar_bar_args=_bar(TITLES["displacement"], 0))
-                  if self.field == "displacement" else dict(color=BODY_COLOR))
-        pl.add_mesh(body, show_edges=True, edge_color="#404040", line_width=0.5, **self.lit, **colour)
+        return self.mesh.points + self.magnify * u, np.linalg.norm(u, axis=1)
 
-    def _layer(self, pl: pv.Plotter, step: int) -> None:
-        """The remaining layer coloured by w or p, and its worn-away part in translucent light grey."""
-        name = LAYER_FIELDS[self.field]
-        at_base = self.interpolate(_contact_columns(self.result, step, name))
+    def layer(self, step: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Vertices of the remaining and of the worn-away layer, and the layer's field (w or p)."""
+        at_base = self.interpolate(_contact_columns(self.result, step, LAYER_FIELDS[self.field]))
         remaining, worn = _layer_points(self.mesh.points, at_base, self.result.scene.contact.gap,
-                                        self.magnify)
-        bar = _bar(TITLES[name], int(self.field == "displacement"))
-        pl.add_mesh(_grid(remaining, self.mesh.layer, {name: at_base[:, -1]}), scalars=name, cmap=CMAPS[name],
-                    clim=(0, getattr(self.scales, name)), show_edges=True, edge_color="#808080",
-                    line_width=0.5, scalar_bar_args=bar, **self.lit)
-        pl.add_mesh(_grid(worn, self.mesh.layer, {}), color=WORN_COLOR, opacity=0.5, **self.lit)
+                                        self.magnify, self.mesh.depth)
+        return remaining, worn, at_base[:, -1]
 
-    def _box(self) -> tuple:
+    def box(self) -> tuple:
         """Bounds of the foundation block: below x_d = −g, under the body at every step shown.
 
         In 3D the block starts just behind the front face (y = y_min) so the worn part stays visible.
         """
-        g, dim, lo, hi = self.result.scene.contact.gap, self.result.scene.dim, self.lo, self.hi
+        g, dim, lo, hi = self.result.scene.contact.gap, self.dim, self.lo, self.hi
         size = (hi - lo).max()
         depth = max(2 * g, 0.15 * (hi - lo)[dim - 1])
         x0, x1 = lo[0] - 0.05 * size, hi[0] + 0.05 * size
         return ((x0, x1, -g - depth, -g, -0.02, -0.01) if dim == 2
                 else (x0, x1, lo[1] + 0.02 * size, hi[1] + 0.05 * size, -g - depth, -g))
 
-    def _foundation(self, pl: pv.Plotter, step: int) -> None:
-        """The grey foundation block and an arrow for its velocity v*(t)."""
-        box, dim = self._box(), self.result.scene.dim
-        pl.add_mesh(pv.Box(box), color=FOUNDATION_COLOR, **self.lit)
+    def view(self) -> list:
+        """Bounds the camera fits: the foundation block up to the highest point of the body."""
+        view = list(self.box())
+        view[2 * self.dim - 1] = self.hi[-1]
+        return view
+
+    def arrow(self, step: int) -> tuple[np.ndarray, np.ndarray, float] | None:
+        """Start, v*(t) and length of the foundation's velocity arrow (None when it is at rest)."""
+        box, dim = self.box(), self.dim
         v = self.result.discretization.velocity(self.result.times[step])
-        if v.any():
-            size, top, bottom = box[1] - box[0], box[2 * dim - 1], box[2 * dim - 2]
-            start = np.array([box[0] + 0.05 * size, box[2] - 1e-3, top + 0.7 * (bottom - top)])
-            _arrow(pl, start if dim == 3 else start[[0, 2, 1]] * (1, 1, 0), v, 0.2 * size, self.lit)
+        if not v.any():
+            return None
+        size, top, bottom = box[1] - box[0], box[2 * dim - 1], box[2 * dim - 2]
+        start = np.array([box[0] + 0.05 * size, box[2] - 1e-3, top + 0.7 * (bottom - top)])
+        return (start if dim == 3 else start[[0, 2, 1]] * (1, 1, 0)), v, 0.2 * size
+
+    def caption(self, step: int) -> str:
+        return f"t = {self.result.times[step]:.2f} (step {step})"
 
 
-def _arrow(pl: pv.Plotter, start: np.ndarray, v: np.ndarray, length: float, lit: dict) -> None:
-    """White arrow along v with the label "rigid foundation, v* = (…)"."""
-    direction = _xyz(v[None])[0] / np.linalg.norm(v)
-    arrow = pv.Arrow(start=start, direction=direction, scale=length, shaft_radius=0.04, tip_radius=0.1)
-    pl.add_mesh(arrow, color="white", **lit)
-    label = "rigid foundation, v* = (" + ", ".join(f"{c:.3g}" for c in v) + ")"
-    pl.add_point_labels([start + 1.1 * length * direction], [label], show_points=False, shape="rect",
-                        shape_color="white", shape_opacity=0.8, font_size=13, text_color="black",
-                        always_visible=True)
+class Canvas:
+    """An off-screen picture that is built on the first frame and updated in place afterwards.
+
+    The plotter, its meshes, scalar bars and texts are made once per mesh; later frames (other steps,
+    or other results on the same mesh, as in the explorer) only move points and recolour, which
+    renders about four times faster than a new plotter (whose first render compiles its shaders).
+    Colour ranges and view are fixed per result over its stored steps and the ``steps`` given with
+    its first frame, so that the frames of a run compare.
+
+    Parameters
+    ----------
+    field : {"displacement", "wear", "pressure"}
+        Colour the body by |u| and the layer by w, or only the layer by w or by the pressure p.
+    magnify : float
+        Scale of u and w in the picture.
+    window_size : (int, int)
+        Width and height of the image in pixels.
+    """
+
+    def __init__(self, field: str = "displacement", magnify: float = 1.0, window_size=(1200, 500)):
+        if field not in LAYER_FIELDS:
+            raise ValueError(f"field: must be one of {', '.join(LAYER_FIELDS)} (got {field!r})")
+        self.field, self.magnify, self.window_size = field, magnify, tuple(window_size)
+        self._plotter: pv.Plotter | None = None
+        self._parts: dict = {}
+        self._mesh: tuple[ngs.Mesh, _Mesh] | None = None
+        self._picture: _Picture | None = None
+
+    def frame(self, result, step: int, steps=()) -> np.ndarray:
+        """RGB image (height, width, 3) of the body, layer and foundation of ``result`` at ``step``."""
+        step = range(result.steps + 1)[step]
+        picture = self._picture_of(result, [step, *steps])
+        if self._plotter is None or self._parts["mesh"] is not picture.mesh:
+            self._build(picture)
+        self._update(picture, step)
+        with pv.vtk_verbosity("error"):
+            self._plotter.render()
+            image = self._plotter.screenshot(return_img=True)
+        return np.asarray(image)[..., :3].copy()
+
+    def close(self) -> None:
+        """Release the plotter (its render window)."""
+        if self._plotter is not None:
+            self._plotter.close()
+        self._plotter, self._parts, self._picture = None, {}, None
+
+    def __enter__(self) -> Canvas:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def _picture_of(self, result, steps) -> _Picture:
+        if result.discretization is None:
+            raise ValueError("result: has no mesh attached (save it with its mesh.vol to render it)")
+        if self._picture is None or self._picture.result is not result:
+            ngs_mesh = result.discretization.mesh
+            if self._mesh is None or self._mesh[0] is not ngs_mesh:
+                self._mesh = ngs_mesh, _Mesh.of(ngs_mesh)
+            self._picture = _Picture(result, steps, self.field, self.magnify, self._mesh[1])
+        return self._picture
+
+    def _build(self, picture: _Picture) -> None:
+        """A new plotter with every actor; the data are set by :meth:`_update`."""
+        self.close()
+        self._picture = picture
+        with pv.vtk_verbosity("error"):
+            pl = pv.Plotter(off_screen=True, window_size=list(self.window_size))
+        pl.set_background("white")
+        mesh, lit, width = picture.mesh, dict(lighting=picture.dim == 3), self.window_size[0]
+        parts = {"mesh": mesh, "lit": lit}
+        parts["body"] = _Cells(mesh.points, mesh.body, ("|u|",))
+        colour = (dict(scalars="|u|", cmap=CMAPS["displacement"],
+                       scalar_bar_args=_bar(TITLES["displacement"], 0, width))
+                  if self.field == "displacement" else dict(color=BODY_COLOR))
+        parts["body_actor"] = pl.add_mesh(parts["body"].grid, show_edges=True, edge_color="#404040",
+                                          line_width=0.5, **lit, **colour)
+        if len(mesh.layer):
+            name = LAYER_FIELDS[self.field]
+            parts["layer"] = _Cells(mesh.points, mesh.layer, (name,))
+            parts["worn"] = _Cells(mesh.points, mesh.layer, ())
+            parts["layer_actor"] = pl.add_mesh(
+                parts["layer"].grid, scalars=name, cmap=CMAPS[name], show_edges=True, edge_color="#808080",
+                line_width=0.5, scalar_bar_args=_bar(TITLES[name], int(self.field == "displacement"), width),
+                **lit)
+            pl.add_mesh(parts["worn"].grid, color=WORN_COLOR, opacity=0.5, **lit)
+        parts["box"] = pv.Box(picture.box())
+        pl.add_mesh(parts["box"], color=FOUNDATION_COLOR, **lit)
+        parts["arrow"] = pv.Arrow()
+        parts["arrow_actor"] = pl.add_mesh(parts["arrow"], color="white", **lit)
+        parts["label"] = pv.PolyData(np.zeros((1, 3)))
+        parts["label"].point_data["label"] = np.array([""])
+        parts["label_actor"] = pl.add_point_labels(
+            parts["label"], "label", show_points=False, shape="rect", shape_color="white",
+            shape_opacity=0.8, font_size=13, text_color="black", always_visible=True)
+        parts["caption"] = pl.add_text("", position=(12, self.window_size[1] - 36), font_size=12,
+                                       color="black")
+        pl.add_text("light grey: worn-away part of the layer", position="lower_right", font_size=9,
+                    color="black")
+        self._plotter, self._parts = pl, parts
+
+    def _update(self, picture: _Picture, step: int) -> None:
+        """Move and recolour every actor to ``step`` of the picture's result."""
+        parts, scales = self._parts, picture.scales
+        points, speed = picture.body(step)
+        parts["body"].update(points, {"|u|": speed})
+        if self.field == "displacement":
+            parts["body_actor"].mapper.scalar_range = (0, scales.displacement)
+        if "layer" in parts:
+            name = LAYER_FIELDS[self.field]
+            remaining, worn, values = picture.layer(step)
+            parts["layer"].update(remaining, {name: values})
+            parts["worn"].update(worn, {})
+            parts["layer_actor"].mapper.scalar_range = (0, getattr(scales, name))
+        parts["box"].copy_from(pv.Box(picture.box()))
+        arrow = picture.arrow(step)
+        parts["arrow_actor"].visibility = parts["label_actor"].visibility = arrow is not None
+        if arrow is not None:
+            start, v, length = arrow
+            direction = _xyz(v[None])[0] / np.linalg.norm(v)
+            parts["arrow"].copy_from(pv.Arrow(start=start, direction=direction, scale=length,
+                                              shaft_radius=0.04, tip_radius=0.1))
+            parts["label"].points = (start + 1.1 * length * direction)[None]
+            parts["label"].point_data["label"] = np.array(
+                ["rigid foundation, v* = (" + ", ".join(f"{c:.3g}" for c in v) + ")"])
+        parts["caption"].SetInput(picture.caption(step))
+        _camera(self._plotter, picture.dim, picture.view(), self.window_size)
 
 
 def frame(result, step: int, *, field: str = "displacement", magnify: float = 1.0,
@@ -162,9 +266,10 @@ def frame(result, step: int, *, field: str = "displacement", magnify: float = 1.
 
     ``field`` colours the body by |u| and the layer by w (``"displacement"``), or only the layer by
     the wear w (``"wear"``) or the compliance pressure p (``"pressure"``).  ``magnify`` scales u and w.
+    To draw many pictures of the same mesh, keep a :class:`Canvas` instead.
     """
-    step = range(result.steps + 1)[step]
-    return _shot(_Picture(result, [step], field, magnify, window_size).plotter(step))
+    with Canvas(field, magnify, window_size) as canvas:
+        return canvas.frame(result, step)
 
 
 def save_frame(result, step: int, path, **kw) -> Path:
@@ -178,25 +283,62 @@ def save_frame(result, step: int, path, **kw) -> Path:
 def paper_figures(result, out_dir, steps=None, **kw) -> list[Path]:
     """The paper's Figs. 1–4: ``figK_stepNNN.png`` at 25, 50, 75 and 100 % of the run (or ``steps``)."""
     steps = quartile_steps(result) if steps is None else [range(result.steps + 1)[s] for s in steps]
-    picture = _Picture(result, steps, **kw)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     paths = []
-    for k, step in enumerate(steps, start=1):
-        paths.append(out / f"fig{k}_step{step:03d}.png")
-        Image.fromarray(_shot(picture.plotter(step))).save(paths[-1])
+    with Canvas(**kw) as canvas:
+        for k, step in enumerate(steps, start=1):
+            paths.append(out / f"fig{k}_step{step:03d}.png")
+            Image.fromarray(canvas.frame(result, step, steps)).save(paths[-1])
     return paths
 
 
 def animation(result, path, fps: float = 10, steps=None, **kw) -> Path:
-    """GIF of the run, one frame per step (or per entry of ``steps``), colour ranges fixed over the run."""
-    steps = range(result.steps + 1) if steps is None else steps
-    picture = _Picture(result, list(steps), **kw)
-    frames = [Image.fromarray(_shot(picture.plotter(s))) for s in steps]
+    """Animation of the run, one frame per step (or per entry of ``steps``), colour ranges fixed.
+
+    A ``.gif`` path writes a looping GIF (Pillow); ``.mp4`` writes H.264 video through the optional
+    package imageio-ffmpeg (``pip install imageio-ffmpeg``), which is not a dependency of ngwear.
+    Keyword arguments go to :class:`Canvas`.
+    """
     path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in (".gif", ".mp4"):
+        raise ValueError(f"path: animations are .gif or .mp4 (got {path.name!r})")
+    write = partial(_write_mp4, _ffmpeg()) if suffix == ".mp4" else _write_gif
+    steps = list(range(result.steps + 1) if steps is None else steps)
     path.parent.mkdir(parents=True, exist_ok=True)
-    frames[0].save(path, save_all=True, append_images=frames[1:], duration=round(1000 / fps), loop=0)
+    with Canvas(**kw) as canvas:
+        write((canvas.frame(result, s, steps) for s in steps), path, fps)
     return path
+
+
+def _ffmpeg():
+    """The optional module imageio_ffmpeg, or an error saying how to get it."""
+    try:
+        import imageio_ffmpeg
+    except ImportError as err:
+        raise ModuleNotFoundError("MP4 animations need the optional package imageio-ffmpeg "
+                                  "(pip install imageio-ffmpeg); write a .gif instead") from err
+    return imageio_ffmpeg
+
+
+def _write_gif(frames, path: Path, fps: float) -> None:
+    first, *rest = (Image.fromarray(f) for f in frames)
+    first.save(path, save_all=True, append_images=rest, duration=round(1000 / fps), loop=0)
+
+
+def _write_mp4(ffmpeg, frames, path: Path, fps: float) -> None:
+    """H.264 in yuv420p through imageio-ffmpeg; frames are padded to even width and height."""
+    writer = None
+    for image in frames:
+        h, w = image.shape[:2]
+        image = np.pad(image, ((0, h % 2), (0, w % 2), (0, 0)), mode="edge")
+        if writer is None:
+            writer = ffmpeg.write_frames(str(path), (image.shape[1], image.shape[0]), fps=fps,
+                                         macro_block_size=1, pix_fmt_out="yuv420p")
+            writer.send(None)
+        writer.send(np.ascontiguousarray(image))
+    writer.close()
 
 
 def quartile_steps(result) -> list[int]:
@@ -240,11 +382,14 @@ def _contact_interpolator(points: np.ndarray, base: np.ndarray):
     return interpolate
 
 
-def _layer_points(points: np.ndarray, at_base: np.ndarray, g: float, m: float):
-    """Deformed positions of the layer's vertices: the remaining part and the worn-away part."""
+def _layer_points(points: np.ndarray, at_base: np.ndarray, g: float, m: float, depth: float):
+    """Deformed positions of the layer's vertices: the remaining part and the worn-away part.
+
+    ``depth`` is the meshed layer's thickness; its vertices are spread over the layer of thickness g.
+    """
     d = points.shape[1]
     u, w, r = at_base[:, :d], at_base[:, d], at_base[:, d + 1]
-    eta = np.clip((points[:, -1] + g) / g, 0.0, 1.0)
+    eta = np.clip((points[:, -1] + depth) / depth, 0.0, 1.0)
     top = m * u[:, -1]
     bottom = np.minimum(top - (g - m * w) + m * np.maximum(r, 0.0), top)
     worn = np.clip(m * w, 0.0, m * g)
@@ -259,15 +404,23 @@ def _layer_points(points: np.ndarray, at_base: np.ndarray, g: float, m: float):
 # ---------------------------------------------------------------- pyvista plumbing
 
 
-def _grid(points: np.ndarray, cells: np.ndarray, data: dict) -> pv.UnstructuredGrid:
-    """Unstructured grid of the cells, with only the vertices they use."""
-    used, inverse = np.unique(cells, return_inverse=True)
-    conn = np.column_stack([np.full(len(cells), cells.shape[1]), inverse.reshape(cells.shape)])
-    kind = CELL_TYPES[points.shape[1], cells.shape[1]]
-    grid = pv.UnstructuredGrid(conn.ravel(), np.full(len(cells), kind), _xyz(points[used]))
-    for name, values in data.items():
-        grid.point_data[name] = values[used]
-    return grid
+class _Cells:
+    """An unstructured grid of some cells on only the vertices they use; ``update`` moves and recolours."""
+
+    def __init__(self, points: np.ndarray, cells: np.ndarray, names):
+        self.used, inverse = np.unique(cells, return_inverse=True)
+        conn = np.column_stack([np.full(len(cells), cells.shape[1]), inverse.reshape(cells.shape)])
+        kind = CELL_TYPES[points.shape[1], cells.shape[1]]
+        self.grid = pv.UnstructuredGrid(conn.ravel(), np.full(len(cells), kind), _xyz(points[self.used]))
+        for name in names:
+            self.grid.point_data[name] = np.zeros(len(self.used))
+
+    def update(self, points: np.ndarray, data: dict) -> None:
+        """Vertex positions and point data given on every mesh vertex."""
+        self.grid.points = _xyz(points[self.used])
+        for name, values in data.items():
+            self.grid.point_data[name][:] = values[self.used]
+        self.grid.Modified()
 
 
 def _xyz(points: np.ndarray) -> np.ndarray:
@@ -275,10 +428,12 @@ def _xyz(points: np.ndarray) -> np.ndarray:
     return np.column_stack([points, np.zeros((len(points), 3 - points.shape[1]))])
 
 
-def _bar(title: str, slot: int) -> dict:
-    """A vertical scalar bar at the right edge; slot 0 outermost."""
+def _bar(title: str, slot: int, width: int) -> dict:
+    """A vertical scalar bar at the right edge of a window ``width`` pixels wide; slot 0 outermost."""
+    scale = min(1.0, width / 1200)
     return dict(title=title, vertical=True, position_x=0.93 - 0.1 * slot, position_y=0.3, width=0.03,
-                height=0.6, color="black", fmt="%.3f", n_labels=5, title_font_size=16, label_font_size=13)
+                height=0.6, color="black", fmt="%.3f", n_labels=5, title_font_size=round(16 * scale),
+                label_font_size=round(13 * scale))
 
 
 def _camera(pl: pv.Plotter, dim: int, bounds, window_size) -> None:
@@ -298,14 +453,6 @@ def _camera(pl: pv.Plotter, dim: int, bounds, window_size) -> None:
     pl.camera.position = center + (0, 0, 10)
     pl.camera.up = (0, 1, 0)
     pl.camera.parallel_scale = 0.5 * height
-
-
-def _shot(pl: pv.Plotter) -> np.ndarray:
-    """Render off-screen and return the RGB pixels; the plotter is closed."""
-    with pv.vtk_verbosity("error"):
-        image = pl.screenshot(return_img=True)
-    pl.close()
-    return np.asarray(image)[..., :3].copy()
 
 
 def _positive(value: float) -> float:

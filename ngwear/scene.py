@@ -15,11 +15,14 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-GEOMETRY_KINDS = {"strip": 2, "box": 3}
+GEOMETRY_KINDS = {"strip": 2, "box": 3, "half_disk": 2}
 BOUNDARIES = {
     "strip": ("left", "right", "top", "contact"),
     "box": ("left", "right", "front", "back", "top", "contact"),
+    "half_disk": ("top", "contact"),
 }
+DEFAULT_SIZES = {"strip": (3.0, 1.0), "box": (1.0, 0.5, 0.5), "half_disk": (1.0,)}
+DEFAULT_DIRICHLET = {"strip": ("left",), "box": ("left",), "half_disk": ("top",)}
 COMPLIANCE_LAWS = ("linear", "power")
 WEAR_INTEGRATORS = ("explicit", "implicit", "trapezoidal")
 SOLVERS = ("condensed", "full")
@@ -31,7 +34,8 @@ class SceneError(ValueError):
 
 @dataclass(frozen=True)
 class Geometry:
-    """Body shape: ``strip`` = [0,Lx]×[0,Ly] (2D), ``box`` = [0,Lx]×[0,Ly]×[0,Lz] (3D)."""
+    """Body shape: ``strip`` = [0,Lx]×[0,Ly] (2D), ``box`` = [0,Lx]×[0,Ly]×[0,Lz] (3D),
+    ``half_disk`` = lower half of the disk of radius R = size[0] centred at (0, R) (2D, Γ_C the arc)."""
 
     kind: str = "strip"
     size: tuple[float, ...] = (3.0, 1.0)
@@ -44,11 +48,19 @@ class Geometry:
 
 @dataclass(frozen=True)
 class MeshSpec:
-    """Netgen mesh size ``maxh``, polynomial ``order`` (1 or 2) and whether to mesh the soft layer."""
+    """Netgen mesh size ``maxh``, polynomial ``order`` (1 or 2) and whether to mesh the soft layer.
+
+    ``contact_maxh`` (optional) is the mesh size on Γ_C; for ``half_disk`` only on the arc within
+    ``contact_zone`` (horizontal half-width, default R/4) of the lowest point.  ``grading``
+    (optional, Netgen's default 0.3) bounds how fast the element size grows away from Γ_C.
+    """
 
     maxh: float = 0.1
     order: int = 1
     layer: bool = True
+    contact_maxh: float | None = None
+    contact_zone: float | None = None
+    grading: float | None = None
 
 
 @dataclass(frozen=True)
@@ -328,11 +340,11 @@ def _build(data: dict[str, Any]) -> Scene:
     g = _section(data, "geometry", _names(Geometry))
     kind = _choice(g, "geometry", "kind", "strip", tuple(GEOMETRY_KINDS))
     dim = GEOMETRY_KINDS[kind]
-    default_size = (3.0, 1.0) if dim == 2 else (1.0, 0.5, 0.5)
-    size = _vector(g, "geometry", "size", default_size, dim)
+    default_size = DEFAULT_SIZES[kind]
+    size = _vector(g, "geometry", "size", default_size, len(default_size))
     if min(size) <= 0:
         raise SceneError(f"geometry.size: every length must be > 0 (got {list(size)})")
-    dirichlet = g.get("dirichlet", ["left"])
+    dirichlet = g.get("dirichlet", list(DEFAULT_DIRICHLET[kind]))
     boundaries = BOUNDARIES[kind]
     if isinstance(dirichlet, str):
         dirichlet = [dirichlet]
@@ -347,10 +359,19 @@ def _build(data: dict[str, Any]) -> Scene:
     m = _section(data, "mesh", _names(MeshSpec))
     maxh = _number(m, "mesh", "maxh", 0.1, lo=0, lo_open=True, hi=max(size))
     order = _number(m, "mesh", "order", 1, lo=1, hi=2 if dim == 2 else 1, integer=True)
-    layer = m.get("layer", True)
+    flat = kind != "half_disk"
+    layer = m.get("layer", flat)
     if not isinstance(layer, bool):
         raise SceneError(f"mesh.layer: must be true or false (got {layer!r})")
-    mesh = MeshSpec(maxh, order, layer)
+    if layer and not flat:
+        raise SceneError(f"mesh.layer: must be false for geometry.kind = {kind!r} "
+                         "(the soft layer is meshed only under a flat Γ_C)")
+    contact_maxh = _number(m, "mesh", "contact_maxh", None, lo=0, lo_open=True, hi=maxh)
+    if "contact_zone" in m and flat:
+        raise SceneError(f"mesh.contact_zone: only for geometry.kind = 'half_disk' (got kind {kind!r})")
+    contact_zone = _number(m, "mesh", "contact_zone", None, lo=0, lo_open=True, hi=size[0])
+    grading = _number(m, "mesh", "grading", None, lo=0.1, hi=1.0)
+    mesh = MeshSpec(maxh, order, layer, contact_maxh, contact_zone, grading)
 
     mat = _section(data, "material", _names(Material))
     lame = [k for k in ("lame_lambda", "lame_mu") if k in mat]

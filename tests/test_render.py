@@ -5,6 +5,8 @@ with ``field="wear"`` is lightsteelblue, the worn-away layer is white at opacity
 the remaining layer takes YlOrRd colours of w / g.  At the end of the paper's run the layer is worn
 through near x = 3 and untouched at the clamped end x = 0.
 """
+import sys
+
 import numpy as np
 import pytest
 from conftest import PAPER
@@ -119,6 +121,58 @@ def test_animation_and_saved_frame(strip, tmp_path):
         assert im.n_frames == 3
     png = render.save_frame(strip, 10, tmp_path / "sub" / "f.png", field="pressure", magnify=2.0)
     assert np.asarray(Image.open(png)).std() > 20
+    with pytest.raises(ValueError, match=r"\.gif or \.mp4"):
+        render.animation(strip, tmp_path / "run.avi")
+
+
+def test_mp4_animation(strip, tmp_path):
+    ffmpeg = pytest.importorskip("imageio_ffmpeg", reason="MP4 needs the optional package imageio-ffmpeg")
+    mp4 = render.animation(strip, tmp_path / "run.mp4", fps=5, steps=range(0, 21, 5), window_size=(301, 131))
+    assert mp4.read_bytes()[4:8] == b"ftyp"
+    assert ffmpeg.count_frames_and_secs(str(mp4))[0] == 5
+
+
+def test_mp4_without_imageio_ffmpeg_says_what_to_install(strip, tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "imageio_ffmpeg", None)
+    with pytest.raises(ModuleNotFoundError, match="pip install imageio-ffmpeg"):
+        render.animation(strip, tmp_path / "run.mp4")
+    assert not (tmp_path / "run.mp4").exists()
+
+
+def test_canvas_updated_in_place_draws_what_a_new_plotter_draws(strip):
+    """One canvas across steps and across runs on the same mesh (as the explorer uses it)."""
+    other = ngwear.simulate(strip.scene.replace(**{"contact.wear": 0.3, "foundation.velocity": [2.0, 0.0]}),
+                            discretization=strip.discretization, progress=False)
+    at_rest = ngwear.simulate(strip.scene.replace(**{"foundation.velocity": [0.0, 0.0], "contact.wear": 0.0,
+                                                     "contact.friction": 0.0}),
+                              discretization=strip.discretization, progress=False)
+    with render.Canvas(window_size=(400, 170)) as canvas:
+        for result, step in [(strip, 20), (strip, 0), (other, 20), (at_rest, 10), (strip, 20)]:
+            reused = canvas.frame(result, step)
+            assert np.array_equal(reused, render.frame(result, step, window_size=(400, 170)))
+
+
+def test_layer_fills_the_gap_when_g_exceeds_the_meshed_layer(strip):
+    """A larger g on a reused mesh (meshed for g = 0.2): the layer reaches down to the foundation."""
+    thick = ngwear.simulate(strip.scene.replace(**{"contact.gap": 0.35, "contact.wear": 0.0}),
+                            discretization=strip.discretization, progress=False)
+    assert thick.discretization.mesh is strip.discretization.mesh
+    image = render.frame(thick, -1, field="wear")
+    column = image[:, np.flatnonzero(mask(image, BODY).mean(axis=0) > 0.2).mean().astype(int)]
+    body = np.flatnonzero(mask(column[None], BODY)[0])
+    ground = np.flatnonzero(mask(column[None], FOUNDATION)[0])
+    between = column[body.max() + 1:ground.min()]
+    assert len(between) > 20 and not mask(between[None], (255, 255, 255))[0].any()
+
+
+@pytest.mark.parametrize("result", ["strip", "box"])
+def test_dashboard_redraws_in_place(result, request):
+    result = request.getfixturevalue(result)
+    board = plots.Dashboard(size=(8, 2.5), dpi=80)
+    first, last = board.image(result, 0), board.image(result, -1)
+    assert first.shape == last.shape == (200, 640, 3)
+    assert (first.mean(axis=-1) < 128).mean() > 0.005 and np.abs(first.astype(int) - last).mean() > 0.1
+    assert np.array_equal(board.image(result, 0), first)
 
 
 @pytest.mark.parametrize("plot", [plots.wear_profiles, plots.pressure_history])
