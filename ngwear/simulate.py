@@ -44,7 +44,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None,
     stepper = _Stepper(disc)
     x = np.zeros(n) if scene.solver.method == "condensed" else np.zeros(int(disc.free.sum()))
     lam = np.zeros(n)
-    t_prev = 0.0
+    t_prev = None  # step 0 continues from the unloaded state u = 0
     bar = _progress(range(steps + 1), scene.name) if progress else range(steps + 1)
     for j in bar:
         t = j * k
@@ -73,8 +73,9 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None,
 class _Stepper:
     """Solves one step; on a Newton failure it retries from a load continuation (cut-back).
 
-    The cut-back does not change the scheme: it solves the same step's problem at loads
-    f(t_prev + θ (t − t_prev)), θ = 1/m … 1, each warm-starting the next, with m = 2, 4, 8.
+    The cut-back does not change the scheme: it solves the same step's problem (wear law, v*) at
+    the loads s_F = s_prev + θ (s_F(t) − s_prev), θ = 1/m … 1, each warm-starting the next, with
+    m = 2, 4, 8; s_prev is the previous step's load factor, or 0 (the unloaded state) at step 0.
     """
 
     CUTBACKS = (2, 4, 8)
@@ -88,28 +89,34 @@ class _Stepper:
         return x if self.scene.solver.method == "condensed" else self.disc.N[:, self.disc.free] @ x
 
     def solve(self, t, t_prev, law, x, lam, integrator):
+        target = self.disc.load_factor(t)
         try:
-            return self._newton(t, law, x, lam, integrator)
+            return self._newton(t, target, law, x, lam, integrator)
         except ConvergenceError as first:
+            start = 0.0 if t_prev is None else self.disc.load_factor(t_prev)
+            if t_prev is None:
+                x, lam = np.zeros_like(x), np.zeros_like(lam)
             for m in self.CUTBACKS:
                 try:
                     xs, ls = x, lam
                     for theta in np.arange(1, m + 1) / m:
-                        xs, ls, record = self._newton(t_prev + theta * (t - t_prev), law, xs, ls, integrator)
-                    log.info("t = %.4g: converged after cutting the step into %d", t, m)
+                        xs, ls, record = self._newton(t, start + theta * (target - start), law, xs, ls,
+                                                      integrator)
+                    log.info("t = %.4g: converged after cutting the load step into %d", t, m)
                     return xs, ls, record
                 except ConvergenceError:
                     continue
             raise first
 
-    def _newton(self, t, law, x, lam, integrator):
+    def _newton(self, t, load_factor, law, x, lam, integrator):
         sc = self.scene.solver
-        return semismooth_newton(self._system(t, law, integrator), x, lam, sc.tolerance, sc.max_iterations)
+        system = self._system(t, load_factor, law, integrator)
+        return semismooth_newton(system, x, lam, sc.tolerance, sc.max_iterations)
 
-    def _system(self, t, law, integrator):
+    def _system(self, t, load_factor, law, integrator):
         disc = self.disc
         if self.scene.solver.method == "full":
-            return _full_system(disc, t, integrator)
+            return _full_system(disc, t, load_factor, integrator)
         n_star, mu = disc.n_star(t), self.scene.contact.friction
         key = tuple(n_star)
         if key not in self._matrices:
@@ -117,11 +124,10 @@ class _Stepper:
             self._matrices = {key: H + mu * disc.friction_compliance(n_star) if mu > 0 and n_star.any() else H}
             self._factors = {}
         return CondensedSystem(disc.normal_compliance, self._matrices[key], disc.points.weights,
-                               disc.load_factor(t) * disc.s_load, disc.d0, self.scene.contact.gap, law,
-                               self._factors)
+                               load_factor * disc.s_load, disc.d0, self.scene.contact.gap, law, self._factors)
 
 
-def _full_system(disc: Discretization, t: float, integrator: WearIntegrator) -> FullSystem:
+def _full_system(disc: Discretization, t: float, load_factor: float, integrator: WearIntegrator) -> FullSystem:
     """The reference system: NGSolve form with w, μ, n* of this step."""
     if integrator.c != 0:
         raise NotImplementedError("solver.method = 'full' supports wear.integrator = 'explicit' only")
@@ -130,7 +136,7 @@ def _full_system(disc: Discretization, t: float, integrator: WearIntegrator) -> 
     cf.mu.Set(disc.scene.contact.friction)
     for p, v in zip(cf.n_star, disc.n_star(t)):
         p.Set(float(v))
-    return FullSystem(cf, disc.load_factor(t) * disc.load, disc.free, disc.N, disc.points.weights,
+    return FullSystem(cf, load_factor * disc.load, disc.free, disc.N, disc.points.weights,
                       disc.d0, disc.scene.contact.gap, disc.stiffness.diagonal())
 
 

@@ -48,32 +48,56 @@ class NewtonRecord:
     damped: int = 0
 
 
+MEMORY = 5
+UNDAMPED = 20
+
+
 def semismooth_newton(system, x, lam, tol: float = 1e-10, max_iterations: int = 50):
-    """Solve ``system`` from the warm start (x, λ); returns (x, λ, NewtonRecord)."""
+    """Solve ``system`` from the warm start (x, λ); returns (x, λ, NewtonRecord).
+
+    First the pure semismooth Newton iteration (full steps: for a piecewise-linear law it ends in
+    finitely many steps, however stiff), for at most ``UNDAMPED`` iterations; if that does not
+    converge, a damped restart from the warm start with a non-monotone line search
+    (Grippo–Lampariello–Lucidi): a step is accepted when the merit drops below the largest of the
+    last ``MEMORY`` merits; halving stops at θ = 1/1024.  Iterations of both phases count.
+    """
     rec = NewtonRecord()
-    merit = system.merit(x, lam)
-    rec.residuals.append(merit)
-    active_old = None
-    for it in range(1, max_iterations + 1):
-        active = lam + system.c * system.gap(x) > 0
-        dx, lam_new = system.step(x, lam, active)
-        theta = 1.0
-        while True:
-            x_try, lam_try = x + theta * dx, lam + theta * (lam_new - lam)
-            merit_try = system.merit(x_try, lam_try)
-            if merit_try <= (1 - 1e-4 * theta) * merit or theta < 1e-3 or not np.isfinite(merit):
+    start = (x, lam)
+    for damped in (False, True):
+        x, lam = start
+        merit = system.merit(x, lam)
+        history = [merit]
+        active_old = None
+        budget = min(UNDAMPED, max_iterations) if not damped else max_iterations - rec.iterations
+        for _ in range(budget):
+            active = lam + system.c * system.gap(x) > 0
+            dx, lam_new = system.step(x, lam, active)
+            reference = max(history[-MEMORY:])
+            theta = 1.0
+            while True:
+                x_try, lam_try = x + theta * dx, lam + theta * (lam_new - lam)
+                with np.errstate(over="ignore", invalid="ignore"):  # a wild trial step is detected below
+                    merit_try = system.merit(x_try, lam_try)
+                if not np.isfinite(merit_try) and not damped:
+                    break
+                if not damped or merit_try <= (1 - 1e-4 * theta) * reference or theta < 1e-3:
+                    break
+                theta *= 0.5
+            if not np.isfinite(merit_try):
+                if damped:
+                    merit = merit_try
                 break
-            theta *= 0.5
-        rec.damped += theta < 1
-        x, lam, merit = x_try, lam_try, merit_try
-        rec.iterations, rec.active = it, int(active.sum())
-        rec.residuals.append(merit)
-        if not np.isfinite(merit):
+            rec.damped += theta < 1
+            x, lam, merit = x_try, lam_try, merit_try
+            rec.iterations, rec.active = rec.iterations + 1, int(active.sum())
+            history.append(merit)
+            rec.residuals.append(merit)
+            if merit <= tol and (active_old is None or np.array_equal(active, active_old) or merit == 0):
+                rec.converged = True
+                return x, lam, rec
+            active_old = active
+        if rec.iterations >= max_iterations:
             break
-        if merit <= tol and (active_old is None or np.array_equal(active, active_old) or merit == 0):
-            rec.converged = True
-            return x, lam, rec
-        active_old = active
     raise ConvergenceError(
         f"Newton did not converge in {rec.iterations} iterations (merit {merit:.2e} > {tol:.0e})", rec)
 

@@ -59,6 +59,9 @@ class WearIntegrator:
         law, a, c = self.law, self.a, self.c
         if c == 0:
             return PointLaw(lambda z: law(z - a), lambda z: law.derivative(z - a))
+        if law.exponent == 1.0:  # closed form p = L (z − a)₊ / (1 + c L), free of cancellation in z − W
+            scale = law.stiffness / (1 + c * law.stiffness)
+            return PointLaw(lambda z: scale * np.maximum(z - a, 0.0), lambda z: np.where(z > a, scale, 0.0))
 
         def derivative(z):
             dp = law.derivative(z - worn(law, a, c, z))
@@ -77,11 +80,14 @@ class WearIntegrator:
 
 
 def explicit_stability(scene) -> str | None:
-    """Warning text when the explicit update k α L_p oscillates (> 1) or diverges (> 2), else None.
+    """Warning text when the wear update overshoots, else None.
 
+    For p = L r₊ the explicit update has amplification 1 − k α L (overshoots for k α L > 1, grows
+    for > 2), the trapezoidal one (1 − kαL/2)/(1 + kαL/2) (overshoots for k α L > 2); implicit never.
     L_p is the largest slope of p over [0, g]; α = κ max_t ‖v*(t)‖.
     """
-    if scene.wear.integrator != "explicit" or scene.contact.wear == 0:
+    integrator = scene.wear.integrator
+    if integrator == "implicit" or scene.contact.wear == 0:
         return None
     c = scene.contact
     e = c.exponent if c.law == "power" else 1.0
@@ -89,6 +95,12 @@ def explicit_stability(scene) -> str | None:
     speeds = [abs(f) for _, f in scene.foundation.speed_table] or [1.0]
     alpha = c.wear * float(np.linalg.norm(scene.foundation.velocity)) * max(speeds)
     r = scene.dt * alpha * slope
+    if integrator == "trapezoidal":
+        if r <= 2:
+            return None
+        return (f"time.steps: trapezoidal wear with k·α·L = {r:.3g} > 2 oscillates and can wear past the "
+                f"surface; use wear.integrator = 'implicit' or time.steps >= "
+                f"{int(np.ceil(scene.time.T * alpha * slope / 2))}")
     if r <= 1:
         return None
     kind = "diverges" if r > 2 else "oscillates"
