@@ -52,8 +52,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None,
         try:
             x, lam, record = stepper.solve(t, t_prev, law, x, lam, integrator)
         except ConvergenceError as err:
-            result.fail(f"step {j} (t = {t:.4g}): {err}; try smaller time steps, a finer mesh or "
-                        f"solver.max_iterations > {scene.solver.max_iterations}", err.record)
+            result.fail(f"step {j} (t = {t:.4g}): {err}; {_remedy(scene, err.record)}", err.record)
             break
         s = stepper.normal(x)
         pressure = law.pressure(s - disc.d0)
@@ -125,6 +124,19 @@ class _Stepper:
             self._factors = {}
         return CondensedSystem(disc.normal_compliance, self._matrices[key], disc.points.weights,
                                load_factor * disc.s_load, disc.d0, self.scene.contact.gap, law, self._factors)
+
+
+def _remedy(scene: Scene, record) -> str:
+    """What to try after a Newton failure, from the failure's history."""
+    last = record.residuals[-1] if record.residuals else np.inf
+    if np.isfinite(last) and last < 1e3 * scene.solver.tolerance:
+        return f"the merit stalled at round-off: raise solver.tolerance above {last:.1e}"
+    tips = [f"more time.steps (now {scene.time.steps})",
+            f"solver.max_iterations > {scene.solver.max_iterations}"]
+    if scene.contact.friction > 0:
+        tips.append(f"a smaller contact.friction (μ = {scene.contact.friction:g} may exceed the smallness "
+                    f"bound (H_S): see `ngwear verify`)")
+    return "try " + ", ".join(tips)
 
 
 def _full_system(disc: Discretization, t: float, load_factor: float, integrator: WearIntegrator) -> FullSystem:
