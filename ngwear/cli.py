@@ -28,6 +28,8 @@ def _parser() -> argparse.ArgumentParser:
     ver.add_argument("--out", help="output directory (default: out/<scene name>-verify)")
     ver.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE", help="override scene fields")
     ver.add_argument("--quick", action="store_true", help="coarse meshes and few steps (about 10 s)")
+    stress = sub.add_parser("stress", help="run the stability stress matrix and write its report")
+    stress.add_argument("args", nargs=argparse.REMAINDER, help="passed on (see `ngwear stress -- --help`)")
     return parser
 
 
@@ -39,6 +41,7 @@ def _scene(args):
 
 
 def verify(args) -> int:
+    from . import plots
     from . import verify as study
     from .discrete import Discretization
     from .theory import smallness
@@ -50,15 +53,20 @@ def verify(args) -> int:
     hs, h_ref = ([4 * h0, 2 * h0, h0], h0 / 2) if args.quick else ([8 * h0, 4 * h0, 2 * h0, h0], h0 / 4)
     steps = [10, 20, 40] if args.quick else [10, 20, 40, 80]
     base = scene.replace(**{"time.steps": 20, "output.every": 20})
+    h_rows = study.h_study(base, hs, h_ref)
     sections = [f"# Convergence of {scene.name}\n",
                 f"{smallness(Discretization(scene)).message()}\n",
                 f"## h-refinement (P{scene.mesh.order}, {base.time.steps} steps, reference maxh = {h_ref:g})\n",
-                study.markdown(study.h_study(base, [h for h in hs], h_ref), "h")]
+                study.markdown(h_rows, "h"), "\n![h](convergence_h.png)"]
+    k_studies = {}
     for integrator in ("explicit", "implicit", "trapezoidal"):
         k_scene = base.replace(**{"wear.integrator": integrator, "mesh.maxh": 2 * h0})
-        rows = study.k_study(k_scene, steps, 8 * steps[-1])
+        k_studies[integrator] = rows = study.k_study(k_scene, steps, 8 * steps[-1])
         sections += [f"\n## k-refinement, {integrator} wear (maxh = {2 * h0:g}, reference {8 * steps[-1]} steps)\n",
                      study.markdown(rows, "k")]
+    sections.append("\n![k](convergence_k.png)")
+    plots.convergence({f"P{scene.mesh.order}": h_rows}, "h", out / "convergence_h.png")
+    plots.convergence(k_studies, "k", out / "convergence_k.png", columns=("W_sum",))
     sections += ["\n## Stability of the wear integrators (overshoot = max (w − u_ν)₊ / g; exact: 0)\n",
                  study.table(study.stability_study(base.replace(**{"mesh.maxh": 2 * h0}), [30, 15, 10, 6, 3]))]
     text = "\n".join(sections) + "\n"
@@ -99,6 +107,9 @@ def run(args) -> int:
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     logging.basicConfig(level=logging.WARNING, format="ngwear: %(message)s")
+    if args.command == "stress":
+        from .stress import main as stress_main
+        return stress_main([a for a in args.args if a != "--"])
     try:
         return {"run": run, "verify": verify}[args.command](args)
     except SceneError as err:

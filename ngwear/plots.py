@@ -158,3 +158,23 @@ class Dashboard:
 def _positive(value: float) -> float:
     """An axis end that is never zero."""
     return float(value) if value > 0 else 1.0
+
+
+def convergence(studies: dict, size: str, path, columns=("V_sum", "W_sum")) -> Path:
+    """Log–log plot of study errors against ``size`` ("h" or "k"), one line per study and error column.
+
+    ``studies`` maps a label to the rows of :func:`ngwear.verify.h_study` / ``k_study``; the legend
+    gives each line's observed order (least-squares slope).
+    """
+    fig = Figure(figsize=(6.5, 4.5))
+    ax = fig.subplots()
+    for label, rows in studies.items():
+        sizes = np.array([r[size] for r in rows])
+        for column, style in zip(columns, ("o-", "s--")):
+            errs = np.array([r[column] for r in rows])
+            slope = np.polyfit(np.log(sizes), np.log(errs), 1)[0]
+            ax.loglog(sizes, errs, style, label=f"{label}, {column} (order {slope:.2f})")
+    ax.set(xlabel=size, ylabel="error", title=f"convergence under {size}-refinement")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    return _save(fig, path)

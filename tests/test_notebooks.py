@@ -56,3 +56,11 @@ def test_explorer_notebook_runs(tmp_path, monkeypatch):
     assert len(outputs(notebook, "image/png")) == 2
     printed = "".join(o.get("text", "") for c in notebook.cells for o in c.get("outputs", []))
     assert "{'wear': 0.0}: max wear at t = 0.50: 0.0000" in printed and "new factorisation: False" in printed
+
+
+def test_convergence_notebook_runs(tmp_path, monkeypatch):
+    notebook = execute(ROOT / "notebooks" / "convergence.ipynb", tmp_path, monkeypatch)
+    out = tmp_path / "notebooks" / "out"
+    assert (out / "convergence_h.png").stat().st_size > 10_000 and (out / "convergence_k.png").is_file()
+    printed = "".join(o.get("text", "") for c in notebook.cells for o in c.get("outputs", []))
+    assert "(H_S)" in printed and "uniqueness is not guaranteed" in printed
