@@ -33,13 +33,13 @@ import importlib
 import shutil
 import types
 
+import common as C
 import numpy as np
 import pymetis
 import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-import common as C
 import ngwear
 import ngwear.result as R
 import ngwear.solver as SV

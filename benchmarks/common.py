@@ -41,13 +41,11 @@ if Path(os.environ["NGWEAR_CACHE"]) == RESULTS / "mesh_cache":
     (RESULTS / "mesh_cache").mkdir(parents=True, exist_ok=True)
     (RESULTS / "mesh_cache" / ".gitignore").write_text("*\n")
 
-import numpy as np  # noqa: E402
-
 import matplotlib  # noqa: E402
+import numpy as np  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402,F401
-
 import ngsolve as ngs  # noqa: E402
 
 import ngwear  # noqa: E402
@@ -241,7 +239,7 @@ def elastic_reference(scene, mesh, *, taskmanager: bool = False) -> dict:
 
 
 def fast_run(scene, mesh, **simulate_kw):
-    """ngwear's fast path from a given mesh: Discretization + simulate (no output)."""
+    """Ngwear's fast path from a given mesh: Discretization + simulate (no output)."""
     disc = Discretization(scene, mesh)
     return ngwear.simulate(scene, discretization=disc, progress=False, **simulate_kw)
 
@@ -298,7 +296,6 @@ def write_csv(name: str, header_lines: list[str], rows: list[dict]) -> Path:
 
 
 def new_figure(ncols: int = 1, width: float = 6.0):
-    import matplotlib.pyplot as plt
     fig, axes = plt.subplots(1, ncols, figsize=(width * ncols, 4.5), squeeze=False)
     return fig, axes[0]
 
@@ -309,7 +306,6 @@ def save_figure(fig, name: str, header_lines: list[str]) -> Path:
     fig.suptitle(header_lines[0].removeprefix("machine: ") if header_lines else name, fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
-    import matplotlib.pyplot as plt
     plt.close(fig)
     return path
 

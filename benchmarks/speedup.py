@@ -18,12 +18,11 @@ Target (issue 3): full / fast ≥ 30.
 """
 from __future__ import annotations
 
+import common as C
 import numpy as np
 
-import common as C
-from ngwear.discrete import Discretization
-
 import ngwear
+from ngwear.discrete import Discretization
 
 TARGET = 30.0
 STEPS = 100

@@ -22,9 +22,9 @@ from __future__ import annotations
 
 import logging
 
+import common as C
 import numpy as np
 
-import common as C
 import ngwear
 from ngwear.discrete import Discretization
 from ngwear.result import Result
@@ -126,7 +126,7 @@ def measure(size, order, args) -> list[dict]:
 
 
 def extra_runs(size, order, counts, args) -> list[dict]:
-    """One run each at larger step counts (not in the fit): does linearity hold beyond 1000?"""
+    """One run each at larger step counts (not in the fit), to check linearity beyond 1000 steps."""
     scene = C.scene_for(size, order)
     mesh = C.mesh_for(scene)
     rows = []

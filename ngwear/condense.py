@@ -64,7 +64,7 @@ class ElasticOperator:
             self.contact_inverse = np.zeros((0, 0))
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
-        """u = K⁻¹ rhs on the free DOFs, 0 on the others (rhs in full numbering, 1D or 2D)."""
+        """U = K⁻¹ rhs on the free DOFs, 0 on the others (rhs in full numbering, 1D or 2D)."""
         rhs = np.asarray(rhs)
         out = np.zeros(rhs.shape)
         sub = rhs[self.free][self._order]

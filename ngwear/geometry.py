@@ -28,8 +28,21 @@ from pathlib import Path
 
 import netgen.meshing
 import ngsolve as ngs
-from netgen.occ import (X, Y, Z, ArcOfCircle, Box, Face, Glue, MoveTo, OCCGeometry, Pnt, Rectangle, Segment,
-                        Wire)
+from netgen.occ import (
+    ArcOfCircle,
+    Box,
+    Face,
+    Glue,
+    MoveTo,
+    OCCGeometry,
+    Pnt,
+    Rectangle,
+    Segment,
+    Wire,
+    X,
+    Y,
+    Z,
+)
 
 from .scene import Scene, SceneError
 

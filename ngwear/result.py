@@ -100,7 +100,7 @@ class Result:
         return self.fields[step]
 
     def displacement_at(self, points, step: int) -> np.ndarray:
-        """u at reference points of the body (shape (m, d)) at a step; shape (m, d)."""
+        """U at reference points of the body (shape (m, d)) at a step; shape (m, d)."""
         disc = self._disc()
         gf = disc.gridfunction(self.displacement(step))
         pts = np.atleast_2d(np.asarray(points, dtype=float))

@@ -34,8 +34,11 @@ class SceneError(ValueError):
 
 @dataclass(frozen=True)
 class Geometry:
-    """Body shape: ``strip`` = [0,Lx]×[0,Ly] (2D), ``box`` = [0,Lx]×[0,Ly]×[0,Lz] (3D),
-    ``half_disk`` = lower half of the disk of radius R = size[0] centred at (0, R) (2D, Γ_C the arc)."""
+    """Body shape of one of the kinds ``strip``, ``box``, ``half_disk``.
+
+    ``strip`` = [0,Lx]×[0,Ly] (2D), ``box`` = [0,Lx]×[0,Ly]×[0,Lz] (3D), ``half_disk`` = lower half
+    of the disk of radius R = size[0] centred at (0, R) (2D, Γ_C the arc).
+    """
 
     kind: str = "strip"
     size: tuple[float, ...] = (3.0, 1.0)

@@ -1,8 +1,8 @@
 """The 3D box runs with the same code and keeps the same invariants."""
 import numpy as np
+from conftest import ROOT
 
 import ngwear
-from conftest import ROOT
 
 
 def test_box_invariants():

@@ -181,8 +181,10 @@ def test_hertz_stiff_compliance(scene, disc, signorini):
 
 
 def test_hertz_approach_as_compliance_stiffens(scene, disc, signorini):
-    """p = L r₊ with L = 1e2 … 1e5: the contact narrows and peaks monotonically towards the rigid limit,
-    the distance to it falling like 1/L."""
+    """Compliance p = L r₊ with L = 1e2 … 1e5 approaches the rigid limit monotonically.
+
+    The contact narrows and peaks towards the rigid solution, the distance to it falling like 1/L.
+    """
     ref = hertz(signorini)
     runs = []
     for stiffness in (1e2, 1e3, 1e4, 1e5):

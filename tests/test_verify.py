@@ -1,6 +1,5 @@
 """Observed convergence orders (Theorem 5 predicts at least 1/2 in h and 1 in k) and the (H_S) check."""
 import ngsolve as ngs
-import numpy as np
 import pytest
 
 from ngwear import verify
