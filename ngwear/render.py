@@ -228,8 +228,9 @@ class Canvas:
             shape_opacity=0.8, font_size=13, text_color="black", always_visible=True)
         parts["caption"] = pl.add_text("", position=(12, self.window_size[1] - 36), font_size=12,
                                        color="black")
-        pl.add_text("light grey: worn-away part of the layer", position="lower_right", font_size=9,
-                    color="black")
+        if len(mesh.layer):
+            pl.add_text("light grey: worn-away part of the layer", position="lower_right", font_size=9,
+                        color="black")
         self._plotter, self._parts = pl, parts
 
     def _update(self, picture: _Picture, step: int) -> None:
