@@ -138,6 +138,14 @@ def cache_dir() -> Path:
     return Path(os.environ.get("NGWEAR_CACHE", Path.home() / ".cache" / "ngwear"))
 
 
+def _check_complete(mesh: ngs.Mesh, measure: float) -> None:
+    """Netgen can leave faces unmeshed with only a printed warning: compare the meshed measure."""
+    meshed = ngs.Integrate(ngs.CF(1.0), mesh)
+    if abs(meshed - measure) > 0.01 * measure:
+        raise SceneError(f"mesh: Netgen meshed only {meshed / measure:.1%} of the geometry; "
+                         "raise mesh.grading or mesh.contact_maxh, or change mesh.maxh")
+
+
 def build_mesh(scene: Scene, use_cache: bool = True) -> ngs.Mesh:
     """Mesh the scene's body (and soft layer), reusing the on-disk cache when possible."""
     g, m = scene.geometry, scene.mesh
@@ -153,6 +161,8 @@ def build_mesh(scene: Scene, use_cache: bool = True) -> ngs.Mesh:
     shape = SHAPES[g.kind](g.size, gap, m.layer, m)
     options = {"grading": m.grading} if m.grading is not None else {}
     ngmesh = OCCGeometry(shape, dim=g.dim).GenerateMesh(maxh=m.maxh, **options)
+    parts = shape.faces if g.dim == 2 else shape.solids
+    _check_complete(ngs.Mesh(ngmesh), sum(part.mass for part in parts))
     if use_cache:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(f".{os.getpid()}.tmp.vol")
