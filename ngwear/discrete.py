@@ -13,7 +13,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .condense import ElasticOperator
-from .forms import contact_form, contact_points, displacement_space, elastic_form, load_form
+from .forms import contact_form, contact_points, displacement_space, elastic_form, initial_distance, load_form
 from .geometry import build_mesh
 from .laws import compliance_from, piecewise_linear
 from .scene import Scene
@@ -35,8 +35,7 @@ class Discretization:
         """Contact direction ν, normal evaluation N = ν·P and initial distance d₀ = max ν·x − ν·x_i."""
         self.nu = np.array(scene.contact.direction)
         self.N = sp.csr_matrix(sp.kron(sp.eye(self.points.n), self.nu[None, :]) @ self.points.P)
-        heights = self.points.coords @ self.nu
-        self.d0 = heights.max(initial=0.0) - heights
+        self.d0 = initial_distance(self.points.coords, self.nu)
 
     def with_scene(self, scene: Scene) -> Discretization:
         """A discretization of ``scene`` sharing every assembled/factorised piece the change leaves valid.

@@ -95,6 +95,12 @@ def contact_form(fes: ngs.FESpace, scene: Scene, law: Compliance, with_elastic: 
     return ContactForm(form, w, d0, mu, n_star)
 
 
+def initial_distance(coords: np.ndarray, nu) -> np.ndarray:
+    """d₀ ≥ 0 at points x_i: distance along ν to the foundation plane through the lowest point, max ν·x − ν·x_i."""
+    heights = coords @ np.asarray(nu, dtype=float)
+    return heights.max(initial=0.0) - heights
+
+
 @dataclass(frozen=True)
 class ContactPoints:
     """The nodal points x_i of Γ_C with weights m_i and evaluation maps.

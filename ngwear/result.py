@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .forms import initial_distance
 from .scene import Scene
 from .solver import NewtonRecord
 
@@ -80,9 +81,8 @@ class Result:
 
     @property
     def d0(self) -> np.ndarray:
-        nu = np.array(self.scene.contact.direction)
-        h = self.contact_points @ nu
-        return h.max(initial=0.0) - h
+        """Initial distance d₀ to the foundation at the contact points."""
+        return initial_distance(self.contact_points, self.scene.contact.direction)
 
     @property
     def stored_steps(self) -> list[int]:
