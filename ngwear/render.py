@@ -11,11 +11,18 @@ so the remaining layer is pressed flat on the foundation (b = −g) where r > 0,
 drawn translucent, shows the material the foundation has removed.  ``m`` is ``magnify``.
 The numbers come from the :class:`~ngwear.result.Result`; no numerical module imports this one.
 A :class:`Canvas` keeps one plotter for many pictures (figures, animations, the explorer).
+
+VTK's OpenGL contexts belong to the thread that created them: a plotter used from another thread
+draws garbage and can kill the process (JupyterLab runs widget callbacks on a kernel subshell
+thread).  Every plotter is therefore made, drawn and closed on one render thread of this module,
+whichever thread asks for the picture.
 """
 from __future__ import annotations
 
+import threading
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from functools import partial
+from functools import partial, wraps
 from pathlib import Path
 
 import ngsolve as ngs
@@ -32,6 +39,22 @@ TITLES = {"displacement": "displacement", "wear": "wear w", "pressure": "pressur
 CMAPS = {"displacement": "viridis", "wear": "YlOrRd", "pressure": "plasma"}
 BODY_COLOR, FOUNDATION_COLOR, WORN_COLOR = "lightsteelblue", "dimgray", "white"
 CELL_TYPES = {(2, 3): pv.CellType.TRIANGLE, (3, 4): pv.CellType.TETRA}
+_RENDER_THREAD = ThreadPoolExecutor(max_workers=1, thread_name_prefix="ngwear-render")
+_owner = threading.local()
+
+
+def on_render_thread(method):
+    """Run ``method`` on the render thread that owns every OpenGL context (see the module docstring)."""
+    def run(*args, **kw):
+        _owner.is_render_thread = True
+        return method(*args, **kw)
+
+    @wraps(method)
+    def call(*args, **kw):
+        if getattr(_owner, "is_render_thread", False):
+            return method(*args, **kw)
+        return _RENDER_THREAD.submit(run, *args, **kw).result()
+    return call
 
 
 @dataclass(frozen=True)
@@ -159,6 +182,7 @@ class Canvas:
         self._mesh: tuple[ngs.Mesh, _Mesh] | None = None
         self._picture: _Picture | None = None
 
+    @on_render_thread
     def frame(self, result, step: int, steps=()) -> np.ndarray:
         """RGB image (height, width, 3) of the body, layer and foundation of ``result`` at ``step``."""
         step = range(result.steps + 1)[step]
@@ -171,6 +195,7 @@ class Canvas:
             image = self._plotter.screenshot(return_img=True)
         return np.asarray(image)[..., :3].copy()
 
+    @on_render_thread
     def close(self) -> None:
         """Release the plotter (its render window)."""
         if self._plotter is not None:

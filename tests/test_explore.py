@@ -7,6 +7,7 @@ import io
 import statistics
 import subprocess
 import sys
+import threading
 
 import numpy as np
 import pytest
@@ -105,6 +106,24 @@ def test_pictures_follow_the_parameters_and_record_their_time(explorer):
     assert np.abs(explorer.picture().astype(int) - picture).mean() > 0.5
     assert np.abs(explorer.plots().astype(int) - plots).mean() > 0.1
     assert explorer.updates[-1].picture > 0 and "factorisation reused" in explorer.summary()
+
+
+def test_pictures_from_any_thread_are_the_same(explorer):
+    """JupyterLab runs widget callbacks on a subshell thread: pictures must not depend on the calling thread."""
+    pictures = [explorer.picture()]
+
+    def draw():
+        pictures.append(explorer.picture())
+
+    for _ in range(3):
+        worker = threading.Thread(target=draw)
+        worker.start()
+        worker.join()
+        pictures.append(explorer.picture())
+    assert len(pictures) == 7
+    assert all(np.array_equal(pictures[0], p) for p in pictures[1:])
+    colours = np.unique(pictures[0].reshape(-1, 3), axis=0)
+    assert len(colours) > 50 and pictures[0].std() > 20, "a real picture, not blank or uniform"
 
 
 def test_module_does_not_import_ipywidgets():
