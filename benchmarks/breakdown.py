@@ -9,7 +9,7 @@ For each size (default ~10k, 50k, 200k free DOFs, P1) and repetition:
   extraction + dense inverse), ``u_load``/``s_load``, ``point_compliance`` (G), ``normal_compliance`` (H);
 * the 100-step time loop ``simulate(scene, discretization=disc)``, split by wrapping (in this
   process only) ``semismooth_newton``, ``CondensedSystem.step`` / ``.merit``, the dense solve
-  ``scipy.linalg.solve`` called in ``ngwear.solver``, the per-step ``CondensedSystem`` construction,
+  ``scipy.linalg.solve`` called in ``ngwear.numerics.solver``, the per-step ``CondensedSystem`` construction,
   the wear integrator's methods, ``Discretization.contact_forces`` and ``Result.append``;
 * output: recovery of the stored steps (``Result.displacement``, one back-substitution each) and
   ``Result.save`` into a scratch folder (npz + json + mesh + VTU series, the VTU part timed apart).
@@ -41,14 +41,14 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 import ngwear
-import ngwear.result as R
-import ngwear.solver as SV
-import ngwear.vtk as V
-import ngwear.wear as W
-from ngwear.condense import nested_dissection
-from ngwear.discrete import Discretization, _complete_symmetric
-from ngwear.forms import contact_points, displacement_space, elastic_form
-from ngwear.geometry import build_mesh
+import ngwear.numerics.solver as SV
+import ngwear.numerics.wear as W
+import ngwear.results.result as R
+import ngwear.results.vtk as V
+from ngwear.model.geometry import build_mesh
+from ngwear.numerics.condense import nested_dissection
+from ngwear.numerics.discrete import Discretization, _complete_symmetric
+from ngwear.numerics.forms import contact_points, displacement_space, elastic_form
 
 S = importlib.import_module("ngwear.simulate")  # (ngwear.simulate the attribute is the function)
 SCRATCH = C.RESULTS / "_scratch_breakdown"
@@ -249,7 +249,7 @@ def stiffness_parts(disc) -> dict:
 def dense_solve_whatifs(scene, disc) -> tuple[dict, dict]:
     """Replay the loop's dense Newton solves: numpy.linalg.solve, and LU reuse while M repeats.
 
-    A second (untimed) run of the loop with ``ngwear.solver.sla.solve`` replaced by a recorder that,
+    A second (untimed) run of the loop with ``ngwear.numerics.solver.sla.solve`` replaced by a recorder that,
     at every call, times the alternatives on the very same (M, rhs) and checks the answer.
     """
     acc = {"whatif_np_solve": 0.0, "whatif_lu_reuse": 0.0, "sla": 0.0}

@@ -49,9 +49,9 @@ import matplotlib.pyplot as plt  # noqa: E402,F401
 import ngsolve as ngs  # noqa: E402
 
 import ngwear  # noqa: E402
-from ngwear.discrete import Discretization  # noqa: E402
-from ngwear.forms import displacement_space, elastic_form, load_form  # noqa: E402
-from ngwear.geometry import build_mesh  # noqa: E402
+from ngwear.model.geometry import build_mesh  # noqa: E402
+from ngwear.numerics.discrete import Discretization  # noqa: E402
+from ngwear.numerics.forms import displacement_space, elastic_form, load_form  # noqa: E402
 
 try:
     from threadpoolctl import threadpool_info, threadpool_limits

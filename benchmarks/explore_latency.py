@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import common as C
 
-from ngwear.explore import DEFAULT_MAXH, DEFAULT_STEPS, Explorer, png_bytes
+from ngwear.views.explore import DEFAULT_MAXH, DEFAULT_STEPS, Explorer, png_bytes
 
 TARGET = 0.5
 SLIDERS = {

@@ -22,7 +22,7 @@ import common as C
 import numpy as np
 
 import ngwear
-from ngwear.discrete import Discretization
+from ngwear.numerics.discrete import Discretization
 
 TARGET = 30.0
 STEPS = 100

@@ -26,9 +26,9 @@ import common as C
 import numpy as np
 
 import ngwear
-from ngwear.discrete import Discretization
-from ngwear.result import Result
-from ngwear.solver import NewtonRecord
+from ngwear.numerics.discrete import Discretization
+from ngwear.numerics.solver import NewtonRecord
+from ngwear.results.result import Result
 
 STEP_COUNTS = (10, 100, 1000)
 THREADS = (1, 2)
@@ -48,9 +48,9 @@ def setup(scene, mesh) -> tuple[Discretization, float]:
 def backsubstitutions(disc, scene, mesh) -> dict:
     rhs = disc.load
     ours = median_call(lambda: disc.operator.solve(rhs))
-    a = ngwear.forms.elastic_form(disc.fes, scene)
+    a = ngwear.numerics.forms.elastic_form(disc.fes, scene)
     a.Assemble()
-    f = ngwear.forms.load_form(disc.fes, scene)
+    f = ngwear.numerics.forms.load_form(disc.fes, scene)
     f.Assemble()
     inv = a.mat.Inverse(disc.fes.FreeDofs(), inverse="sparsecholesky")
     v = f.vec.CreateVector()

@@ -10,7 +10,7 @@ import logging
 import sys
 from pathlib import Path
 
-from .scene import SceneError, load_scene, parse_override
+from .model.scene import SceneError, load_scene, parse_override
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -41,10 +41,10 @@ def _scene(args):
 
 
 def verify(args) -> int:
-    from . import plots
-    from . import verify as study
-    from .discrete import Discretization
-    from .theory import smallness
+    from .numerics.discrete import Discretization
+    from .studies import verify as study
+    from .studies.theory import smallness
+    from .views import plots
 
     scene = _scene(args)
     out = Path(args.out or Path("out") / f"{scene.name}-verify")
@@ -77,7 +77,7 @@ def verify(args) -> int:
 
 
 def run(args) -> int:
-    from .simulate import simulate
+    from .runs.simulate import simulate
 
     scene = _scene(args)
     out = Path(args.out or Path("out") / scene.name)
@@ -85,14 +85,14 @@ def run(args) -> int:
     result.save(out)
     pictures = []
     if not args.no_pictures and result.steps >= 0:
-        from .render import paper_figures
+        from .views.render import paper_figures
         pictures = paper_figures(result, out)
     summary = result.summary()
     width = max(map(len, summary))
     for key, value in summary.items():
         print(f"{key:<{width}}  {value:.4g}" if isinstance(value, float) else f"{key:<{width}}  {value}")
     if scene.contact.friction > 0 and result.discretization is not None:
-        from .theory import smallness
+        from .studies.theory import smallness
         check = smallness(result.discretization)
         print(f"{'uniqueness' if check.holds else 'warning':<{width}}  {check.message()}")
     for warning in result.warnings:
@@ -108,7 +108,7 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     logging.basicConfig(level=logging.WARNING, format="ngwear: %(message)s")
     if args.command == "stress":
-        from .stress import main as stress_main
+        from .studies.stress import main as stress_main
         return stress_main([a for a in args.args if a != "--"])
     try:
         return {"run": run, "verify": verify}[args.command](args)

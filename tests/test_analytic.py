@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 import ngwear
-from ngwear.discrete import Discretization
-from ngwear.forms import elastic_form, load_form
+from ngwear.numerics.discrete import Discretization
+from ngwear.numerics.forms import elastic_form, load_form
 
 
 def column(dim, b, order, steps=20, gap=0.2, maxh=0.5):

@@ -15,8 +15,8 @@ from conftest import PAPER
 from PIL import Image
 
 import ngwear
-from ngwear.explore import Explorer
-from ngwear.scene import SceneError
+from ngwear.model.scene import SceneError
+from ngwear.views.explore import Explorer
 
 
 @pytest.fixture
@@ -127,7 +127,7 @@ def test_pictures_from_any_thread_are_the_same(explorer):
 
 
 def test_module_does_not_import_ipywidgets():
-    code = "import sys, ngwear.explore; assert 'ipywidgets' not in sys.modules"
+    code = "import sys, ngwear.views.explore; assert 'ipywidgets' not in sys.modules"
     subprocess.run([sys.executable, "-c", code], check=True)
 
 

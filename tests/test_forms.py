@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import ngwear
-from ngwear.discrete import Discretization
-from ngwear.forms import contact_form
+from ngwear.numerics.discrete import Discretization
+from ngwear.numerics.forms import contact_form
 
 
 @pytest.fixture(scope="module")

@@ -3,7 +3,7 @@ import ngsolve as ngs
 import pytest
 
 from ngwear import SceneError
-from ngwear.geometry import _check_complete, build_mesh
+from ngwear.model.geometry import _check_complete, build_mesh
 
 
 def test_regions_and_boundaries(paper_scene):

@@ -20,9 +20,9 @@ import pytest
 from conftest import ROOT
 
 import ngwear
-from ngwear.discrete import Discretization
-from ngwear.geometry import CACHE_VERSION, mesh_key
-from ngwear.scene import Scene, SceneError
+from ngwear.model.geometry import CACHE_VERSION, mesh_key
+from ngwear.model.scene import Scene, SceneError
+from ngwear.numerics.discrete import Discretization
 
 HERTZ = ROOT / "geometries" / "hertz.toml"
 

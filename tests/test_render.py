@@ -14,7 +14,7 @@ from matplotlib import colormaps
 from PIL import Image
 
 import ngwear
-from ngwear import plots, render
+from ngwear.views import plots, render
 
 FOUNDATION = (105, 105, 105)
 BODY = (176, 196, 222)

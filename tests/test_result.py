@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import ngwear
-from ngwear.result import ARRAYS
+from ngwear.results.result import ARRAYS
 
 
 @pytest.fixture(scope="module")

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import ngwear
-from ngwear.discrete import Discretization
+from ngwear.numerics.discrete import Discretization
 
 
 @pytest.fixture(scope="module")

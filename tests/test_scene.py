@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from ngwear.scene import Scene, SceneError, load_scene, parse_override
+from ngwear.model.scene import Scene, SceneError, load_scene, parse_override
 
 PAPER = Path(__file__).resolve().parents[1] / "geometries" / "paper_strip.toml"
 

@@ -1,6 +1,6 @@
 """Stability stress matrix (issue 4 §4): every extreme scene converges with its invariants or stops clearly.
 
-One test per scene of :data:`ngwear.stress.CATALOGUE`.  A scene must end (a) ``converged`` with
+One test per scene of :data:`ngwear.studies.stress.CATALOGUE`.  A scene must end (a) ``converged`` with
 every invariant held at every step, (b) ``stopped`` with a message naming the step and a remedy
 (the kept steps still satisfying the invariants), or be ``rejected`` up front with a SceneError
 naming the field; where the outcome is known it is pinned (``expect``, with the reason in the
@@ -13,8 +13,8 @@ import math
 import numpy as np
 import pytest
 
-from ngwear import stress
-from ngwear.stress import CATALOGUE, TOL
+from ngwear.studies import stress
+from ngwear.studies.stress import CATALOGUE, TOL
 
 
 def _param(spec):
@@ -96,7 +96,7 @@ def test_report_and_main(tmp_path):
     only = ["mu_0", "liftoff", "gap_1e-6_layer", "L_1e8_explicit_wear"]
     assert stress.main(["--only", *only, "--out", str(out)]) == 0
     text = out.read_text()
-    assert "Regenerate" in text[:300] and "python -m ngwear.stress" in text[:400]
+    assert "Regenerate" in text[:300] and "python -m ngwear.studies.stress" in text[:400]
     rows = [line for line in text.splitlines() if line.startswith("| ") and not line.startswith("| scene")]
     assert [row.split(" | ")[0][2:] for row in rows] == [s.name for s in CATALOGUE if s.name in only]
     assert "rejected" in text and "mesh.layer" in text

@@ -2,10 +2,10 @@
 import ngsolve as ngs
 import pytest
 
-from ngwear import verify
-from ngwear.discrete import Discretization
-from ngwear.forms import elastic_form, load_form
-from ngwear.theory import smallness, trace_constant
+from ngwear.numerics.discrete import Discretization
+from ngwear.numerics.forms import elastic_form, load_form
+from ngwear.studies import verify
+from ngwear.studies.theory import smallness, trace_constant
 
 
 @pytest.fixture(scope="module")

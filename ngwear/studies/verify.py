@@ -20,10 +20,10 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .discrete import Discretization
-from .result import Result
-from .scene import Scene
-from .simulate import simulate
+from ..model.scene import Scene
+from ..numerics.discrete import Discretization
+from ..results.result import Result
+from ..runs.simulate import simulate
 
 
 @dataclass(frozen=True)

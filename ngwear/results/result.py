@@ -14,9 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .forms import initial_distance
-from .scene import Scene
-from .solver import NewtonRecord
+from ..model.scene import Scene
+from ..numerics.forms import initial_distance
+from ..numerics.solver import NewtonRecord
 
 ARRAYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces")
 
@@ -170,7 +170,7 @@ def load_result(directory) -> Result:
         import netgen.meshing
         import ngsolve as ngs
 
-        from .discrete import Discretization
+        from ..numerics.discrete import Discretization
         ngmesh = netgen.meshing.Mesh(dim=scene.dim)
         ngmesh.Load(str(src / "mesh.vol"))
         disc = Discretization(scene, ngs.Mesh(ngmesh))

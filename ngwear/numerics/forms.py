@@ -20,8 +20,8 @@ import numpy as np
 import scipy.sparse as sp
 from ngsolve.fem import NODE_TYPE
 
-from .laws import Compliance, hooke_stress
-from .scene import Scene
+from ..model.laws import Compliance, hooke_stress
+from ..model.scene import Scene
 
 NODAL_RULES = {
     (2, 1): (ngs.SEGM, [(0.0,), (1.0,)], [0.5, 0.5]),

@@ -12,11 +12,11 @@ import time
 
 import numpy as np
 
-from .discrete import Discretization
-from .result import Result
-from .scene import Scene
-from .solver import CondensedSystem, ConvergenceError, FullSystem, semismooth_newton
-from .wear import WearIntegrator, explicit_stability
+from ..model.scene import Scene
+from ..numerics.discrete import Discretization
+from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, semismooth_newton
+from ..numerics.wear import WearIntegrator, explicit_stability
+from ..results.result import Result
 
 log = logging.getLogger(__name__)
 

@@ -14,7 +14,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
-from .discrete import Discretization
+from ..numerics.discrete import Discretization
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .laws import Compliance
+from ..model.laws import Compliance
 from .solver import PointLaw
 
 INTEGRATORS = {

@@ -12,11 +12,11 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
+from ..model.geometry import build_mesh
+from ..model.laws import compliance_from, piecewise_linear
+from ..model.scene import Scene
 from .condense import ElasticOperator
 from .forms import contact_form, contact_points, displacement_space, elastic_form, initial_distance, load_form
-from .geometry import build_mesh
-from .laws import compliance_from, piecewise_linear
-from .scene import Scene
 
 
 class Discretization:

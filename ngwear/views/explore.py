@@ -28,10 +28,10 @@ from dataclasses import dataclass
 import numpy as np
 from PIL import Image
 
+from ..model.scene import Scene, SceneError
+from ..runs.simulate import simulate
 from .plots import Dashboard
 from .render import Canvas
-from .scene import Scene, SceneError
-from .simulate import simulate
 
 log = logging.getLogger(__name__)
 
