@@ -1,4 +1,4 @@
-"""Script mode: ``ngwear run SCENE.toml [--out DIR] [--set KEY=VALUE ...] [--no-pictures]``.
+"""Script mode: ``ngwear run SCENE.toml [--out DIR] [--set KEY=VALUE ...] [--no-pictures]``, ``ngwear schema``.
 
 Bad input exits with status 2 and one line naming the field; a run that stops part-way writes the
 steps it completed and exits with status 1.
@@ -28,6 +28,8 @@ def _parser() -> argparse.ArgumentParser:
     ver.add_argument("--out", help="output directory (default: out/<scene name>-verify)")
     ver.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE", help="override scene fields")
     ver.add_argument("--quick", action="store_true", help="coarse meshes and few steps (about 10 s)")
+    schema = sub.add_parser("schema", help="write the scene files' JSON Schema (for editors)")
+    schema.add_argument("--out", help="file to write (default: print it)")
     stress = sub.add_parser("stress", help="run the stability stress matrix and write its report")
     stress.add_argument("args", nargs=argparse.REMAINDER, help="passed on (see `ngwear stress -- --help`)")
     return parser
@@ -104,6 +106,19 @@ def run(args) -> int:
     return 0
 
 
+def schema(args) -> int:
+    import json
+
+    from .model.scene import json_schema
+
+    text = json.dumps(json_schema(), indent=1, ensure_ascii=False) + "\n"
+    if args.out:
+        Path(args.out).write_text(text, encoding="utf-8")
+    else:
+        print(text, end="")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     logging.basicConfig(level=logging.WARNING, format="ngwear: %(message)s")
@@ -111,7 +126,7 @@ def main(argv: list[str] | None = None) -> int:
         from .studies.stress import main as stress_main
         return stress_main([a for a in args.args if a != "--"])
     try:
-        return {"run": run, "verify": verify}[args.command](args)
+        return {"run": run, "verify": verify, "schema": schema}[args.command](args)
     except SceneError as err:
         print(f"ngwear: {err}", file=sys.stderr)
         return 2

@@ -72,7 +72,7 @@ def test_scene_file(scene):
     assert g.kind == "half_disk" and scene.dim == 2 and g.size == (1.0,) and g.dirichlet == ("top",)
     assert m.layer is False and m.contact_maxh == 0.001 and m.contact_zone == 0.15 and m.grading == 0.1
     assert scene.contact.friction == 0 and scene.contact.wear == 0 and scene.contact.gap <= 1e-8
-    assert scene.loads.body_force == (0.0, -0.01) and scene.loads.traction == ()
+    assert scene.loads.body_force == (0.0, -0.01) and scene.loads.traction == {}
     assert Scene.from_dict(json.loads(json.dumps(scene.to_dict()))) == scene
 
 

@@ -4,6 +4,7 @@ import math
 from pathlib import Path
 
 import pytest
+from pydantic import ValidationError
 
 from ngwear.model.scene import Scene, SceneError, load_scene, parse_override
 
@@ -298,7 +299,7 @@ def test_replace_with_dotted_keys(paper_scene):
     assert s.replace(**{"time.steps": 100, "contact.gap": 0.2, "loads.traction.top": [0.0, -0.1],
                         "wear.integrator": "explicit"}) == paper_scene
     assert paper_scene.time.steps == 100 and paper_scene.contact.gap == 0.2
-    with pytest.raises(AttributeError):
+    with pytest.raises(ValidationError, match="frozen"):
         paper_scene.time.steps = 3  # type: ignore[misc]
 
 
@@ -389,3 +390,23 @@ def test_young_poisson_to_lame(young, poisson):
 def test_young_poisson_known_value():
     lam, mu = Scene.from_dict({**Scene().to_dict(), "material": {"young": 2.6, "poisson": 0.3}}).material.lame
     assert math.isclose(lam, 1.5) and math.isclose(mu, 1.0)
+
+
+def test_readme_reference_table_is_the_declared_schema():
+    """The README's scene reference is generated from the declarations; it must not drift from them."""
+    from conftest import ROOT
+
+    from ngwear.model.scene import reference_table
+    assert reference_table() in (ROOT / "README.md").read_text()
+
+
+def test_published_json_schema_is_current():
+    """docs/scene.schema.json (what editors read) is the declared schema; regenerate with `ngwear schema`."""
+    from conftest import ROOT
+
+    from ngwear.model.scene import json_schema
+    published = json.loads((ROOT / "docs" / "scene.schema.json").read_text())
+    assert published == json_schema()
+    assert published["properties"]["contact"]["$ref"].endswith("/Contact")
+    gap = published["$defs"]["Contact"]["properties"]["gap"]
+    assert gap["exclusiveMinimum"] == 0 and gap["type"] == "number"

@@ -1,31 +1,49 @@
 """Scenes: plain frozen data describing one contact-with-wear simulation.
 
 A scene is read from TOML with nested tables (``[geometry]``, ``[mesh]``, ``[material]``,
-``[contact]``, ``[foundation]``, ``[loads]``, ``[time]``, ``[wear]``, ``[output]``) and validated
-field by field; every error is a :class:`SceneError` whose one-line message names the dotted key
-and the allowed range.  ``Scene.replace(**{"time.steps": 10})`` overrides fields with the same
-dotted keys that ``ngwear run --set time.steps=10`` accepts.
+``[contact]``, ``[foundation]``, ``[loads]``, ``[time]``, ``[wear]``, ``[solver]``, ``[output]``).
+Every key is declared once below, with its type, its range and a line of documentation; pydantic
+validates against the declaration, :func:`_message` turns the first violation into a one-line
+:class:`SceneError` naming the dotted key and the allowed range, and the same declaration is
+published as a JSON Schema (:func:`json_schema`) and as the README's scene reference
+(:func:`reference_table`).  Rules that tie keys together (vector lengths by dimension, boundary
+names by geometry, ranges that depend on other keys) are checked in :meth:`Scene._cross_checks`.
+``Scene.replace(**{"time.steps": 10})`` overrides fields with the dotted keys that
+``ngwear run --set time.steps=10`` accepts.
 """
 from __future__ import annotations
 
-import copy
 import math
 import tomllib
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any, Literal, get_args, get_origin
 
-GEOMETRY_KINDS = {"strip": 2, "box": 3, "half_disk": 2}
-BOUNDARIES = {
-    "strip": ("left", "right", "top", "contact"),
-    "box": ("left", "right", "front", "back", "top", "contact"),
-    "half_disk": ("top", "contact"),
-}
-DEFAULT_SIZES = {"strip": (3.0, 1.0), "box": (1.0, 0.5, 0.5), "half_disk": (1.0,)}
-DEFAULT_DIRICHLET = {"strip": ("left",), "box": ("left",), "half_disk": ("top",)}
-COMPLIANCE_LAWS = ("linear", "power")
-WEAR_INTEGRATORS = ("explicit", "implicit", "trapezoidal")
-SOLVERS = ("condensed", "full")
+from pydantic import (
+    AllowInfNan,
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    Strict,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
+from pydantic.fields import FieldInfo
+
+Number = Annotated[float, Strict(), AllowInfNan(False)]
+
+
+def _integral(value: Any) -> Any:
+    """A whole float (``10.0``) is taken as the integer it is; anything else is left to the int check."""
+    return int(value) if isinstance(value, float) and value.is_integer() else value
+
+
+Whole = Annotated[int, BeforeValidator(_integral), Strict()]
+Flag = Annotated[bool, Strict()]
+Vector = tuple[Number, ...]
+Table = tuple[tuple[Number, Number], ...]
 
 
 class SceneError(ValueError):
@@ -33,47 +51,70 @@ class SceneError(ValueError):
 
 
 @dataclass(frozen=True)
-class Geometry:
-    """Body shape of one of the kinds ``strip``, ``box``, ``half_disk``.
+class Kind:
+    """What a geometry kind fixes: dimension, default size, named boundaries, default clamping."""
 
-    ``strip`` = [0,Lx]×[0,Ly] (2D), ``box`` = [0,Lx]×[0,Ly]×[0,Lz] (3D), ``half_disk`` = lower half
-    of the disk of radius R = size[0] centred at (0, R) (2D, Γ_C the arc).
-    """
+    dim: int
+    size: tuple[float, ...]
+    boundaries: tuple[str, ...]
+    dirichlet: tuple[str, ...]
+    flat: bool
 
-    kind: str = "strip"
-    size: tuple[float, ...] = (3.0, 1.0)
-    dirichlet: tuple[str, ...] = ("left",)
+
+KINDS = {
+    "strip": Kind(2, (3.0, 1.0), ("left", "right", "top", "contact"), ("left",), True),
+    "box": Kind(3, (1.0, 0.5, 0.5), ("left", "right", "front", "back", "top", "contact"), ("left",), True),
+    "half_disk": Kind(2, (1.0,), ("top", "contact"), ("top",), False),
+}
+
+
+def key(default: Any, doc: str, *, shown: str | None = None, allowed: str | None = None, **limits) -> Any:
+    """A declared scene key: default, one line of documentation, limits; ``shown``/``allowed`` for the table."""
+    extra = {k: v for k, v in (("shown", shown), ("allowed", allowed)) if v is not None}
+    return Field(default, description=doc, json_schema_extra=extra or None, **limits)
+
+
+class Section(BaseModel):
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+
+class Geometry(Section):
+    """Body shape: ``strip`` [0,Lx]×[0,Ly] (2D), ``box`` [0,Lx]×[0,Ly]×[0,Lz] (3D), ``half_disk`` of radius R (2D)."""
+
+    kind: Literal["strip", "box", "half_disk"] = key("strip", "body shape")
+    size: Vector | None = key(None, "`strip` [Lx, Ly], `box` [Lx, Ly, Lz], `half_disk` [R]",
+                              shown="[3, 1] / [1, 0.5, 0.5] / [1]", allowed="lengths > 0")
+    dirichlet: tuple[str, ...] | None = key(None, "clamped boundaries", shown="[left] ([top] for `half_disk`)",
+                                            allowed="named boundaries except `contact`")
 
     @property
     def dim(self) -> int:
-        return GEOMETRY_KINDS[self.kind]
+        return KINDS[self.kind].dim
 
 
-@dataclass(frozen=True)
-class MeshSpec:
-    """Netgen mesh size ``maxh``, polynomial ``order`` (1 or 2) and whether to mesh the soft layer.
+class MeshSpec(Section):
+    """Netgen mesh size, polynomial order, the meshed soft layer, refinement of Γ_C and grading."""
 
-    ``contact_maxh`` (optional) is the mesh size on Γ_C; for ``half_disk`` only on the arc within
-    ``contact_zone`` (horizontal half-width, default R/4) of the lowest point.  ``grading``
-    (optional, Netgen's default 0.3) bounds how fast the element size grows away from Γ_C.
-    """
+    maxh: Number = key(0.1, "Netgen's largest element size", allowed="(0, largest of geometry.size]")
+    order: Whole = key(1, "polynomial order", ge=1, le=2, allowed="1, 2 (2 in 2D only)")
+    layer: Flag | None = key(None, "also mesh the soft layer (region `layer`) for results and pictures",
+                             shown="true (false for `half_disk`)", allowed="bool; false for `half_disk`")
+    contact_maxh: Number | None = key(None, "mesh size on Γ_C; for `half_disk` on the arc within "
+                                      "`mesh.contact_zone` of its lowest point", shown="`mesh.maxh`",
+                                      allowed="(0, maxh]")
+    contact_zone: Number | None = key(None, "`half_disk` only: horizontal half-width of the arc refined to "
+                                      "`mesh.contact_maxh`", shown="R/4", allowed="(0, R]")
+    grading: Number | None = key(None, "Netgen's grading: how fast elements grow away from fine edges (0.1 "
+                                 "resolves the field under a Hertz contact)", shown="0.3", ge=0.1, le=1.0)
 
-    maxh: float = 0.1
-    order: int = 1
-    layer: bool = True
-    contact_maxh: float | None = None
-    contact_zone: float | None = None
-    grading: float | None = None
 
-
-@dataclass(frozen=True)
-class Material:
+class Material(Section):
     """Hooke's law σ = 2η ε + λ tr(ε) I, from Lamé (λ, η) or from Young's modulus E and Poisson ν."""
 
-    lame_lambda: float | None = None
-    lame_mu: float | None = None
-    young: float | None = None
-    poisson: float | None = None
+    lame_lambda: Number | None = key(None, "Lamé λ (Hooke: σ = 2η ε + λ tr ε I)", shown="1", ge=0)
+    lame_mu: Number | None = key(None, "Lamé η", shown="1", gt=0)
+    young: Number | None = key(None, "Young's modulus E (instead of Lamé, with `material.poisson`)", gt=0)
+    poisson: Number | None = key(None, "Poisson's ratio ν", gt=-1, le=0.499)
 
     @property
     def lame(self) -> tuple[float, float]:
@@ -84,82 +125,98 @@ class Material:
         return self.lame_lambda, self.lame_mu
 
 
-@dataclass(frozen=True)
-class Contact:
-    """Normal compliance p, soft-layer thickness g, friction μ, wear κ, contact direction ν."""
+class Contact(Section):
+    """Normal compliance p, soft-layer thickness g, friction μ, wear κ, contact direction ν (a unit vector)."""
 
-    law: str = "linear"
-    stiffness: float = 10.0
-    exponent: float = 1.0
-    gap: float = 0.2
-    friction: float = 0.0
-    wear: float = 0.0
-    direction: tuple[float, ...] = (0.0, -1.0)
+    law: Literal["linear", "power"] = key("linear", "compliance p: `linear` L r₊, `power` L r₊^e")
+    stiffness: Number = key(10.0, "L", gt=0)
+    exponent: Number = key(1.0, "e (power law only)", ge=1, le=10)
+    gap: Number = key(0.2, "g, thickness of the soft layer", gt=0)
+    friction: Number = key(0.0, "μ", ge=0)
+    wear: Number = key(0.0, "κ", ge=0)
+    direction: Vector | None = key(None, "ν, the contact direction (outward normal of a flat Γ_C)",
+                                   shown="(0, −1) / (0, 0, −1)", allowed="non-zero vector")
+
+    @field_validator("direction")
+    @classmethod
+    def _unit(cls, direction: Vector | None) -> Vector | None:
+        """ν is stored as a unit vector."""
+        norm = math.sqrt(sum(v * v for v in direction)) if direction else 1.0
+        if norm == 0:
+            raise SceneError(f"contact.direction: must be a non-zero vector (got {list(direction)})")
+        return tuple(v / norm for v in direction) if direction else direction
 
 
-@dataclass(frozen=True)
-class Foundation:
+class Foundation(Section):
     """Foundation velocity v*(t) = velocity · s(t), s piecewise linear through ``speed_table``."""
 
-    velocity: tuple[float, ...] = (1.0, 0.0)
-    speed_table: tuple[tuple[float, float], ...] = ()
+    velocity: Vector | None = key(None, "v*", shown="(1, 0) / (1, 0, 0)",
+                                  allowed="d numbers; tangential part ≠ 0 if μ > 0, ≠ 0 if κ > 0")
+    speed_table: Table = key((), "v*(t) = v* · s(t), s piecewise linear through [[t, s], …]", shown="[] (s = 1)",
+                             allowed="covers [0, T]")
 
 
-@dataclass(frozen=True)
-class Loads:
+class Loads(Section):
     """Tractions per named boundary and a body force, all scaled by the piecewise-linear ``time_table``."""
 
-    traction: tuple[tuple[str, tuple[float, ...]], ...] = ()
-    body_force: tuple[float, ...] | None = None
-    time_table: tuple[tuple[float, float], ...] = ()
+    traction: dict[str, Vector] = key({}, "f_N on a named boundary (`loads.traction.<boundary>`)", shown="none",
+                                      allowed="non-clamped, non-contact boundaries")
+    body_force: Vector | None = key(None, "f₀", shown="none", allowed="d numbers")
+    time_table: Table = key((), "f(t) = f · s(t), piecewise linear", shown="[] (s = 1)", allowed="covers [0, T]")
 
 
-@dataclass(frozen=True)
-class TimeGrid:
+class TimeGrid(Section):
     """Uniform time grid t_j = j T / steps, j = 0..steps."""
 
-    T: float = 1.0
-    steps: int = 100
+    T: Number = key(1.0, "final time", gt=0)
+    steps: Whole = key(100, "number of steps N (k = T/N)", ge=1, le=1_000_000)
 
 
-@dataclass(frozen=True)
-class WearSpec:
+class WearSpec(Section):
     """Wear integrator: the paper's ``explicit`` (eq. 15), ``implicit`` (backward Euler), ``trapezoidal``."""
 
-    integrator: str = "explicit"
+    integrator: Literal["explicit", "implicit", "trapezoidal"] = key(
+        "explicit", "`explicit` (paper eq. 15), `implicit` (backward Euler), `trapezoidal`")
 
 
-@dataclass(frozen=True)
-class SolverSpec:
+class SolverSpec(Section):
     """Nonlinear solver: ``condensed`` onto the contact points (fast) or ``full`` system (reference)."""
 
-    method: str = "condensed"
-    tolerance: float = 1e-10
-    max_iterations: int = 50
+    method: Literal["condensed", "full"] = key(
+        "condensed", "`condensed` (fast) or `full` (straightforward full-system Newton, reference; explicit wear "
+        "only)")
+    tolerance: Number = key(1e-10, "Newton stopping rule: relative merit", ge=1e-15, le=1e-2)
+    max_iterations: Whole = key(50, "Newton iterations per step", ge=1, le=10_000)
 
 
-@dataclass(frozen=True)
-class Output:
+class Output(Section):
     """Steps whose full displacement field is written and rendered: every ``every``-th and the last."""
 
-    every: int = 25
+    every: Whole | None = key(None, "steps whose full fields are written/rendered (plus the last)",
+                              shown="steps/4", ge=1)
 
 
-@dataclass(frozen=True)
-class Scene:
+SECTIONS = {"geometry": Geometry, "mesh": MeshSpec, "material": Material, "contact": Contact,
+            "foundation": Foundation, "loads": Loads, "time": TimeGrid, "wear": WearSpec, "solver": SolverSpec,
+            "output": Output}
+
+
+class Scene(BaseModel):
     """A complete, validated simulation set-up.  Build with :func:`load_scene` or :meth:`from_dict`."""
 
-    name: str = "scene"
-    geometry: Geometry = field(default_factory=Geometry)
-    mesh: MeshSpec = field(default_factory=MeshSpec)
-    material: Material = field(default_factory=lambda: Material(1.0, 1.0))
-    contact: Contact = field(default_factory=Contact)
-    foundation: Foundation = field(default_factory=Foundation)
-    loads: Loads = field(default_factory=Loads)
-    time: TimeGrid = field(default_factory=TimeGrid)
-    wear: WearSpec = field(default_factory=WearSpec)
-    solver: SolverSpec = field(default_factory=SolverSpec)
-    output: Output = field(default_factory=Output)
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    name: str = Field("scene", min_length=1, description="name of the scene (output folder, titles)")
+    geometry: Geometry = Geometry()
+    mesh: MeshSpec = MeshSpec()
+    material: Material = Material()
+    contact: Contact = Contact()
+    foundation: Foundation = Foundation()
+    loads: Loads = Loads()
+    time: TimeGrid = TimeGrid()
+    wear: WearSpec = WearSpec()
+    solver: SolverSpec = SolverSpec()
+    output: Output = Output()
 
     @property
     def dim(self) -> int:
@@ -172,18 +229,62 @@ class Scene:
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> Scene:
         """Validate a nested dict (as read from TOML) into a Scene."""
-        return _build(data)
+        if not isinstance(data, dict):
+            raise SceneError("scene: must be a table")
+        try:
+            return cls.model_validate(data)
+        except ValidationError as err:
+            raise SceneError(_message(err.errors()[0], data)) from None
 
     def to_dict(self) -> dict[str, Any]:
         """The nested-dict form that :meth:`from_dict` and TOML use."""
-        return _to_plain(self)
+        return self.model_dump(mode="json", exclude_none=True)
 
     def replace(self, **dotted: Any) -> Scene:
         """A new scene with fields overridden by dotted keys, e.g. ``replace(**{"time.steps": 10})``."""
         data = self.to_dict()
-        for key, value in dotted.items():
-            set_dotted(data, key, value)
-        return _build(data)
+        for name, value in dotted.items():
+            set_dotted(data, name, value)
+        return Scene.from_dict(data)
+
+    # ---- kind-dependent defaults (before validation) and rules across keys (after) ----------------
+    @model_validator(mode="before")
+    @classmethod
+    def _defaults(cls, data: Any) -> Any:
+        """Fill the defaults that depend on the geometry kind and on other keys."""
+        if not isinstance(data, dict):
+            return data
+        data = {name: dict(v) if isinstance(v, dict) else v for name, v in data.items()}
+        g = data.get("geometry", {})
+        kind = KINDS.get(g.get("kind", "strip")) if isinstance(g, dict) else None
+        if kind is None:
+            return data
+        dim = kind.dim
+        _default(data, "geometry", "size", list(kind.size))
+        _default(data, "geometry", "dirichlet", list(kind.dirichlet))
+        _default(data, "mesh", "layer", kind.flat)
+        _default(data, "contact", "direction", [0.0] * (dim - 1) + [-1.0])
+        _default(data, "foundation", "velocity", [1.0] + [0.0] * (dim - 1))
+        material = data.get("material", {})
+        if isinstance(material, dict) and not {"young", "poisson"} & set(material):
+            _default(data, "material", "lame_lambda", 1.0)
+            _default(data, "material", "lame_mu", 1.0)
+        steps = data.get("time", {}).get("steps", 100) if isinstance(data.get("time"), dict) else 100
+        if isinstance(steps, int) and not isinstance(steps, bool) and steps >= 1:
+            _default(data, "output", "every", max(1, steps // 4))
+        return data
+
+    @model_validator(mode="after")
+    def _cross_checks(self) -> Scene:
+        _check_geometry(self)
+        _check_material(self.material)
+        _check_contact(self)
+        _check_motion(self)
+        _check_loads(self)
+        if self.solver.method == "full" and self.wear.integrator != "explicit":
+            raise SceneError(f"solver.method: 'full' supports only wear.integrator = 'explicit' "
+                             f"(got {self.wear.integrator!r}; use solver.method = 'condensed')")
+        return self
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -200,263 +301,293 @@ def load_scene(path: str | Path) -> Scene:
     except tomllib.TOMLDecodeError as err:
         raise SceneError(f"scene file: {path} is not valid TOML ({err})") from None
     data.setdefault("name", path.stem)
-    return _build(data)
+    return Scene.from_dict(data)
 
 
-def set_dotted(data: dict[str, Any], key: str, value: Any) -> None:
-    """Set ``data["a"]["b"] = value`` for ``key = "a.b"``; unknown sections are rejected later."""
-    parts = key.split(".")
+def set_dotted(data: dict[str, Any], name: str, value: Any) -> None:
+    """Set ``data["a"]["b"] = value`` for ``name = "a.b"``; unknown sections are rejected later."""
+    parts = name.split(".")
     node = data
     for part in parts[:-1]:
         child = node.setdefault(part, {})
         if not isinstance(child, dict):
-            raise SceneError(f"{key}: '{part}' is not a table")
+            raise SceneError(f"{name}: '{part}' is not a table")
         node = child
     node[parts[-1]] = value
 
 
 def parse_override(text: str) -> tuple[str, Any]:
     """``"mesh.maxh=0.05"`` → ``("mesh.maxh", 0.05)``; the value is read as a TOML value."""
-    key, sep, raw = text.partition("=")
-    if not sep or not key.strip():
+    name, sep, raw = text.partition("=")
+    if not sep or not name.strip():
         raise SceneError(f"--set {text}: expected KEY=VALUE, e.g. time.steps=10")
     try:
         value = tomllib.loads(f"v = {raw.strip()}")["v"]
     except tomllib.TOMLDecodeError:
         value = raw.strip()
-    return key.strip(), value
+    return name.strip(), value
 
 
-# ---------------------------------------------------------------- validation helpers
+def json_schema() -> dict[str, Any]:
+    """The scene schema as JSON Schema (for editors that complete and check scene files)."""
+    schema = Scene.model_json_schema()
+    schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
+    schema["title"] = "ngwear scene"
+    return schema
 
 
-def _to_plain(obj: Any) -> Any:
-    if hasattr(obj, "__dataclass_fields__"):
-        out = {}
-        for f in fields(obj):
-            value = getattr(obj, f.name)
-            if value is None:
-                continue
-            if f.name == "traction":
-                value = {name: list(vec) for name, vec in value}
-            out[f.name] = _to_plain(value)
-        return out
-    if isinstance(obj, tuple):
-        return [_to_plain(v) for v in obj]
-    return copy.deepcopy(obj)
+def reference_table() -> str:
+    """The README's scene reference: one Markdown row per key, from the declarations above."""
+    rows = ["| key | meaning | default | allowed |", "|---|---|---|---|",
+            "| `name` | name of the scene (output folder, titles) | file name | non-empty string |"]
+    for section, model in SECTIONS.items():
+        for name, info in model.model_fields.items():
+            extra = info.json_schema_extra or {}
+            default = extra.get("shown", _plain(info.default))
+            rows.append(f"| `{section}.{name}` | {info.description} | {default} | "
+                        f"{extra.get('allowed') or _allowed(info)} |")
+    return "\n".join(rows)
 
 
-def _section(data: dict, name: str, allowed: tuple[str, ...]) -> dict:
-    sec = data.get(name, {})
-    if not isinstance(sec, dict):
-        raise SceneError(f"{name}: must be a table (got {sec!r})")
-    for key in sec:
-        if key not in allowed:
-            raise SceneError(f"{name}.{key}: unknown key (allowed: {', '.join(allowed)})")
-    return sec
+# ---------------------------------------------------------------- messages from declarations
 
 
-def _number(sec: dict, prefix: str, key: str, default: Any, *, lo=None, hi=None,
-            lo_open=False, integer=False) -> Any:
-    value = sec.get(key, default)
-    name = f"{prefix}.{key}"
-    if value is None:
-        return None
-    kind = "a whole number" if integer else "a number"
-    rng = _range_text(lo, hi, lo_open)
-    what = f"{kind} {rng}" if rng else kind
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise SceneError(f"{name}: must be {what} (got {value!r})")
-    if isinstance(value, float) and not math.isfinite(value):
-        raise SceneError(f"{name}: must be a finite {what.removeprefix('a ')} (got {value!r})")
-    if integer and isinstance(value, float) and not value.is_integer():
-        raise SceneError(f"{name}: must be {what} (got {value!r})")
-    if lo is not None and (value < lo or (lo_open and value == lo)):
-        raise SceneError(f"{name}: must be {rng} (got {value!r})")
-    if hi is not None and value > hi:
-        raise SceneError(f"{name}: must be {rng} (got {value!r})")
-    return int(value) if integer else float(value)
+def _default(data: dict, section: str, name: str, value: Any) -> None:
+    sec = data.setdefault(section, {})
+    if isinstance(sec, dict) and name not in sec:
+        sec[name] = value
 
 
-def _range_text(lo, hi, lo_open) -> str:
+def _plain(value: Any) -> str:
+    if value is None or value == () or value == {}:
+        return "—"
+    if isinstance(value, bool):
+        return str(value).lower()
+    if isinstance(value, str):
+        return value
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def _limits(info: FieldInfo) -> tuple:
+    """(lo, hi, lo_open, hi_open) of a declared field."""
+    lo = hi = None
+    lo_open = hi_open = False
+    for m in info.metadata:
+        for attr, is_lo, is_open in (("gt", True, True), ("ge", True, False), ("lt", False, True),
+                                     ("le", False, False)):
+            value = getattr(m, attr, None)
+            if value is not None:
+                if is_lo:
+                    lo, lo_open = value, is_open
+                else:
+                    hi, hi_open = value, is_open
+    return lo, hi, lo_open, hi_open
+
+
+def range_text(lo=None, hi=None, lo_open=False, hi_open=False) -> str:
+    """``> 0``, ``>= 1``, ``<= 2`` or ``in (0, 3.0]``."""
     if lo is not None and hi is not None:
-        return f"in {'(' if lo_open else '['}{lo}, {hi}]"
+        return f"in {'(' if lo_open else '['}{lo}, {hi}{')' if hi_open else ']'}"
     if lo is not None:
         return f"{'>' if lo_open else '>='} {lo}"
     if hi is not None:
-        return f"<= {hi}"
+        return f"{'<' if hi_open else '<='} {hi}"
     return ""
 
 
-def _vector(sec: dict, prefix: str, key: str, default: Any, dim: int) -> tuple[float, ...] | None:
-    value = sec.get(key, default)
-    name = f"{prefix}.{key}"
-    if value is None:
-        return None
-    if (not isinstance(value, (list, tuple)) or len(value) != dim
-            or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in value)):
-        raise SceneError(f"{name}: must be a list of {dim} numbers (got {value!r})")
-    if not all(math.isfinite(v) for v in value):
-        raise SceneError(f"{name}: must be finite (got {value!r})")
-    return tuple(float(v) for v in value)
+def _allowed(info: FieldInfo) -> str:
+    """The allowed values of a declared field, as the reference table states them."""
+    base = _base_type(info.annotation)
+    if get_origin(base) is Literal:
+        return ", ".join(get_args(base))
+    if base is bool:
+        return "bool"
+    return range_text(*_limits(info)) or "—"
 
 
-def _table(sec: dict, prefix: str, key: str, T: float) -> tuple[tuple[float, float], ...]:
-    value = sec.get(key, [])
-    name = f"{prefix}.{key}"
-    ok = isinstance(value, (list, tuple)) and all(
-        isinstance(row, (list, tuple)) and len(row) == 2
-        and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in row)
-        for row in value)
-    if not ok:
-        raise SceneError(f"{name}: must be a list of [t, factor] pairs (got {value!r})")
-    times = [row[0] for row in value]
-    if any(b < a for a, b in zip(times, times[1:])):
-        raise SceneError(f"{name}: times must be non-decreasing (got {times})")
-    if value and (times[0] > 0 or times[-1] < T):
-        raise SceneError(f"{name}: must cover [0, time.T] = [0, {T}] (got {times[0]} to {times[-1]})")
-    return tuple((float(t), float(f)) for t, f in value)
+def _base_type(annotation):
+    """The annotation without ``| None`` and without ``Annotated`` metadata."""
+    args = [a for a in get_args(annotation) if a is not type(None)]
+    if args and get_origin(annotation) is not Literal and get_origin(annotation) not in (tuple, dict):
+        annotation = args[0] if len(args) == 1 else annotation
+    while get_origin(annotation) is Annotated:
+        annotation = get_args(annotation)[0]
+    return annotation
 
 
-def _choice(sec: dict, prefix: str, key: str, default: str, allowed: tuple[str, ...]) -> str:
-    value = sec.get(key, default)
-    if value not in allowed:
-        raise SceneError(f"{prefix}.{key}: must be one of {', '.join(allowed)} (got {value!r})")
-    return value
+def _field(loc: tuple) -> tuple[str, FieldInfo | None, str]:
+    """Dotted name, declaration and section of an error location (list indices dropped)."""
+    names = [p for p in loc if isinstance(p, str)]
+    if not names:
+        return "scene", None, ""
+    if names[0] not in SECTIONS:
+        return names[0], Scene.model_fields.get(names[0]), ""
+    model = SECTIONS[names[0]]
+    if len(names) == 1:
+        return names[0], None, names[0]
+    info = model.model_fields.get(names[1])
+    return ".".join(names[:3] if names[:2] == ["loads", "traction"] else names[:2]), info, names[0]
 
 
-def _names(fields_of) -> tuple[str, ...]:
-    return tuple(f.name for f in fields(fields_of))
+def _raw(data: Any, dotted: str) -> Any:
+    node = data
+    for part in dotted.split("."):
+        if not isinstance(node, dict) or part not in node:
+            return None
+        node = node[part]
+    return node
 
 
-def _build(data: dict[str, Any]) -> Scene:
-    if not isinstance(data, dict):
-        raise SceneError("scene: must be a table")
-    top = tuple(f.name for f in fields(Scene))
-    for key in data:
-        if key not in top:
-            raise SceneError(f"{key}: unknown section (allowed: {', '.join(top)})")
-    name = data.get("name", "scene")
-    if not isinstance(name, str) or not name:
-        raise SceneError(f"name: must be a non-empty string (got {name!r})")
+def _dim_of(data: Any) -> int | None:
+    g = data.get("geometry") if isinstance(data, dict) else None
+    kind = KINDS.get(g.get("kind", "strip")) if isinstance(g, dict) else KINDS["strip"]
+    return kind.dim if kind else None
 
-    g = _section(data, "geometry", _names(Geometry))
-    kind = _choice(g, "geometry", "kind", "strip", tuple(GEOMETRY_KINDS))
-    dim = GEOMETRY_KINDS[kind]
-    default_size = DEFAULT_SIZES[kind]
-    size = _vector(g, "geometry", "size", default_size, len(default_size))
-    if min(size) <= 0:
-        raise SceneError(f"geometry.size: every length must be > 0 (got {list(size)})")
-    dirichlet = g.get("dirichlet", list(DEFAULT_DIRICHLET[kind]))
-    boundaries = BOUNDARIES[kind]
-    if isinstance(dirichlet, str):
-        dirichlet = [dirichlet]
-    if not isinstance(dirichlet, list) or not dirichlet:
-        raise SceneError(f"geometry.dirichlet: must be a non-empty list of boundary names (got {dirichlet!r})")
-    for b in dirichlet:
-        if b not in boundaries or b == "contact":
-            allowed = ", ".join(x for x in boundaries if x != "contact")
+
+def _what(info: FieldInfo, name: str, data: Any) -> tuple[str, str]:
+    """(What the value must be, its range), e.g. ("a number", "> 0") or ("a list of 2 numbers", "")."""
+    base = _base_type(info.annotation)
+    rng = _maxh_range(data) if name == "mesh.maxh" else range_text(*_limits(info))
+    if name.startswith("loads.traction."):
+        base = Vector
+    if get_origin(base) is Literal:
+        return "one of " + ", ".join(get_args(base)), ""
+    if base is bool:
+        return "true or false", ""
+    if base is str:
+        return "a non-empty string", ""
+    if name == "loads.traction":
+        return "a table of boundary = [vector]", ""
+    if base == Table:
+        return "a list of [t, factor] pairs", ""
+    if get_origin(base) is tuple:
+        if get_args(base)[0] is str:
+            return "a list of boundary names", ""
+        kind = KINDS.get(_raw(data, "geometry.kind") or "strip")
+        count = len(kind.size) if name == "geometry.size" and kind else _dim_of(data)
+        return (f"a list of {count} numbers" if count else "a list of numbers"), ""
+    return ("a whole number" if base is int else "a number"), rng
+
+
+def _maxh_range(data: Any) -> str:
+    size = _raw(data, "geometry.size")
+    if isinstance(size, list) and size and all(isinstance(v, (int, float)) for v in size):
+        return range_text(0, max(size), lo_open=True)
+    return "> 0"
+
+
+def _message(err: dict, data: Any) -> str:
+    """One line for the first pydantic error: the dotted key, what it must be, what it got."""
+    cause = (err.get("ctx") or {}).get("error")
+    if isinstance(cause, SceneError):
+        return str(cause)
+    name, info, section = _field(err["loc"])
+    kind = err["type"]
+    if kind == "extra_forbidden":
+        if not section and name not in Scene.model_fields:
+            return f"{name}: unknown section (allowed: {', '.join(Scene.model_fields)})"
+        allowed = ", ".join(SECTIONS[section].model_fields) if section in SECTIONS else ""
+        return f"{name}: unknown key (allowed: {allowed})"
+    got = _raw(data, name)
+    if info is None:
+        return f"{name}: must be a table (got {got!r})"
+    what, rng = _what(info, name, data)
+    if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
+        return f"{name}: must be {rng} (got {got!r})"
+    if kind == "finite_number":
+        return f"{name}: must be {'finite' if what.startswith('a list') else f'a finite {what[2:]} {rng}'.strip()}" \
+               f" (got {got!r})"
+    return f"{name}: must be {f'{what} {rng}'.strip()} (got {got!r})"
+
+
+# ---------------------------------------------------------------- rules across keys
+
+
+def _check_geometry(scene: Scene) -> None:
+    g, m, kind = scene.geometry, scene.mesh, KINDS[scene.geometry.kind]
+    if len(g.size) != len(kind.size):
+        raise SceneError(f"geometry.size: must be a list of {len(kind.size)} numbers (got {list(g.size)})")
+    if min(g.size) <= 0:
+        raise SceneError(f"geometry.size: every length must be > 0 (got {list(g.size)})")
+    if not g.dirichlet:
+        raise SceneError(f"geometry.dirichlet: must be a non-empty list of boundary names (got {list(g.dirichlet)})")
+    for b in g.dirichlet:
+        if b not in kind.boundaries or b == "contact":
+            allowed = ", ".join(x for x in kind.boundaries if x != "contact")
             raise SceneError(f"geometry.dirichlet: unknown or non-Dirichlet boundary {b!r} (allowed: {allowed})")
-    geometry = Geometry(kind, size, tuple(dirichlet))
-
-    m = _section(data, "mesh", _names(MeshSpec))
-    maxh = _number(m, "mesh", "maxh", 0.1, lo=0, lo_open=True, hi=max(size))
-    order = _number(m, "mesh", "order", 1, lo=1, hi=2 if dim == 2 else 1, integer=True)
-    flat = kind != "half_disk"
-    layer = m.get("layer", flat)
-    if not isinstance(layer, bool):
-        raise SceneError(f"mesh.layer: must be true or false (got {layer!r})")
-    if layer and not flat:
-        raise SceneError(f"mesh.layer: must be false for geometry.kind = {kind!r} "
+    if not 0 < m.maxh <= max(g.size):
+        raise SceneError(f"mesh.maxh: must be {range_text(0, max(g.size), lo_open=True)} (got {m.maxh!r})")
+    if m.order == 2 and scene.dim == 3:
+        raise SceneError(f"mesh.order: must be in [1, 1] in 3D (got {m.order})")
+    if m.layer and not kind.flat:
+        raise SceneError(f"mesh.layer: must be false for geometry.kind = {g.kind!r} "
                          "(the soft layer is meshed only under a flat Γ_C)")
-    contact_maxh = _number(m, "mesh", "contact_maxh", None, lo=0, lo_open=True, hi=maxh)
-    if "contact_zone" in m and flat:
-        raise SceneError(f"mesh.contact_zone: only for geometry.kind = 'half_disk' (got kind {kind!r})")
-    contact_zone = _number(m, "mesh", "contact_zone", None, lo=0, lo_open=True, hi=size[0])
-    grading = _number(m, "mesh", "grading", None, lo=0.1, hi=1.0)
-    mesh = MeshSpec(maxh, order, layer, contact_maxh, contact_zone, grading)
+    if m.contact_maxh is not None and not 0 < m.contact_maxh <= m.maxh:
+        raise SceneError(f"mesh.contact_maxh: must be {range_text(0, m.maxh, lo_open=True)} (got {m.contact_maxh!r})")
+    if m.contact_zone is not None:
+        if kind.flat:
+            raise SceneError(f"mesh.contact_zone: only for geometry.kind = 'half_disk' (got kind {g.kind!r})")
+        if not 0 < m.contact_zone <= g.size[0]:
+            raise SceneError(f"mesh.contact_zone: must be {range_text(0, g.size[0], lo_open=True)} "
+                             f"(got {m.contact_zone!r})")
 
-    mat = _section(data, "material", _names(Material))
-    lame = [k for k in ("lame_lambda", "lame_mu") if k in mat]
-    engineering = [k for k in ("young", "poisson") if k in mat]
+
+def _check_material(mat: Material) -> None:
+    lame = [k for k in ("lame_lambda", "lame_mu") if getattr(mat, k) is not None]
+    engineering = [k for k in ("young", "poisson") if getattr(mat, k) is not None]
     if lame and engineering:
         raise SceneError(f"material.{engineering[0]}: cannot be combined with material.{lame[0]} "
                          "(give either lame_lambda and lame_mu, or young and poisson)")
-    if engineering:
-        missing = [k for k in ("young", "poisson") if k not in mat]
-        if missing:
-            raise SceneError(f"material.{missing[0]}: missing (young and poisson go together)")
-        material = Material(young=_number(mat, "material", "young", None, lo=0, lo_open=True),
-                            poisson=_number(mat, "material", "poisson", None, lo=-1, lo_open=True, hi=0.499))
-    else:
-        lam = _number(mat, "material", "lame_lambda", 1.0, lo=0)
-        mu = _number(mat, "material", "lame_mu", 1.0, lo=0, lo_open=True)
-        material = Material(lame_lambda=lam, lame_mu=mu)
+    missing = [k for k in (("young", "poisson") if engineering else ("lame_lambda", "lame_mu"))
+               if getattr(mat, k) is None]
+    if missing:
+        together = "young and poisson" if engineering else "lame_lambda and lame_mu"
+        raise SceneError(f"material.{missing[0]}: missing ({together} go together)")
 
-    c = _section(data, "contact", _names(Contact))
-    law = _choice(c, "contact", "law", "linear", COMPLIANCE_LAWS)
-    default_dir = (0.0, -1.0) if dim == 2 else (0.0, 0.0, -1.0)
-    direction = _vector(c, "contact", "direction", default_dir, dim)
-    norm = math.sqrt(sum(v * v for v in direction))
-    if norm == 0:
-        raise SceneError(f"contact.direction: must be a non-zero vector (got {list(direction)})")
-    contact = Contact(
-        law=law,
-        stiffness=_number(c, "contact", "stiffness", 10.0, lo=0, lo_open=True),
-        exponent=_number(c, "contact", "exponent", 1.0, lo=1, hi=10),
-        gap=_number(c, "contact", "gap", 0.2, lo=0, lo_open=True),
-        friction=_number(c, "contact", "friction", 0.0, lo=0),
-        wear=_number(c, "contact", "wear", 0.0, lo=0),
-        direction=tuple(v / norm for v in direction),
-    )
-    if law == "linear" and "exponent" in c and c["exponent"] != 1:
-        raise SceneError(f"contact.exponent: must be 1 with contact.law = 'linear' (got {c['exponent']!r})")
 
-    t = _section(data, "time", _names(TimeGrid))
-    time = TimeGrid(_number(t, "time", "T", 1.0, lo=0, lo_open=True),
-                    _number(t, "time", "steps", 100, lo=1, hi=1_000_000, integer=True))
+def _vector(value, name: str, dim: int) -> tuple[float, ...]:
+    if value is None or len(value) != dim:
+        raise SceneError(f"{name}: must be a list of {dim} numbers (got {list(value) if value else value!r})")
+    return value
 
-    f = _section(data, "foundation", _names(Foundation))
-    velocity = _vector(f, "foundation", "velocity", (1.0, 0.0) if dim == 2 else (1.0, 0.0, 0.0), dim)
-    foundation = Foundation(velocity, _table(f, "foundation", "speed_table", time.T))
-    nu = contact.direction
+
+def _check_contact(scene: Scene) -> None:
+    c = scene.contact
+    _vector(c.direction, "contact.direction", scene.dim)
+    if c.law == "linear" and c.exponent != 1:
+        raise SceneError(f"contact.exponent: must be 1 with contact.law = 'linear' (got {c.exponent!r})")
+
+
+def _check_motion(scene: Scene) -> None:
+    f, c, T, nu = scene.foundation, scene.contact, scene.time.T, scene.contact.direction
+    velocity = _vector(f.velocity, "foundation.velocity", scene.dim)
+    _check_table(f.speed_table, "foundation.speed_table", T)
     vn = sum(a * b for a, b in zip(velocity, nu))
     speed = math.sqrt(sum(v * v for v in velocity))
     tangential = math.sqrt(sum((v - vn * n) ** 2 for v, n in zip(velocity, nu)))
-    if contact.friction > 0 and tangential <= 1e-12 * speed:
+    if c.friction > 0 and tangential <= 1e-12 * speed:
         raise SceneError("foundation.velocity: must have a non-zero part tangential to contact.direction "
                          f"when contact.friction > 0 (got {list(velocity)})")
-    if contact.wear > 0 and speed == 0:
+    if c.wear > 0 and speed == 0:
         raise SceneError(f"foundation.velocity: must be non-zero when contact.wear > 0 (got {list(velocity)})")
 
-    ld = _section(data, "loads", _names(Loads))
-    traction = ld.get("traction", {})
-    if not isinstance(traction, dict):
-        raise SceneError(f"loads.traction: must be a table of boundary = [vector] (got {traction!r})")
-    pairs = []
-    for bname, vec in traction.items():
-        if bname not in boundaries or bname == "contact" or bname in geometry.dirichlet:
-            allowed = ", ".join(x for x in boundaries if x != "contact" and x not in geometry.dirichlet)
+
+def _check_table(table, name: str, T: float) -> None:
+    times = [t for t, _ in table]
+    if any(b < a for a, b in zip(times, times[1:])):
+        raise SceneError(f"{name}: times must be non-decreasing (got {times})")
+    if table and (times[0] > 0 or times[-1] < T):
+        raise SceneError(f"{name}: must cover [0, time.T] = [0, {T}] (got {times[0]} to {times[-1]})")
+
+
+def _check_loads(scene: Scene) -> None:
+    loads, g = scene.loads, scene.geometry
+    boundaries = KINDS[g.kind].boundaries
+    for bname, vec in loads.traction.items():
+        if bname not in boundaries or bname == "contact" or bname in g.dirichlet:
+            allowed = ", ".join(x for x in boundaries if x != "contact" and x not in g.dirichlet)
             raise SceneError(f"loads.traction.{bname}: unknown or non-Neumann boundary (allowed: {allowed})")
-        if vec is None:
-            raise SceneError(f"loads.traction.{bname}: must be a list of {dim} numbers (got None)")
-        pairs.append((bname, _vector(traction, "loads.traction", bname, None, dim)))
-    loads = Loads(tuple(pairs), _vector(ld, "loads", "body_force", None, dim),
-                  _table(ld, "loads", "time_table", time.T))
-
-    w = _section(data, "wear", _names(WearSpec))
-    wear = WearSpec(_choice(w, "wear", "integrator", "explicit", WEAR_INTEGRATORS))
-
-    s = _section(data, "solver", _names(SolverSpec))
-    solver = SolverSpec(_choice(s, "solver", "method", "condensed", SOLVERS),
-                        _number(s, "solver", "tolerance", 1e-10, lo=1e-15, hi=1e-2),
-                        _number(s, "solver", "max_iterations", 50, lo=1, hi=10_000, integer=True))
-    if solver.method == "full" and wear.integrator != "explicit":
-        raise SceneError(f"solver.method: 'full' supports only wear.integrator = 'explicit' "
-                         f"(got {wear.integrator!r}; use solver.method = 'condensed')")
-
-    o = _section(data, "output", _names(Output))
-    output = Output(_number(o, "output", "every", max(1, time.steps // 4), lo=1, integer=True))
-
-    return Scene(name, geometry, mesh, material, contact, foundation, loads, time, wear, solver, output)
-
+        _vector(vec, f"loads.traction.{bname}", scene.dim)
+    if loads.body_force is not None:
+        _vector(loads.body_force, "loads.body_force", scene.dim)
+    _check_table(loads.time_table, "loads.time_table", scene.time.T)

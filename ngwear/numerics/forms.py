@@ -61,7 +61,7 @@ def load_form(fes: ngs.FESpace, scene: Scene) -> ngs.LinearForm:
     f = ngs.LinearForm(fes)
     if scene.loads.body_force is not None:
         f += ngs.InnerProduct(ngs.CF(scene.loads.body_force), v) * ngs.dx("body")
-    for name, vec in scene.loads.traction:
+    for name, vec in scene.loads.traction.items():
         f += ngs.InnerProduct(ngs.CF(vec), v) * ngs.ds(name)
     return f
 

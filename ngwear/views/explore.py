@@ -155,7 +155,7 @@ class Explorer:
         if base == 0:
             raise SceneError("load: the scene has no traction or body force to scale")
         factor = size / base
-        out = {"loads.traction": {name: [factor * c for c in vec] for name, vec in loads.traction}}
+        out = {"loads.traction": {name: [factor * c for c in vec] for name, vec in loads.traction.items()}}
         if loads.body_force is not None:
             out["loads.body_force"] = [factor * c for c in loads.body_force]
         return out
@@ -290,7 +290,7 @@ class Explorer:
 
 def _load_size(scene: Scene) -> float:
     """Largest traction or body-force magnitude of a scene."""
-    vectors = [vec for _, vec in scene.loads.traction]
+    vectors = list(scene.loads.traction.values())
     if scene.loads.body_force is not None:
         vectors.append(scene.loads.body_force)
     return max((float(np.linalg.norm(v)) for v in vectors), default=0.0)
