@@ -26,7 +26,7 @@ def column(dim, b, order, steps=20, gap=0.2, maxh=0.5):
     return ngwear.Scene.from_dict({
         "name": f"column{dim}d",
         "geometry": geometry,
-        "mesh": {"maxh": maxh, "order": order, "layer": False},
+        "mesh": {"maxh": maxh, "order": order},
         "material": {"lame_lambda": 0.0, "lame_mu": 1.0},
         "contact": {"stiffness": 10.0, "gap": gap, "friction": 0.0, "wear": 1.5, "direction": direction},
         "foundation": {"velocity": [1.0] + [0.0] * (dim - 1)},

@@ -8,14 +8,15 @@ from ngwear.model.geometry import _check_complete, build_mesh
 
 def test_regions_and_boundaries(paper_scene):
     mesh = build_mesh(paper_scene.replace(**{"mesh.maxh": 0.3}))
-    assert set(mesh.GetMaterials()) == {"body", "layer"}
-    assert {"left", "right", "top", "contact", "foundation"} <= set(mesh.GetBoundaries())
-    layer = ngs.Integrate(ngs.CF(1.0), mesh, definedon=mesh.Materials("layer"))
-    assert layer == pytest.approx(3.0 * paper_scene.contact.gap)
+    assert set(mesh.GetMaterials()) == {"body"}
+    assert set(mesh.GetBoundaries()) == {"left", "right", "top", "contact"}
+    assert ngs.Integrate(ngs.CF(1.0), mesh) == pytest.approx(3.0)
+    length = ngs.Integrate(ngs.CF(1.0), mesh, definedon=mesh.Boundaries("contact"))
+    assert length == pytest.approx(3.0)
 
 
 def test_partial_mesh_is_rejected(paper_scene):
     mesh = build_mesh(paper_scene.replace(**{"mesh.maxh": 0.3}))
-    _check_complete(mesh, 3.0 * 1.2)
+    _check_complete(mesh, 3.0)
     with pytest.raises(SceneError, match="meshed only 50.0%"):
-        _check_complete(mesh, 2 * 3.0 * 1.2)
+        _check_complete(mesh, 2 * 3.0)

@@ -11,7 +11,6 @@ The contact traction is p + λ (compliance pressure plus rigid reaction).  The h
 off the traction where it drops to zero: p² is linear in x near a Hertz edge, so the zero of the
 line through the last two loaded points on each side, averaged over both sides.
 """
-import hashlib
 import json
 import math
 
@@ -20,7 +19,7 @@ import pytest
 from conftest import ROOT
 
 import ngwear
-from ngwear.model.geometry import CACHE_VERSION, mesh_key
+from ngwear.model.geometry import mesh_key
 from ngwear.model.scene import Scene, SceneError
 from ngwear.numerics.discrete import Discretization
 
@@ -70,7 +69,7 @@ def hertz(result, step=-1) -> dict:
 def test_scene_file(scene):
     g, m = scene.geometry, scene.mesh
     assert g.kind == "half_disk" and scene.dim == 2 and g.size == (1.0,) and g.dirichlet == ("top",)
-    assert m.layer is False and m.contact_maxh == 0.001 and m.contact_zone == 0.15 and m.grading == 0.1
+    assert m.contact_maxh == 0.001 and m.contact_zone == 0.15 and m.grading == 0.1
     assert scene.contact.friction == 0 and scene.contact.wear == 0 and scene.contact.gap <= 1e-8
     assert scene.loads.body_force == (0.0, -0.01) and scene.loads.traction == {}
     assert Scene.from_dict(json.loads(json.dumps(scene.to_dict()))) == scene
@@ -93,7 +92,6 @@ def test_half_disk_mesh(scene, disc):
 
 
 @pytest.mark.parametrize("changes, field, allowed", [
-    ({"mesh.layer": True}, "mesh.layer", "must be false for geometry.kind = 'half_disk'"),
     ({"geometry.dirichlet": ["left"]}, "geometry.dirichlet", "allowed: top"),
     ({"geometry.dirichlet": ["contact"]}, "geometry.dirichlet", "allowed: top"),
     ({"geometry.size": [1.0, 1.0]}, "geometry.size", "list of 1 numbers"),
@@ -112,19 +110,19 @@ def test_half_disk_scene_errors(scene, changes, field, allowed):
 
 def test_half_disk_defaults_and_other_kinds(paper_scene):
     s = Scene.from_dict({"geometry": {"kind": "half_disk"}})
-    assert s.geometry.size == (1.0,) and s.geometry.dirichlet == ("top",) and s.mesh.layer is False
+    assert s.geometry.size == (1.0,) and s.geometry.dirichlet == ("top",)
     with pytest.raises(SceneError, match=r"^mesh\.contact_zone: only for geometry.kind = 'half_disk'"):
         paper_scene.replace(**{"mesh.contact_zone": 0.1})
     refined = paper_scene.replace(**{"mesh.contact_maxh": 0.02, "mesh.grading": 0.2})
     assert refined.mesh.contact_maxh == 0.02 and refined.mesh.grading == 0.2
 
 
-def test_mesh_key_unchanged_without_new_keys(paper_scene):
-    """Meshes cached before contact_maxh / contact_zone / grading existed keep their keys."""
-    g, m = paper_scene.geometry, paper_scene.mesh
-    old = {"v": CACHE_VERSION, "kind": g.kind, "size": g.size, "maxh": m.maxh, "layer": m.layer,
-           "gap": paper_scene.contact.gap}
-    assert mesh_key(paper_scene) == hashlib.sha256(json.dumps(old, sort_keys=True).encode()).hexdigest()[:16]
+def test_mesh_key_depends_only_on_what_shapes_the_mesh(paper_scene):
+    """Loads, material, contact law (g included) and time reuse the cached mesh; mesh keys do not."""
+    same = {mesh_key(paper_scene.replace(**{k: v})) for k, v in
+            (("contact.gap", 0.1), ("contact.friction", 0.3), ("loads.traction.top", [0.0, -0.3]),
+             ("material.lame_mu", 2.0), ("time.steps", 7))}
+    assert same == {mesh_key(paper_scene)}
     keys = {mesh_key(paper_scene.replace(**{k: v})) for k, v in
             (("mesh.contact_maxh", 0.02), ("mesh.contact_maxh", 0.01), ("mesh.grading", 0.2))}
     assert len(keys) == 3 and mesh_key(paper_scene) not in keys

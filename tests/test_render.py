@@ -152,8 +152,8 @@ def test_canvas_updated_in_place_draws_what_a_new_plotter_draws(strip):
             assert np.array_equal(reused, render.frame(result, step, window_size=(400, 170)))
 
 
-def test_layer_fills_the_gap_when_g_exceeds_the_meshed_layer(strip):
-    """A larger g on a reused mesh (meshed for g = 0.2): the layer reaches down to the foundation."""
+def test_layer_fills_the_gap_for_any_g_on_a_reused_mesh(strip):
+    """A larger g on the same mesh: the layer is drawn with the new g and reaches down to the foundation."""
     thick = ngwear.simulate(strip.scene.replace(**{"contact.gap": 0.35, "contact.wear": 0.0}),
                             discretization=strip.discretization, progress=False)
     assert thick.discretization.mesh is strip.discretization.mesh

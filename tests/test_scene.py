@@ -87,7 +87,6 @@ TOML_CASES = [
     ("maxh-negative", edit("maxh = 0.5", "maxh = -0.1"), "mesh.maxh", "in (0, 3.0]"),
     ("maxh-nan", edit("maxh = 0.5", "maxh = nan"), "mesh.maxh", "finite number in (0, 3.0]"),
     ("order-3", edit("order = 1", "order = 3"), "mesh.order", "in [1, 2]"),
-    ("layer-not-bool", edit("order = 1", 'order = 1\nlayer = "yes"'), "mesh.layer", "true or false"),
     ("unknown-section", BASE + "\n[postprocess]\nplot = true\n", "postprocess", "allowed: name, geometry"),
     ("unknown-key", edit("gap = 0.2", "gap = 0.2\ngapp = 0.3"), "contact.gapp", "allowed: law, stiffness"),
     ("unknown-key-top-level", "title = 'x'\n" + BASE, "title", "allowed: name, geometry"),
@@ -215,7 +214,7 @@ OVERRIDE_CASES = [
     ("speed-table-short-after-T", ["foundation.speed_table=[[0.0, 1.0], [1.0, 1.0]]", "time.T=2.0"],
      "foundation.speed_table", "cover [0, time.T] = [0, 2.0]"),
     ("unknown-section", ["plot.dpi=300"], "plot", "unknown section"),
-    ("unknown-key", ["mesh.maxH=0.1"], "mesh.maxH", "allowed: maxh, order, layer"),
+    ("unknown-key", ["mesh.maxH=0.1"], "mesh.maxH", "allowed: maxh, order, contact_maxh"),
     ("below-a-number", ["time.steps.x=1"], "time.steps.x", "not a table"),
 ]
 
@@ -264,7 +263,7 @@ def test_override_without_equals(text):
     ("wear.integrator=implicit", ("wear.integrator", "implicit")),
     ('wear.integrator="implicit"', ("wear.integrator", "implicit")),
     ("loads.traction.top=[0.0, -0.2]", ("loads.traction.top", [0.0, -0.2])),
-    ("mesh.layer=false", ("mesh.layer", False)),
+    ("solver.method=full", ("solver.method", "full")),
 ])
 def test_parse_override(text, expected):
     assert parse_override(text) == expected
@@ -326,7 +325,7 @@ def test_overrides_from_strings(paper_scene):
 RICH = {
     "name": "rich",
     "geometry": {"kind": "box", "size": [1.0, 0.5, 0.5], "dirichlet": ["left", "back"]},
-    "mesh": {"maxh": 0.2, "order": 1, "layer": False},
+    "mesh": {"maxh": 0.2, "order": 1},
     "material": {"young": 3.0, "poisson": 0.25},
     "contact": {"law": "power", "exponent": 2.0, "stiffness": 5.0, "gap": 0.1, "friction": 0.3,
                 "wear": 0.5, "direction": [0.0, 0.0, -2.0]},

@@ -1,13 +1,11 @@
-"""Netgen/OCC geometries with named boundaries and the soft layer under Γ_C.
+"""Netgen/OCC geometries with named boundaries.
 
-The body is the region ``body``; its contact face/edge is named ``contact``.  With
-``mesh.layer = true`` the soft layer of thickness g (the region ``layer``, outer face
-``foundation``) is meshed too: it is not part of the elastic solve but carries the layer's
-compression and wear for results and pictures (flat Γ_C only: ``strip`` and ``box``).
-``mesh.contact_maxh`` refines Γ_C (for ``half_disk`` the arc within ``mesh.contact_zone`` of its
-lowest point) and ``mesh.grading`` (Netgen's, default 0.3) slows the growth of the elements away
-from it.  Meshes are cached on disk by a hash of what determines them (``$NGWEAR_CACHE`` or
-``~/.cache/ngwear``).
+The body is the region ``body``; its contact face/edge is named ``contact``.  The soft layer is
+not meshed: it lives on the contact points (its compression and wear are nodal) and pictures draw
+it by offsetting Γ_C along ν.  ``mesh.contact_maxh`` refines Γ_C (for ``half_disk`` the arc
+within ``mesh.contact_zone`` of its lowest point) and ``mesh.grading`` (Netgen's, default 0.3)
+slows the growth of the elements away from it.  Meshes are cached on disk by a hash of what
+determines them (``$NGWEAR_CACHE`` or ``~/.cache/ngwear``).
 
 Shapes, all with Γ_C at and above x_d = 0 and touching it:
 
@@ -32,8 +30,6 @@ from netgen.occ import (
     ArcOfCircle,
     Box,
     Face,
-    Glue,
-    MoveTo,
     OCCGeometry,
     Pnt,
     Rectangle,
@@ -46,10 +42,10 @@ from netgen.occ import (
 
 from .scene import Scene, SceneError
 
-CACHE_VERSION = 1
+CACHE_VERSION = 2
 
 
-def _strip(size, gap, layer, mesh):
+def _strip(size, mesh):
     lx, ly = size
     body = Rectangle(lx, ly).Face()
     body.faces.name = "body"
@@ -59,19 +55,10 @@ def _strip(size, gap, layer, mesh):
     body.edges.Min(Y).name = "contact"
     if mesh.contact_maxh is not None:
         body.edges.Min(Y).maxh = mesh.contact_maxh
-    if not layer:
-        return body
-    soft = MoveTo(0, -gap).Rectangle(lx, gap).Face()
-    soft.faces.name = "layer"
-    soft.edges.name = "layer_side"
-    soft.edges.Min(Y).name = "foundation"
-    soft.edges.Max(Y).name = "contact"
-    if mesh.contact_maxh is not None:
-        soft.edges.Max(Y).maxh = mesh.contact_maxh
-    return Glue([body, soft])
+    return body
 
 
-def _half_disk(size, gap, layer, mesh):
+def _half_disk(size, mesh):
     """Lower half of the disk |x − (0, R)| ≤ R: flat edge ``top`` at y = R, arc ``contact``."""
     radius = size[0]
     zone = mesh.contact_zone if mesh.contact_zone is not None else radius / 4
@@ -99,7 +86,7 @@ def _half_disk(size, gap, layer, mesh):
     return body
 
 
-def _box(size, gap, layer, mesh):
+def _box(size, mesh):
     lx, ly, lz = size
     body = Box(Pnt(0, 0, 0), Pnt(lx, ly, lz))
     body.solids.name = "body"
@@ -109,26 +96,16 @@ def _box(size, gap, layer, mesh):
         face.name = name
     if mesh.contact_maxh is not None:
         body.faces.Min(Z).maxh = mesh.contact_maxh
-    if not layer:
-        return body
-    soft = Box(Pnt(0, 0, -gap), Pnt(lx, ly, 0))
-    soft.solids.name = "layer"
-    soft.faces.name = "layer_side"
-    soft.faces.Min(Z).name = "foundation"
-    soft.faces.Max(Z).name = "contact"
-    if mesh.contact_maxh is not None:
-        soft.faces.Max(Z).maxh = mesh.contact_maxh
-    return Glue([body, soft])
+    return body
 
 
 SHAPES = {"strip": _strip, "box": _box, "half_disk": _half_disk}
 
 
 def mesh_key(scene: Scene) -> str:
-    """Hash of everything the mesh depends on (not loads, material, time or contact laws)."""
+    """Hash of everything the mesh depends on (not loads, material, contact laws or time)."""
     g, m = scene.geometry, scene.mesh
-    spec = {"v": CACHE_VERSION, "kind": g.kind, "size": g.size, "maxh": m.maxh, "layer": m.layer,
-            "gap": scene.contact.gap if m.layer else None}
+    spec = {"v": CACHE_VERSION, "kind": g.kind, "size": g.size, "maxh": m.maxh}
     optional = {"contact_maxh": m.contact_maxh, "contact_zone": m.contact_zone, "grading": m.grading}
     spec.update({k: v for k, v in optional.items() if v is not None})  # unset: keys stay as they were
     return hashlib.sha256(json.dumps(spec, sort_keys=True).encode()).hexdigest()[:16]
@@ -147,18 +124,14 @@ def _check_complete(mesh: ngs.Mesh, measure: float) -> None:
 
 
 def build_mesh(scene: Scene, use_cache: bool = True) -> ngs.Mesh:
-    """Mesh the scene's body (and soft layer), reusing the on-disk cache when possible."""
+    """Mesh the scene's body, reusing the on-disk cache when possible."""
     g, m = scene.geometry, scene.mesh
-    gap = scene.contact.gap
-    if m.layer and gap < m.maxh / 50:
-        raise SceneError(f"mesh.layer: the layer (contact.gap = {gap}) is too thin to mesh at "
-                         f"mesh.maxh = {m.maxh}; set mesh.layer = false or gap >= maxh/50")
     path = cache_dir() / "meshes" / f"{mesh_key(scene)}.vol"
     if use_cache and path.is_file():
         ngmesh = netgen.meshing.Mesh(dim=g.dim)
         ngmesh.Load(str(path))
         return ngs.Mesh(ngmesh)
-    shape = SHAPES[g.kind](g.size, gap, m.layer, m)
+    shape = SHAPES[g.kind](g.size, m)
     options = {"grading": m.grading} if m.grading is not None else {}
     ngmesh = OCCGeometry(shape, dim=g.dim).GenerateMesh(maxh=m.maxh, **options)
     parts = shape.faces if g.dim == 2 else shape.solids

@@ -93,12 +93,10 @@ class Geometry(Section):
 
 
 class MeshSpec(Section):
-    """Netgen mesh size, polynomial order, the meshed soft layer, refinement of Γ_C and grading."""
+    """Netgen mesh size, polynomial order, refinement of Γ_C and grading."""
 
     maxh: Number = key(0.1, "Netgen's largest element size", allowed="(0, largest of geometry.size]")
     order: Whole = key(1, "polynomial order", ge=1, le=2, allowed="1, 2 (2 in 2D only)")
-    layer: Flag | None = key(None, "also mesh the soft layer (region `layer`) for results and pictures",
-                             shown="true (false for `half_disk`)", allowed="bool; false for `half_disk`")
     contact_maxh: Number | None = key(None, "mesh size on Γ_C; for `half_disk` on the arc within "
                                       "`mesh.contact_zone` of its lowest point", shown="`mesh.maxh`",
                                       allowed="(0, maxh]")
@@ -262,7 +260,6 @@ class Scene(BaseModel):
         dim = kind.dim
         _default(data, "geometry", "size", list(kind.size))
         _default(data, "geometry", "dirichlet", list(kind.dirichlet))
-        _default(data, "mesh", "layer", kind.flat)
         _default(data, "contact", "direction", [0.0] * (dim - 1) + [-1.0])
         _default(data, "foundation", "velocity", [1.0] + [0.0] * (dim - 1))
         material = data.get("material", {})
@@ -519,9 +516,6 @@ def _check_geometry(scene: Scene) -> None:
         raise SceneError(f"mesh.maxh: must be {range_text(0, max(g.size), lo_open=True)} (got {m.maxh!r})")
     if m.order == 2 and scene.dim == 3:
         raise SceneError(f"mesh.order: must be in [1, 1] in 3D (got {m.order})")
-    if m.layer and not kind.flat:
-        raise SceneError(f"mesh.layer: must be false for geometry.kind = {g.kind!r} "
-                         "(the soft layer is meshed only under a flat Γ_C)")
     if m.contact_maxh is not None and not 0 < m.contact_maxh <= m.maxh:
         raise SceneError(f"mesh.contact_maxh: must be {range_text(0, m.maxh, lo_open=True)} (got {m.contact_maxh!r})")
     if m.contact_zone is not None:

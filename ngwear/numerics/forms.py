@@ -107,12 +107,14 @@ class ContactPoints:
 
     ``P`` (d·n × ndof): (P u)[d i + k] = u_k(x_i).  ``Q`` (ndof_scalar × n): coefficients of the
     scalar H1 function with nodal values ``w`` at the points (for the NGSolve form's w and d₀).
+    ``vertices[i]``: the mesh vertex at x_i, −1 for an edge midpoint (P2).
     """
 
     coords: np.ndarray
     weights: np.ndarray
     P: sp.csr_matrix
     Q: sp.csr_matrix
+    vertices: np.ndarray
 
     @property
     def n(self) -> int:
@@ -175,7 +177,11 @@ def contact_points(fes: ngs.FESpace, dim: int, order: int) -> ContactPoints:
     n = len(coords)
     P = sp.csr_matrix((pval, (prow, pcol)), shape=(dim * n, fes.ndof))
     Q = sp.csr_matrix((qval, (qrow, qcol)), shape=(ndof_s, n))
-    return ContactPoints(np.array(coords)[:, :dim], np.array(weights), P, Q)
+    vertices = np.full(n, -1)
+    for (kind, nr), i in index.items():
+        if kind == "v":
+            vertices[i] = nr
+    return ContactPoints(np.array(coords)[:, :dim], np.array(weights), P, Q, vertices)
 
 
 def _bubble_scale(fes: ngs.FESpace, dim: int) -> np.ndarray:

@@ -9,8 +9,6 @@ and the L²(Γ_C) norm of the wear, both
 Theorem 5 predicts E² ≲ k² + k h² + h for P1 (so E = O(h^{1/2} + k)); observed orders are the
 least-squares slopes of log E against log h (or log k).  Coarse displacements are interpolated
 onto the reference mesh (NGSolve ``Set``), wear profiles onto the reference contact points.
-The studies mesh the body alone (``mesh.layer = false``): the layer is display-only and would make
-the cross-mesh interpolation see the layer side of Γ_C.
 """
 from __future__ import annotations
 
@@ -37,7 +35,6 @@ class Errors:
 
 
 def _run(scene: Scene) -> tuple[Result, float]:
-    scene = scene.replace(**{"mesh.layer": False})
     start = time.perf_counter()
     result = simulate(scene, progress=False)
     if not result.completed:

@@ -1,14 +1,17 @@
 """Off-screen pictures of a result: the deformed body, its soft layer and the moving foundation.
 
 The picture (paper, Figs. 1–4) in the reference frame with vertical axis e_d (ν = −e_d): the body
-is drawn at X + m u(X).  The rigid foundation's surface stays at x_d = −g and moves with v*.  Under a
-point of Γ_C with displacement u, wear w and compression r = u_ν − d₀ − w, the layer keeps
+is drawn at X + m u(X).  The rigid foundation's surface stays at x_d = −g and moves with v*.  The
+soft layer is drawn on Γ_C, offset along ν: under a contact point X with displacement u, wear w and
+compression r = u_ν − d₀ − w it keeps
 
-    remaining part   x_d ∈ [b, t],   t = m u_d,   b = min(t − (g − m w) + m r₊, t),
-    worn-away part   x_d ∈ [b − m w, b],
+    remaining part   from  t = X + m u  to  b = t + ν (g − m w − m r₊)₊,
+    worn-away part   from  b  to  b + ν clip(m w, 0, m g),
 
-so the remaining layer is pressed flat on the foundation (b = −g) where r > 0, and the worn part,
-drawn translucent, shows the material the foundation has removed.  ``m`` is ``magnify``.
+so the remaining layer is pressed flat on the foundation where r > 0, and the worn part, drawn
+translucent, shows the material the foundation has removed.  ``m`` is ``magnify``.  Each facet of
+Γ_C becomes one cell of the layer (a quadrilateral in 2D, a prism in 3D), so flat, curved and CAD
+contact faces are drawn alike.
 The numbers come from the :class:`~ngwear.result.Result`; no numerical module imports this one.
 A :class:`Canvas` keeps one plotter for many pictures (figures, animations, the explorer).
 
@@ -29,8 +32,6 @@ import ngsolve as ngs
 import numpy as np
 import pyvista as pv
 from PIL import Image
-from scipy.interpolate import LinearNDInterpolator
-from scipy.spatial import Delaunay, cKDTree
 
 pv.OFF_SCREEN = True
 
@@ -39,6 +40,7 @@ TITLES = {"displacement": "displacement", "wear": "wear w", "pressure": "pressur
 CMAPS = {"displacement": "viridis", "wear": "YlOrRd", "pressure": "plasma"}
 BODY_COLOR, FOUNDATION_COLOR, WORN_COLOR = "lightsteelblue", "dimgray", "white"
 CELL_TYPES = {(2, 3): pv.CellType.TRIANGLE, (3, 4): pv.CellType.TETRA}
+LAYER_CELLS = {2: pv.CellType.QUAD, 3: pv.CellType.WEDGE}
 _RENDER_THREAD = ThreadPoolExecutor(max_workers=1, thread_name_prefix="ngwear-render")
 _owner = threading.local()
 
@@ -59,25 +61,19 @@ def on_render_thread(method):
 
 @dataclass(frozen=True)
 class _Mesh:
-    """Reference vertex coordinates and the vertex numbers of the body's and the layer's elements."""
+    """Reference vertex coordinates, the vertex numbers of the body's elements and of the Γ_C facets."""
 
     points: np.ndarray
     body: np.ndarray
-    layer: np.ndarray
-
-    @property
-    def depth(self) -> float:
-        """Thickness of the meshed layer (the g the mesh was made for; a scene change may alter g)."""
-        return float(-self.points[self.layer.ravel(), -1].min()) if len(self.layer) else 0.0
+    facets: np.ndarray
 
     @classmethod
     def of(cls, mesh: ngs.Mesh) -> _Mesh:
-        cells = {"body": [], "layer": []}
-        for el in mesh.Elements(ngs.VOL):
-            cells.setdefault(el.mat, []).append([v.nr for v in el.vertices])
+        body = [[v.nr for v in el.vertices] for el in mesh.Elements(ngs.VOL) if el.mat == "body"]
+        facets = [[v.nr for v in el.vertices] for el in mesh.Elements(ngs.BND) if el.mat == "contact"]
         points = np.array([v.point for v in mesh.vertices])
-        return cls(points, *(np.array(cells[name], dtype=int).reshape(-1, mesh.dim + 1)
-                             for name in ("body", "layer")))
+        return cls(points, np.array(body, dtype=int).reshape(-1, mesh.dim + 1),
+                   np.array(facets, dtype=int).reshape(-1, mesh.dim))
 
 
 @dataclass(frozen=True)
@@ -104,7 +100,9 @@ class _Picture:
         self.scales = _Scales.of(result, shown)
         moved = np.array([mesh.points + magnify * u for u in shown])
         self.lo, self.hi = moved.min(axis=(0, 1)), moved.max(axis=(0, 1))
-        self.interpolate = _contact_interpolator(result.contact_points, mesh.points[:, :-1])
+        self.point_of_vertex = np.full(len(mesh.points), -1)
+        vertices = result.discretization.points.vertices
+        self.point_of_vertex[vertices[vertices >= 0]] = np.flatnonzero(vertices >= 0)
 
     @property
     def dim(self) -> int:
@@ -115,12 +113,19 @@ class _Picture:
         u = _vertex_displacement(self.result, step)
         return self.mesh.points + self.magnify * u, np.linalg.norm(u, axis=1)
 
-    def layer(self, step: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Vertices of the remaining and of the worn-away layer, and the layer's field (w or p)."""
-        at_base = self.interpolate(_contact_columns(self.result, step, LAYER_FIELDS[self.field]))
-        remaining, worn = _layer_points(self.mesh.points, at_base, self.result.scene.contact.gap,
-                                        self.magnify, self.mesh.depth)
-        return remaining, worn, at_base[:, -1]
+    def layer(self, step: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Per mesh vertex: the body's surface t, the layer's bottom b, the worn part's bottom, the field (w or p).
+
+        Only the vertices of Γ_C carry meaningful values (see the module docstring).
+        """
+        result, m, g = self.result, self.magnify, self.result.scene.contact.gap
+        at = self.point_of_vertex
+        nu = np.asarray(result.scene.contact.direction)
+        top = self.mesh.points + m * _vertex_displacement(result, step)
+        wear, squeeze = result.wear[step][at], np.maximum(result.compression[step][at], 0.0)
+        bottom = top + np.maximum(g - m * wear - m * squeeze, 0.0)[:, None] * nu
+        worn = bottom + np.clip(m * wear, 0.0, m * g)[:, None] * nu
+        return top, bottom, worn, getattr(result, LAYER_FIELDS[self.field])[step][at]
 
     def box(self) -> tuple:
         """Bounds of the foundation block: below x_d = −g, under the body at every step shown.
@@ -233,10 +238,10 @@ class Canvas:
                   if self.field == "displacement" else dict(color=BODY_COLOR))
         parts["body_actor"] = pl.add_mesh(parts["body"].grid, show_edges=True, edge_color="#404040",
                                           line_width=0.5, **lit, **colour)
-        if len(mesh.layer):
+        if len(mesh.facets):
             name = LAYER_FIELDS[self.field]
-            parts["layer"] = _Cells(mesh.points, mesh.layer, (name,))
-            parts["worn"] = _Cells(mesh.points, mesh.layer, ())
+            parts["layer"] = _Layer(mesh.facets, (name,))
+            parts["worn"] = _Layer(mesh.facets, ())
             parts["layer_actor"] = pl.add_mesh(
                 parts["layer"].grid, scalars=name, cmap=CMAPS[name], show_edges=True, edge_color="#808080",
                 line_width=0.5, scalar_bar_args=_bar(TITLES[name], int(self.field == "displacement"), width),
@@ -253,7 +258,7 @@ class Canvas:
             shape_opacity=0.8, font_size=13, text_color="black", always_visible=True)
         parts["caption"] = pl.add_text("", position=(12, self.window_size[1] - 36), font_size=12,
                                        color="black")
-        if len(mesh.layer):
+        if len(mesh.facets):
             pl.add_text("light grey: worn-away part of the layer", position="lower_right", font_size=9,
                         color="black")
         self._plotter, self._parts = pl, parts
@@ -267,9 +272,9 @@ class Canvas:
             parts["body_actor"].mapper.scalar_range = (0, scales.displacement)
         if "layer" in parts:
             name = LAYER_FIELDS[self.field]
-            remaining, worn, values = picture.layer(step)
-            parts["layer"].update(remaining, {name: values})
-            parts["worn"].update(worn, {})
+            top, bottom, worn, values = picture.layer(step)
+            parts["layer"].update(top, bottom, {name: values})
+            parts["worn"].update(bottom, worn, {})
             parts["layer_actor"].mapper.scalar_range = (0, getattr(scales, name))
         parts["box"].copy_from(pv.Box(picture.box()))
         arrow = picture.arrow(step)
@@ -382,51 +387,6 @@ def _vertex_displacement(result, step: int) -> np.ndarray:
     return np.column_stack([c.vec.FV().NumPy()[:nv] for c in gf.components])
 
 
-def _contact_columns(result, step: int, layer_field: str) -> np.ndarray:
-    """Columns (u_1..u_d, w, r, field) at the contact points; u = P u_h (exact, also for P2)."""
-    disc = result.discretization
-    u = (disc.points.P @ result.displacement(step)).reshape(-1, result.scene.dim)
-    values = getattr(result, layer_field)[step]
-    return np.column_stack([u, result.wear[step], result.compression[step], values])
-
-
-def _contact_interpolator(points: np.ndarray, base: np.ndarray):
-    """Map values at the contact points to the bases (x, 0) / (x, y, 0) of the layer's vertices."""
-    if points.shape[1] == 2:
-        order = np.argsort(points[:, 0])
-        x = points[order, 0]
-        return lambda cols: np.column_stack([np.interp(base[:, 0], x, c[order]) for c in cols.T])
-    xy = points[:, :2]
-    triangulation, nearest = Delaunay(xy), cKDTree(xy).query(base)[1]
-
-    def interpolate(cols):
-        out = LinearNDInterpolator(triangulation, cols)(base)
-        missing = np.isnan(out).any(axis=1)
-        out[missing] = cols[nearest[missing]]
-        return out
-
-    return interpolate
-
-
-def _layer_points(points: np.ndarray, at_base: np.ndarray, g: float, m: float, depth: float):
-    """Deformed positions of the layer's vertices: the remaining part and the worn-away part.
-
-    ``depth`` is the meshed layer's thickness; its vertices are spread over the layer of thickness g.
-    """
-    d = points.shape[1]
-    u, w, r = at_base[:, :d], at_base[:, d], at_base[:, d + 1]
-    eta = np.clip((points[:, -1] + depth) / depth, 0.0, 1.0)
-    top = m * u[:, -1]
-    bottom = np.minimum(top - (g - m * w) + m * np.maximum(r, 0.0), top)
-    worn = np.clip(m * w, 0.0, m * g)
-    shifted = points.copy()
-    shifted[:, :-1] += m * u[:, :-1]
-    remaining, removed = shifted.copy(), shifted.copy()
-    remaining[:, -1] = bottom + eta * (top - bottom)
-    removed[:, -1] = bottom - worn + eta * worn
-    return remaining, removed
-
-
 # ---------------------------------------------------------------- pyvista plumbing
 
 
@@ -446,6 +406,26 @@ class _Cells:
         self.grid.points = _xyz(points[self.used])
         for name, values in data.items():
             self.grid.point_data[name][:] = values[self.used]
+        self.grid.Modified()
+
+
+class _Layer:
+    """Cells between two copies of the Γ_C facets (quadrilaterals in 2D, prisms in 3D); ``update`` moves both."""
+
+    def __init__(self, facets: np.ndarray, names):
+        self.used, inverse = np.unique(facets, return_inverse=True)
+        local, count, dim = inverse.reshape(facets.shape), len(self.used), facets.shape[1]
+        cells = np.hstack([local, (local[:, ::-1] if dim == 2 else local) + count])
+        conn = np.column_stack([np.full(len(cells), cells.shape[1]), cells])
+        self.grid = pv.UnstructuredGrid(conn.ravel(), np.full(len(cells), LAYER_CELLS[dim]), np.zeros((2 * count, 3)))
+        for name in names:
+            self.grid.point_data[name] = np.zeros(2 * count)
+
+    def update(self, top: np.ndarray, bottom: np.ndarray, data: dict) -> None:
+        """Both surfaces' positions and point data, given on every mesh vertex."""
+        self.grid.points = _xyz(np.vstack([top[self.used], bottom[self.used]]))
+        for name, values in data.items():
+            self.grid.point_data[name][:] = np.tile(values[self.used], 2)
         self.grid.Modified()
 
 
