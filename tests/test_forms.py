@@ -29,9 +29,9 @@ def test_taylor_jacobian_matches_residual(disc, friction):
     rng = np.random.default_rng(1)
     cf = contact_form(disc.fes, disc.scene.replace(**{"contact.friction": friction}), disc.law, with_elastic=True)
     u, w = state_away_from_kink(disc, rng)
-    cf.w.vec.FV().NumPy()[:] = disc.points.Q @ w
-    for p, v in zip(cf.n_star, disc.n_star(0.0)):
-        p.Set(float(v))
+    disc.set_nodal(cf.w, w)
+    for gf, component in zip(cf.n_star, disc.n_star(0.0).T):
+        disc.set_nodal(gf, component)
     delta = u.vec.CreateVector()
     delta.FV().NumPy()[:] = rng.standard_normal(disc.fes.ndof) * disc.free
     res0, res1, jd = u.vec.CreateVector(), u.vec.CreateVector(), u.vec.CreateVector()
@@ -54,9 +54,9 @@ def test_contact_form_is_nodal(disc):
     rng = np.random.default_rng(2)
     cf = contact_form(disc.fes, disc.scene, disc.law, with_elastic=False)
     u, w = state_away_from_kink(disc, rng)
-    cf.w.vec.FV().NumPy()[:] = disc.points.Q @ w
-    for p, v in zip(cf.n_star, disc.n_star(0.0)):
-        p.Set(float(v))
+    disc.set_nodal(cf.w, w)
+    for gf, component in zip(cf.n_star, disc.n_star(0.0).T):
+        disc.set_nodal(gf, component)
     res = u.vec.CreateVector()
     cf.form.Apply(u.vec, res)
     pressure = disc.law(disc.N @ u.vec.FV().NumPy() - disc.d0 - w)

@@ -146,12 +146,16 @@ class Contact(Section):
 
 
 class Foundation(Section):
-    """Foundation velocity v*(t) = velocity · s(t), s piecewise linear through ``speed_table``."""
+    """Foundation velocity v*(x, t) = s(t) (ω × (x − c) + velocity), s piecewise linear through ``speed_table``."""
 
-    velocity: Vector | None = key(None, "v*", shown="(1, 0) / (1, 0, 0)",
-                                  allowed="d numbers; tangential part ≠ 0 if μ > 0, ≠ 0 if κ > 0")
-    speed_table: Table = key((), "v*(t) = v* · s(t), s piecewise linear through [[t, s], …]", shown="[] (s = 1)",
-                             allowed="covers [0, T]")
+    velocity: Vector | None = key(None, "v₀, the foundation's translation velocity", shown="(1, 0) / (1, 0, 0)",
+                                  allowed="d numbers")
+    angular_velocity: Vector | Number | None = key(
+        None, "ω, the counterface's rotation (a disc): v* = s(t)(ω × (x − c) + v₀); a number in 2D", shown="0",
+        allowed="3 numbers (3D), a number (2D)")
+    center: Vector | None = key(None, "c, a point on the rotation axis", shown="origin", allowed="d numbers")
+    speed_table: Table = key((), "v*(x, t) scaled by s(t), piecewise linear through [[t, s], …]",
+                             shown="[] (s = 1)", allowed="covers [0, T]")
 
 
 class Loads(Section):
@@ -555,15 +559,26 @@ def _check_contact(scene: Scene) -> None:
 def _check_motion(scene: Scene) -> None:
     f, c, T, nu = scene.foundation, scene.contact, scene.time.T, scene.contact.direction
     velocity = _vector(f.velocity, "foundation.velocity", scene.dim)
+    if f.center is not None:
+        _vector(f.center, "foundation.center", scene.dim)
+    omega = f.angular_velocity
+    if scene.dim == 2 and isinstance(omega, tuple):
+        raise SceneError(f"foundation.angular_velocity: must be a number in 2D (got {list(omega)})")
+    if scene.dim == 3 and omega is not None and (not isinstance(omega, tuple) or len(omega) != 3):
+        raise SceneError(f"foundation.angular_velocity: must be a list of 3 numbers in 3D (got {omega!r})")
     _check_table(f.speed_table, "foundation.speed_table", T)
     vn = sum(a * b for a, b in zip(velocity, nu))
     speed = math.sqrt(sum(v * v for v in velocity))
     tangential = math.sqrt(sum((v - vn * n) ** 2 for v, n in zip(velocity, nu)))
-    if c.friction > 0 and tangential <= 1e-12 * speed:
+    # a rotation slides Γ_C over the foundation when its axis is not parallel to the contact plane
+    spin = abs(omega or 0.0) if scene.dim == 2 else abs(sum(a * b for a, b in zip(omega or (0, 0, 0), nu)))
+    if c.friction > 0 and tangential <= 1e-12 * speed and spin == 0:
         raise SceneError("foundation.velocity: must have a non-zero part tangential to contact.direction "
-                         f"when contact.friction > 0 (got {list(velocity)})")
-    if c.wear > 0 and speed == 0:
-        raise SceneError(f"foundation.velocity: must be non-zero when contact.wear > 0 (got {list(velocity)})")
+                         "(or give foundation.angular_velocity about an axis along it) when contact.friction > 0 "
+                         f"(got {list(velocity)})")
+    if c.wear > 0 and speed == 0 and spin == 0:
+        raise SceneError("foundation.velocity: must be non-zero (or give foundation.angular_velocity) when "
+                         f"contact.wear > 0 (got {list(velocity)})")
 
 
 def _check_table(table, name: str, T: float) -> None:

@@ -1,8 +1,9 @@
 """The discrete problem of a scene: mesh, spaces, assembled stiffness and loads, contact points.
 
 Everything here depends only on mesh, material and load *patterns*; friction μ, wear κ, the gap g
-and the foundation velocity v* enter at solve time, so changing them reuses every factorisation.
-Time dependence: f(t) = f · s_F(t), v*(t) = v* · s_v(t) with piecewise-linear tables.
+and the foundation motion v* enter at solve time, so changing them reuses every factorisation.
+Time dependence: f(t) = f · s_F(t) with a piecewise-linear table; v*(x, t) per contact point from
+:class:`~ngwear.model.kinematics.Slip`.
 """
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..model.geometry import build_mesh
+from ..model.kinematics import Slip
 from ..model.laws import compliance_from, piecewise_linear
 from ..model.scene import Scene
 from .condense import ElasticOperator
@@ -32,10 +34,11 @@ class Discretization:
         self._orient(scene)
 
     def _orient(self, scene: Scene) -> None:
-        """Contact direction ν, normal evaluation N = ν·P and initial distance d₀ = max ν·x − ν·x_i."""
+        """Contact direction ν, normal evaluation N = ν·P, initial distance d₀ = max ν·x − ν·x_i, slip v*."""
         self.nu = np.array(scene.contact.direction)
         self.N = sp.csr_matrix(sp.kron(sp.eye(self.points.n), self.nu[None, :]) @ self.points.P)
         self.d0 = initial_distance(self.points.coords, self.nu)
+        self.slip = Slip(scene.foundation, self.points.coords, self.nu)
 
     def with_scene(self, scene: Scene) -> Discretization:
         """A discretization of ``scene`` sharing every assembled/factorised piece the change leaves valid.
@@ -105,32 +108,35 @@ class Discretization:
         return np.einsum("a,iajb,b->ij", self.nu, self.point_compliance, self.nu)
 
     def friction_compliance(self, n_star: np.ndarray) -> np.ndarray:
-        """ν·G·n*: normal displacement per unit tangential force along n*."""
-        return np.einsum("a,iajb,b->ij", self.nu, self.point_compliance, n_star)
+        """F_ij = ν·G_ij·n*_j: normal displacement at x_i per unit tangential force along n*_j at x_j."""
+        return np.einsum("a,iajb,jb->ij", self.nu, self.point_compliance, n_star)
 
     # ---- time-dependent data -----------------------------------------------------------
     def load_factor(self, t: float) -> float:
         return piecewise_linear(self.scene.loads.time_table, t)
 
     def velocity(self, t: float) -> np.ndarray:
-        return np.array(self.scene.foundation.velocity) * piecewise_linear(self.scene.foundation.speed_table, t)
+        """v*(x_i, t) at the contact points, shape (n, d)."""
+        return self.slip.velocity(t)
 
-    def alpha(self, t: float) -> float:
-        """α(t) = κ ‖v*(t)‖."""
-        return self.scene.contact.wear * float(np.linalg.norm(self.velocity(t)))
+    def largest_alpha(self) -> float:
+        """Largest α = κ ‖v*‖ over the contact points and the speed table's nodes (s_v is piecewise linear)."""
+        factors = [abs(f) for _, f in self.scene.foundation.speed_table] or [1.0]
+        return self.scene.contact.wear * float(self.slip.speed.max(initial=0.0)) * max(factors)
+
+    def alpha(self, t: float) -> np.ndarray:
+        """α_i(t) = κ ‖v*(x_i, t)‖ (0 where the foundation does not slide)."""
+        return self.scene.contact.wear * self.slip.speeds(t)
 
     def n_star(self, t: float) -> np.ndarray:
-        """n* = −v*_τ/‖v*_τ‖ (0 where the foundation is at rest)."""
-        v = self.velocity(t)
-        vt = v - (v @ self.nu) * self.nu
-        norm = np.linalg.norm(vt)
-        return -vt / norm if norm > 0 else np.zeros_like(vt)
+        """n*_i(t) = −v*_τ/‖v*_τ‖ at the contact points, shape (n, d) (0 where the foundation does not slide)."""
+        return self.slip.n_star(t)
 
     def contact_forces(self, pressure, reaction, t: float) -> np.ndarray:
-        """Point forces on the foundation side, f_i = m_i (p_i (ν + μ n*) + λ_i ν), shape (n, d)."""
+        """Point forces on the foundation side, f_i = m_i (p_i (ν + μ n*_i) + λ_i ν), shape (n, d)."""
         m, mu = self.points.weights, self.scene.contact.friction
-        b = self.nu + mu * self.n_star(t)
-        return m[:, None] * (pressure[:, None] * b[None, :] + reaction[:, None] * self.nu[None, :])
+        b = self.nu[None, :] + mu * self.n_star(t)
+        return m[:, None] * (pressure[:, None] * b + reaction[:, None] * self.nu[None, :])
 
     def recover(self, forces: np.ndarray, t: float) -> np.ndarray:
         """Displacement DOF vector u = s_F(t) K⁻¹ f − K⁻¹ Pᵀ f_c (one back-substitution)."""
@@ -168,6 +174,10 @@ class Discretization:
         cf = contact_form(self.fes, self.scene, self.law, with_elastic=True)
         cf.d0.vec.FV().NumPy()[:] = self.points.Q @ self.d0
         return cf
+
+    def set_nodal(self, gf: ngs.GridFunction, values: np.ndarray) -> None:
+        """A scalar GridFunction of the contact form's space with the given values at the contact points."""
+        gf.vec.FV().NumPy()[:] = self.points.Q @ values
 
 
 _MESH_PARTS = ("mesh", "fes", "free", "points", "_in_body")

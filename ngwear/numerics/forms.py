@@ -4,7 +4,7 @@ Elastic form  a(u, v) = ∫_Ω F(ε(u)) : ε(v) dx,  load  ℓ(v) = ∫_Ω f₀�
 
 Contact form (the nonlinear boundary integrator, paper φ with fixed w):
 
-    φ(w, u, v) = ∫_ΓC p(u_ν − d₀ − w) (v_ν + μ n*·v_τ) da,   u_ν = u·ν,
+    φ(w, u, v) = ∫_ΓC p(u_ν − d₀ − w) (v_ν + μ n*·v_τ) da,   u_ν = u·ν,   n* = n*(x),
 
 integrated with the *nodal* rule of the element (trapezoidal / Simpson on segments, vertex rule
 on triangles): the integral is Σ_i m_i p_i (ν + μ n*)·v(x_i) over the contact points x_i with
@@ -68,7 +68,7 @@ def load_form(fes: ngs.FESpace, scene: Scene) -> ngs.LinearForm:
 
 @dataclass
 class ContactForm:
-    """φ(w, u, ·) as an NGSolve form; ``w``, ``d0`` are GridFunctions, ``mu``/``n_star`` Parameters."""
+    """φ(w, u, ·) as an NGSolve form; ``w``, ``d0`` and the components of ``n_star`` are nodal GridFunctions."""
 
     form: ngs.BilinearForm
     w: ngs.GridFunction
@@ -83,7 +83,7 @@ def contact_form(fes: ngs.FESpace, scene: Scene, law: Compliance, with_elastic: 
     scal = ngs.H1(fes.mesh, order=order, definedon="body")
     w, d0 = ngs.GridFunction(scal), ngs.GridFunction(scal)
     mu = ngs.Parameter(scene.contact.friction)
-    n_star = [ngs.Parameter(0.0) for _ in range(dim)]
+    n_star = [ngs.GridFunction(scal) for _ in range(dim)]
     nu = ngs.CF(scene.contact.direction)
     u, v = fes.TnT()
     form = ngs.BilinearForm(fes)

@@ -4,6 +4,8 @@ Every integrator writes step j as the nodal relation  w_j = a_j + c_j p(z_j − 
 z_j = s_j − d₀ known only once step j is solved, so the solver sees the effective law
 p_j(z) = p(z − W(z)) with  W(z) = a + c p(z − W)  and  dp_j/dz = p'/(1 + c p'):
 
+with α = α_i per contact point (a rotating counterface slides faster away from its axis):
+
 * ``explicit`` (paper eq. 15):  a_j = w_{j−1} + k α_{j−1} p_{j−1},  c_j = 0  (first order;
   for p = L r₊ stable for k α L < 2, oscillating for k α L > 1);
 * ``implicit`` (backward Euler):  a_j = w_{j−1},  c_j = k α_j  (first order, unconditionally stable);
@@ -24,9 +26,9 @@ INTEGRATORS = {
 }
 
 
-def worn(law: Compliance, a: np.ndarray, c: float, z: np.ndarray) -> np.ndarray:
+def worn(law: Compliance, a: np.ndarray, c: np.ndarray, z: np.ndarray) -> np.ndarray:
     """W(z) solving W = a + c p(z − W) nodewise (W = a where z ≤ a or c = 0)."""
-    if c == 0:
+    if not np.any(c):
         return a
     r0 = z - a
     if law.exponent == 1.0:
@@ -52,12 +54,12 @@ class WearIntegrator:
     def __init__(self, name: str, law: Compliance, k: float, n: int):
         self.law, self.k = law, k
         self.theta_old, self.theta_new = INTEGRATORS[name]
-        self.a, self.c = np.zeros(n), 0.0
+        self.a, self.c = np.zeros(n), np.zeros(n)
 
     def point_law(self) -> PointLaw:
         """The effective law p_j(z) the solver uses at the current step."""
         law, a, c = self.law, self.a, self.c
-        if c == 0:
+        if not c.any():
             return PointLaw(lambda z: law(z - a), lambda z: law.derivative(z - a))
         if law.exponent == 1.0:  # closed form p = L (z − a)₊ / (1 + c L), free of cancellation in z − W
             scale = law.stiffness / (1 + c * law.stiffness)
@@ -72,19 +74,19 @@ class WearIntegrator:
         """w_j for the solved z_j."""
         return worn(self.law, self.a, self.c, z)
 
-    def advance(self, w: np.ndarray, pressure: np.ndarray, alpha: float, alpha_next: float) -> None:
-        """Prepare step j+1 from w_j, p_j and α_j, α_{j+1}."""
+    def advance(self, w: np.ndarray, pressure: np.ndarray, alpha: np.ndarray, alpha_next: np.ndarray) -> None:
+        """Prepare step j+1 from w_j, p_j and α_j, α_{j+1} (per contact point)."""
         k = self.k
-        self.a = w + self.theta_old * k * alpha * pressure if alpha and self.theta_old else w
+        self.a = w + self.theta_old * k * alpha * pressure if self.theta_old and alpha.any() else w
         self.c = self.theta_new * k * alpha_next
 
 
-def explicit_stability(scene) -> str | None:
+def explicit_stability(scene, alpha: float) -> str | None:
     """Warning text when the wear update overshoots, else None.
 
     For p = L r₊ the explicit update has amplification 1 − k α L (overshoots for k α L > 1, grows
     for > 2), the trapezoidal one (1 − kαL/2)/(1 + kαL/2) (overshoots for k α L > 2); implicit never.
-    L_p is the largest slope of p over [0, g]; α = κ max_t ‖v*(t)‖.
+    L_p is the largest slope of p over [0, g]; ``alpha`` the largest α = κ ‖v*(x, t)‖ over points and time.
     """
     integrator = scene.wear.integrator
     if integrator == "implicit" or scene.contact.wear == 0:
@@ -92,8 +94,6 @@ def explicit_stability(scene) -> str | None:
     c = scene.contact
     e = c.exponent if c.law == "power" else 1.0
     slope = c.stiffness * e * c.gap ** (e - 1)
-    speeds = [abs(f) for _, f in scene.foundation.speed_table] or [1.0]
-    alpha = c.wear * float(np.linalg.norm(scene.foundation.velocity)) * max(speeds)
     r = scene.dt * alpha * slope
     if integrator == "trapezoidal":
         if r <= 2:

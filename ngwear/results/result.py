@@ -2,9 +2,17 @@
 
 Arrays of shape (steps + 1, n_c) over the contact points (fewer rows if the run stopped early):
 ``wear`` w, ``normal_displacement`` u_ν, ``pressure`` p(u_ν − d₀ − w), ``reaction`` λ (the
-constraint multiplier, a traction like the pressure).  ``save(dir)`` writes ``result.npz`` (these
-names as keys), ``scene.json``, ``mesh.vol`` and a VTU/PVD series of the stored steps;
-:func:`load_result` reads them back.
+constraint multiplier, a traction like the pressure).  What an engineer reads off a part, one value
+per step, with m_i the nodal weights of the contact points:
+
+* ``normal_force``  Σ m_i (p_i + λ_i), the force the foundation carries;
+* ``torque``  T = Σ m_i μ p_i ((x_i − c) × n*_i)·e, the friction moment about the counterface's axis
+  (negative: it opposes the rotation; see :mod:`ngwear.model.kinematics`);
+* ``contact_area``  Σ m_i over the points with p_i + λ_i > 0;
+* ``wear_volume``  Σ m_i w_i, the worn volume (area in 2D).
+
+``save(dir)`` writes ``result.npz`` (these names as keys), ``scene.json``, ``mesh.vol`` and a
+VTU/PVD series of the stored steps; :func:`load_result` reads them back.
 """
 from __future__ import annotations
 
@@ -14,11 +22,13 @@ from pathlib import Path
 
 import numpy as np
 
+from ..model.kinematics import Slip
 from ..model.scene import Scene
 from ..numerics.forms import initial_distance
 from ..numerics.solver import NewtonRecord
 
 ARRAYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces")
+PART = ("normal_force", "torque", "contact_area", "wear_volume")
 
 
 @dataclass
@@ -80,6 +90,28 @@ class Result:
         return self.normal_displacement - self.d0[None, :] - self.wear
 
     @property
+    def normal_force(self) -> np.ndarray:
+        """Σ m_i (p_i + λ_i) per step."""
+        return (self.pressure + self.reaction) @ self.weights
+
+    @property
+    def torque(self) -> np.ndarray:
+        """Friction moment about the counterface's axis per step (negative when it brakes a rotation)."""
+        slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
+        arms = np.array([slip.moment_arms(t) for t in self.times]).reshape(len(self.times), -1)
+        return self.scene.contact.friction * (self.pressure * arms) @ self.weights
+
+    @property
+    def contact_area(self) -> np.ndarray:
+        """Σ m_i over the points in contact (p_i + λ_i > 0) per step."""
+        return (self.pressure + self.reaction > 0) @ self.weights
+
+    @property
+    def wear_volume(self) -> np.ndarray:
+        """Σ m_i w_i per step: the worn volume (an area in 2D)."""
+        return self.wear @ self.weights
+
+    @property
     def d0(self) -> np.ndarray:
         """Initial distance d₀ to the foundation at the contact points."""
         return initial_distance(self.contact_points, self.scene.contact.direction)
@@ -118,6 +150,7 @@ class Result:
         # the paper's "penetration": how far Γ_C has moved into the layer, u_ν − d₀ ≤ g
         pen = self.normal_displacement - self.d0[None, :] if len(self.times) else np.zeros((1, 1))
         last = -1
+        part = {name: float(getattr(self, name)[last]) if len(self.times) else 0.0 for name in PART}
         return {
             "status": self.status,
             "steps": self.steps,
@@ -125,6 +158,7 @@ class Result:
             "max_wear": float(self.wear.max(initial=0.0)),
             "max_penetration": float(pen.max(initial=0.0)),
             "gap": g,
+            **part,
             "contact_fraction": float((self.pressure[last] > 0).mean()) if len(self.times) else 0.0,
             "active_fraction": float((self.reaction[last] > 0).mean()) if len(self.times) else 0.0,
             "newton_iterations_total": int(sum(its)),
@@ -140,7 +174,7 @@ class Result:
         fields = np.array([self.displacement(s) for s in steps]) if self.discretization else np.zeros((0, 0))
         np.savez_compressed(
             out / "result.npz", contact_points=self.contact_points, weights=self.weights,
-            **{name: getattr(self, name) for name in ARRAYS},
+            **{name: getattr(self, name) for name in ARRAYS + PART},
             newton_iterations=np.array([r.iterations for r in self.newton]),
             newton_converged=np.array([r.converged for r in self.newton]),
             newton_active=np.array([r.active for r in self.newton]),

@@ -37,7 +37,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None,
     n = disc.points.n
     integrator = WearIntegrator(scene.wear.integrator, disc.law, k, n)
     result = Result.empty(scene, disc)
-    warning = explicit_stability(scene)
+    warning = explicit_stability(scene, disc.largest_alpha())
     if warning:
         log.warning("%s", warning)
         result.warnings.append(warning)
@@ -117,7 +117,7 @@ class _Stepper:
         if self.scene.solver.method == "full":
             return _full_system(disc, t, load_factor, integrator)
         n_star, mu = disc.n_star(t), self.scene.contact.friction
-        key = tuple(n_star)
+        key = n_star.tobytes()
         if key not in self._matrices:
             H = disc.normal_compliance
             self._matrices = {key: H + mu * disc.friction_compliance(n_star) if mu > 0 and n_star.any() else H}
@@ -140,14 +140,12 @@ def _remedy(scene: Scene, record) -> str:
 
 
 def _full_system(disc: Discretization, t: float, load_factor: float, integrator: WearIntegrator) -> FullSystem:
-    """The reference system: NGSolve form with w, μ, n* of this step."""
-    if integrator.c != 0:
-        raise NotImplementedError("solver.method = 'full' supports wear.integrator = 'explicit' only")
+    """The reference system: NGSolve form with w, μ, n* of this step (explicit wear: w = a, see the scene's rules)."""
     cf = disc.full_form
-    cf.w.vec.FV().NumPy()[:] = disc.points.Q @ integrator.a
+    disc.set_nodal(cf.w, integrator.a)
     cf.mu.Set(disc.scene.contact.friction)
-    for p, v in zip(cf.n_star, disc.n_star(t)):
-        p.Set(float(v))
+    for gf, component in zip(cf.n_star, disc.n_star(t).T):
+        disc.set_nodal(gf, component)
     return FullSystem(cf, load_factor * disc.load, disc.free, disc.N, disc.points.weights,
                       disc.d0, disc.scene.contact.gap, disc.stiffness.diagonal())
 

@@ -317,7 +317,7 @@ def invariants(result) -> dict[str, float]:
     disc = result.discretization
     if disc is not None and len(result.times) > 1:
         th_old, th_new = INTEGRATORS[sc.wear.integrator]
-        alpha = np.array([disc.alpha(t) for t in result.times])[:, None]
+        alpha = np.array([disc.alpha(t) for t in result.times])
         rate = alpha * p
         update = sc.dt * (th_old * rate[:-1] + th_new * rate[1:])
         out["archard"] = float(np.abs(np.diff(w, axis=0) - update).max()) / gs

@@ -146,9 +146,10 @@ class _Picture:
         return view
 
     def arrow(self, step: int) -> tuple[np.ndarray, np.ndarray, float] | None:
-        """Start, v*(t) and length of the foundation's velocity arrow (None when it is at rest)."""
+        """Start, v₀ s_v(t) and length of the foundation's translation arrow (None when it does not translate)."""
         box, dim = self.box(), self.dim
-        v = self.result.discretization.velocity(self.result.times[step])
+        slip = self.result.discretization.slip
+        v = np.asarray(self.result.scene.foundation.velocity) * slip.factor(self.result.times[step])
         if not v.any():
             return None
         size, top, bottom = box[1] - box[0], box[2 * dim - 1], box[2 * dim - 2]
