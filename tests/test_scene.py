@@ -104,7 +104,7 @@ TOML_CASES = [
      "geometry.dirichlet", "allowed: left, right, top"),
     ("dirichlet-contact", edit('dirichlet = ["left"]', 'dirichlet = ["contact"]'),
      "geometry.dirichlet", "allowed: left, right, top"),
-    ("dirichlet-empty", edit('dirichlet = ["left"]', "dirichlet = []"), "geometry.dirichlet", "non-empty list"),
+    ("dirichlet-empty", edit('dirichlet = ["left"]', "dirichlet = []"), "geometry.dirichlet", "or give loads.plate"),
     ("kind-unknown", edit('kind = "strip"', 'kind = "disc"'), "geometry.kind", "one of strip, box"),
     ("size-negative", edit("size = [3.0, 1.0]", "size = [3.0, -1.0]"), "geometry.size", "> 0"),
     ("size-wrong-length", edit("size = [3.0, 1.0]", "size = [3.0, 1.0, 1.0]"), "geometry.size",

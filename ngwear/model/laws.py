@@ -23,16 +23,21 @@ class Compliance:
         return self.stiffness * np.maximum(r, 0.0) ** self.exponent
 
     def derivative(self, r: np.ndarray) -> np.ndarray:
-        """Generalised derivative p'(r) (Heaviside · L for the linear law, 0 at the kink)."""
+        """Generalised derivative p'(r): Heaviside · L for the linear law, taking L at the kink r = 0.
+
+        Any value in [0, L] is a valid (Clarke) derivative at the kink; L keeps the Newton matrix regular
+        for a body that starts touching the foundation and is held by a plate alone.
+        """
         rp = np.maximum(r, 0.0)
         if self.exponent == 1.0:
-            return np.where(r > 0, self.stiffness, 0.0)
+            return np.where(r >= 0, self.stiffness, 0.0)
         return np.where(r > 0, self.stiffness * self.exponent * rp ** (self.exponent - 1), 0.0)
 
     def cf(self, r: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
-        """The same law as an NGSolve CoefficientFunction of r."""
-        rp = ngs.IfPos(r, r, 0)
-        return self.stiffness * (rp if self.exponent == 1.0 else rp ** self.exponent)
+        """The same law as an NGSolve CoefficientFunction of r (its derivative at r = 0 is that of :meth:`derivative`)."""
+        if self.exponent == 1.0:
+            return self.stiffness * ngs.IfPos(-r, 0, r)
+        return self.stiffness * ngs.IfPos(r, r ** self.exponent, 0)   # pow inside: its derivative at 0 is 0, not NaN
 
 
 def compliance_from(contact) -> Compliance:

@@ -158,13 +158,28 @@ class Foundation(Section):
                              shown="[] (s = 1)", allowed="covers [0, T]")
 
 
+class Plate(Section):
+    """A rigid backing plate on a named boundary B, pressed by a force (force control).
+
+    B moves rigidly: δ along ν (one unknown fixed by the force balance), tangentially held at 0;
+    with ``tilt`` also rotating about the two axes ⟂ ν through B's centroid, at zero moment.
+    """
+
+    boundary: str = key(..., "the boundary B the plate is bonded to",
+                        shown="—", allowed="a named boundary, not clamped, not `contact`")
+    force: Vector = key(..., "force on the plate, scaled by `loads.time_table`; its component along ν presses "
+                        "the body on the foundation", shown="—", allowed="d numbers")
+    tilt: Flag = key(False, "let the plate tilt (two rotations ⟂ ν in 3D, one in 2D) at zero moment")
+
+
 class Loads(Section):
-    """Tractions per named boundary and a body force, all scaled by the piecewise-linear ``time_table``."""
+    """Tractions per named boundary, a body force and a plate force, all scaled by the piecewise-linear ``time_table``."""
 
     traction: dict[str, Vector] = key({}, "f_N on a named boundary (`loads.traction.<boundary>`)", shown="none",
                                       allowed="non-clamped, non-contact boundaries")
     body_force: Vector | None = key(None, "f₀", shown="none", allowed="d numbers")
     time_table: Table = key((), "f(t) = f · s(t), piecewise linear", shown="[] (s = 1)", allowed="covers [0, T]")
+    plate: Plate | None = Field(None, description="a rigid plate pressed by a force (force control)")
 
 
 class TimeGrid(Section):
@@ -236,7 +251,8 @@ class Scene(BaseModel):
         try:
             return cls.model_validate(data)
         except ValidationError as err:
-            raise SceneError(_message(err.errors()[0], data)) from None
+            errors = sorted(err.errors(), key=lambda e: e["type"] != "extra_forbidden")  # a typo first
+            raise SceneError(_message(errors[0], data)) from None
 
     def to_dict(self) -> dict[str, Any]:
         """The nested-dict form that :meth:`from_dict` and TOML use."""
@@ -341,12 +357,20 @@ def reference_table() -> str:
     """The README's scene reference: one Markdown row per key, from the declarations above."""
     rows = ["| key | meaning | default | allowed |", "|---|---|---|---|",
             "| `name` | name of the scene (output folder, titles) | file name | non-empty string |"]
-    for section, model in SECTIONS.items():
+
+    def table(model: type[BaseModel], prefix: str) -> None:
         for name, info in model.model_fields.items():
+            base = _base_type(info.annotation)
+            if isinstance(base, type) and issubclass(base, BaseModel):
+                table(base, f"{prefix}{name}.")
+                continue
             extra = info.json_schema_extra or {}
             default = extra.get("shown", _plain(info.default))
-            rows.append(f"| `{section}.{name}` | {info.description} | {default} | "
+            rows.append(f"| `{prefix}{name}` | {info.description} | {default} | "
                         f"{extra.get('allowed') or _allowed(info)} |")
+
+    for section, model in SECTIONS.items():
+        table(model, f"{section}.")
     return "\n".join(rows)
 
 
@@ -416,18 +440,30 @@ def _base_type(annotation):
     return annotation
 
 
-def _field(loc: tuple) -> tuple[str, FieldInfo | None, str]:
-    """Dotted name, declaration and section of an error location (list indices dropped)."""
+def _field(loc: tuple) -> tuple[str, FieldInfo | None, type[BaseModel] | None]:
+    """Dotted name, declaration and owning table of an error location (list indices dropped).
+
+    The location is followed through nested tables (``loads.plate.force``) and into the entries of
+    a table of vectors (``loads.traction.top``); a location that ends on a table has no declaration.
+    """
     names = [p for p in loc if isinstance(p, str)]
-    if not names:
-        return "scene", None, ""
-    if names[0] not in SECTIONS:
-        return names[0], Scene.model_fields.get(names[0]), ""
-    model = SECTIONS[names[0]]
-    if len(names) == 1:
-        return names[0], None, names[0]
-    info = model.model_fields.get(names[1])
-    return ".".join(names[:3] if names[:2] == ["loads", "traction"] else names[:2]), info, names[0]
+    model, info, used = Scene, None, []
+    for part in names:
+        used.append(part)
+        if model is None:                      # an entry of a dict-valued key: declared by the key
+            break
+        info = model.model_fields.get(part)
+        if info is None:
+            break
+        base = _base_type(info.annotation)
+        if isinstance(base, type) and issubclass(base, BaseModel):
+            model, info = base, None
+        elif get_origin(base) is dict:
+            model = None
+        else:
+            break
+    owner = model if info is None else None
+    return ".".join(used) or "scene", info, owner
 
 
 def _raw(data: Any, dotted: str) -> Any:
@@ -482,15 +518,16 @@ def _message(err: dict, data: Any) -> str:
     cause = (err.get("ctx") or {}).get("error")
     if isinstance(cause, SceneError):
         return str(cause)
-    name, info, section = _field(err["loc"])
+    name, info, owner = _field(err["loc"])
     kind = err["type"]
     if kind == "extra_forbidden":
-        if not section and name not in Scene.model_fields:
-            return f"{name}: unknown section (allowed: {', '.join(Scene.model_fields)})"
-        allowed = ", ".join(SECTIONS[section].model_fields) if section in SECTIONS else ""
-        return f"{name}: unknown key (allowed: {allowed})"
+        table = _field(err["loc"][:-1])[2] or Scene
+        what = "section" if table is Scene else "key"
+        return f"{name}: unknown {what} (allowed: {', '.join(table.model_fields)})"
+    if kind == "missing":
+        return f"{name}: missing ({info.description if info else 'a table'})"
     got = _raw(data, name)
-    if info is None:
+    if info is None or owner is not None:
         return f"{name}: must be a table (got {got!r})"
     what, rng = _what(info, name, data)
     if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
@@ -510,8 +547,9 @@ def _check_geometry(scene: Scene) -> None:
         raise SceneError(f"geometry.size: must be a list of {len(kind.size)} numbers (got {list(g.size)})")
     if min(g.size) <= 0:
         raise SceneError(f"geometry.size: every length must be > 0 (got {list(g.size)})")
-    if not g.dirichlet:
-        raise SceneError(f"geometry.dirichlet: must be a non-empty list of boundary names (got {list(g.dirichlet)})")
+    if not g.dirichlet and scene.loads.plate is None:
+        raise SceneError("geometry.dirichlet: must name at least one boundary, or give loads.plate (a rigid plate "
+                         "pressed along contact.direction) to hold the body (got [])")
     for b in g.dirichlet:
         if b not in kind.boundaries or b == "contact":
             allowed = ", ".join(x for x in kind.boundaries if x != "contact")
@@ -600,3 +638,23 @@ def _check_loads(scene: Scene) -> None:
     if loads.body_force is not None:
         _vector(loads.body_force, "loads.body_force", scene.dim)
     _check_table(loads.time_table, "loads.time_table", scene.time.T)
+    if loads.plate is not None:
+        _check_plate(scene, boundaries)
+
+
+def _check_plate(scene: Scene, boundaries: tuple[str, ...]) -> None:
+    plate, g = scene.loads.plate, scene.geometry
+    taken = {"contact", *g.dirichlet, *scene.loads.traction}
+    if plate.boundary not in boundaries or plate.boundary in taken:
+        allowed = ", ".join(b for b in boundaries if b not in taken)
+        raise SceneError(f"loads.plate.boundary: unknown, clamped, loaded or contact boundary {plate.boundary!r} "
+                         f"(allowed: {allowed})")
+    force = _vector(plate.force, "loads.plate.force", scene.dim)
+    pressing = sum(f * n for f, n in zip(force, scene.contact.direction))
+    floating = not g.dirichlet
+    if floating and pressing <= 0:
+        raise SceneError(f"loads.plate.force: must press the body onto the foundation (a positive component along "
+                         f"contact.direction) when nothing is clamped (got {list(force)})")
+    if floating and any(f < 0 for _, f in scene.loads.time_table):
+        raise SceneError("loads.time_table: factors must be >= 0 when only the plate holds the body (a pulling "
+                         "plate would lift the body off)")

@@ -19,6 +19,7 @@ from ..model.laws import compliance_from, piecewise_linear
 from ..model.scene import Scene
 from .condense import ElasticOperator
 from .forms import contact_form, contact_points, displacement_space, elastic_form, initial_distance, load_form
+from .plate import PlateCoupling, plate_modes
 
 
 class Discretization:
@@ -48,7 +49,8 @@ class Discretization:
         loads too: K⁻¹f is kept.  Friction, wear, g, v* and time never invalidate anything.
         """
         old = self.scene
-        body = lambda s: (s.geometry.kind, s.geometry.size, s.geometry.dirichlet, s.mesh)  # noqa: E731
+        body = lambda s: (s.geometry.kind, s.geometry.size, s.geometry.dirichlet, s.mesh,  # noqa: E731
+                          s.loads.plate and (s.loads.plate.boundary, s.loads.plate.tilt))
         if body(old) != body(scene):
             return Discretization(scene)
         new = object.__new__(Discretization)
@@ -92,6 +94,54 @@ class Discretization:
     @cached_property
     def s_load(self) -> np.ndarray:
         return self.N @ self.u_load
+
+    @cached_property
+    def plate_modes(self) -> np.ndarray | None:
+        """E: the rigid motions of the plate's boundary (None without a plate); see :mod:`ngwear.numerics.plate`."""
+        plate = self.scene.loads.plate
+        return None if plate is None else plate_modes(self.fes, plate.boundary, self.nu, plate.tilt)
+
+    @cached_property
+    def plate(self) -> PlateCoupling | None:
+        """D, S, Φ, Ψ of the plate (None without a plate): one more back-substitution per mode."""
+        if self.plate_modes is None:
+            return None
+        return PlateCoupling.of(self.plate_modes, self.stiffness, self.operator.solve, self.points.P, self.N)
+
+    @property
+    def plate_modes_count(self) -> int:
+        """r: 0 without a plate, 1 for a plate that only translates, 2 (2D) or 3 (3D) with tilt."""
+        return 0 if self.plate_modes is None else self.plate_modes.shape[1]
+
+    @property
+    def plate_force(self) -> np.ndarray:
+        """F_B = (F·ν, 0, …): the plate force's work on the plate modes at unit time factor (tilts: no moment)."""
+        force = np.zeros(self.plate_modes_count)
+        if len(force):
+            force[0] = float(np.dot(self.scene.loads.plate.force, self.nu))
+        return force
+
+    @cached_property
+    def plate_load(self) -> np.ndarray:
+        """f_B + F_B = Dᵀ f + F_B at unit time factor: the loads' and the plate force's work on the modes."""
+        return np.zeros(0) if self.plate is None else self.plate.response.T @ self.load + self.plate_force
+
+    @cached_property
+    def rigid_translation(self) -> np.ndarray:
+        """The translation u = ν of the whole body in the full-system path's coordinates x (u = T x)."""
+        gf = ngs.GridFunction(self.fes)
+        gf.Set(ngs.CF(tuple(self.nu)))
+        rigid = np.zeros(self.full_basis.shape[1])
+        rigid[:int(self.free.sum())] = gf.vec.FV().NumPy()[self.free]
+        rigid[int(self.free.sum())] = 1.0
+        return rigid
+
+    @cached_property
+    def full_basis(self) -> sp.csc_matrix:
+        """T = [free DOFs | plate modes E]: the full-system path's unknowns are u = T x."""
+        columns = sp.eye(self.fes.ndof, format="csc")[:, np.flatnonzero(self.free)]
+        return sp.hstack([columns, sp.csc_matrix(self.plate_modes)] if self.plate_modes_count else [columns],
+                         format="csc")
 
     @cached_property
     def point_compliance(self) -> np.ndarray:
@@ -138,9 +188,10 @@ class Discretization:
         b = self.nu[None, :] + mu * self.n_star(t)
         return m[:, None] * (pressure[:, None] * b + reaction[:, None] * self.nu[None, :])
 
-    def recover(self, forces: np.ndarray, t: float) -> np.ndarray:
-        """Displacement DOF vector u = s_F(t) K⁻¹ f − K⁻¹ Pᵀ f_c (one back-substitution)."""
-        return self.load_factor(t) * self.u_load - self.operator.solve(self.points.P.T @ forces.ravel())
+    def recover(self, forces: np.ndarray, t: float, plate: np.ndarray) -> np.ndarray:
+        """Displacement DOF vector u = s_F(t) K⁻¹ f + D δ − K⁻¹ Pᵀ f_c (one back-substitution)."""
+        u = self.load_factor(t) * self.u_load - self.operator.solve(self.points.P.T @ forces.ravel())
+        return u if self.plate is None else u + self.plate.response @ plate
 
     @cached_property
     def _in_body(self) -> np.ndarray:
@@ -180,9 +231,9 @@ class Discretization:
         gf.vec.FV().NumPy()[:] = self.points.Q @ values
 
 
-_MESH_PARTS = ("mesh", "fes", "free", "points", "_in_body")
-_MATERIAL_PARTS = ("stiffness", "operator", "point_compliance")
-_LOAD_PARTS = ("load", "u_load", "s_load", "normal_compliance")
+_MESH_PARTS = ("mesh", "fes", "free", "points", "_in_body", "plate_modes", "full_basis")
+_MATERIAL_PARTS = ("stiffness", "operator", "point_compliance", "plate")
+_LOAD_PARTS = ("load", "u_load", "s_load", "normal_compliance", "plate_load")
 
 
 def _complete_symmetric(K: sp.csr_matrix) -> sp.csr_matrix:

@@ -37,9 +37,10 @@ def contact_ds(dim: int, order: int):
 
 
 def displacement_space(mesh: ngs.Mesh, scene: Scene) -> ngs.FESpace:
-    """Vector H1 of the scene's order on the body, clamped on the Dirichlet boundaries."""
-    return ngs.VectorH1(mesh, order=scene.mesh.order, definedon="body",
-                        dirichlet="|".join(scene.geometry.dirichlet))
+    """Vector H1 of the scene's order on the body, clamped on the Dirichlet boundaries and the plate's."""
+    plate = scene.loads.plate
+    clamped = (*scene.geometry.dirichlet, *((plate.boundary,) if plate else ()))
+    return ngs.VectorH1(mesh, order=scene.mesh.order, definedon="body", dirichlet="|".join(clamped))
 
 
 def elastic_integrand(fes: ngs.FESpace, scene: Scene):

@@ -11,9 +11,12 @@ matrix K + R'(u) is non-symmetric when μ > 0.  Steps are damped by backtracking
 max(|R|, |min(λ/c, g + d₀ − s)|).  Two systems implement the same protocol:
 
 * :class:`CondensedSystem`: unknown x = s (n contact points); R = s − s_F + A (m∘p) + H (m∘λ) with
-  H = ν·G·ν, A = H + (ν·G·n*) diag(μ), G = P K⁻¹ Pᵀ the point compliance (dense, small).
-* :class:`FullSystem`: unknown x = u (all free DOFs); R = K u + R_c(u) + (N P)ᵀ(m∘λ) − F assembled by
-  NGSolve (``Apply`` / ``AssembleLinearization``) and solved as a sparse saddle-point system.
+  H = ν·G·ν, A_ij = H_ij + μ ν·G_ij·n*_j, G = P K⁻¹ Pᵀ the point compliance (dense, small).  A rigid
+  plate (:mod:`ngwear.numerics.plate`) borders it with its r unknowns δ: R_s gains −Ψ δ and the rows
+  R_δ = S δ + Φ_bᵀ (m∘p) + Ψᵀ (m∘λ) − s_F (f_B + F_B) join, scaled to lengths.
+* :class:`FullSystem`: unknown x = the free DOFs (and δ, in the basis u = T x); R = Tᵀ(K u + R_c(u) +
+  (N P)ᵀ(m∘λ) − F) assembled by NGSolve (``Apply`` / ``AssembleLinearization``) and solved as a sparse
+  saddle-point system.
 """
 from __future__ import annotations
 
@@ -102,6 +105,25 @@ def semismooth_newton(system, x, lam, tol: float = 1e-10, max_iterations: int = 
         f"Newton did not converge in {rec.iterations} iterations (merit {merit:.2e} > {tol:.0e})", rec)
 
 
+def balance_along(balance, x: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """The step Δ·direction that zeroes ``balance(x + Δ direction)``, a function increasing in Δ.
+
+    The body's force balance along ν while it moves rigidly: the Newton step for a body held by a
+    plate alone when no contact point has stiffness (lost contact, or the power law's zero slope at
+    first touch), where the Newton matrix is singular.  Bracketing by doubling, then bisection.
+    """
+    value = lambda delta: balance(x + delta * direction)  # noqa: E731
+    lo, hi = 0.0, 1e-6 * max(np.abs(x).max(initial=0.0), 1e-6)
+    while value(hi) < 0 and hi < 1e30:
+        lo, hi = hi, 2 * hi
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mid in (lo, hi):
+            break
+        lo, hi = (mid, hi) if value(mid) < 0 else (lo, mid)
+    return hi * direction
+
+
 @dataclass
 class PointLaw:
     """Nodal contact law at one step: pressure p(z) and dp/dz as functions of z = s − d₀."""
@@ -110,74 +132,126 @@ class PointLaw:
     derivative: callable
 
 
+@dataclass(frozen=True)
+class PlateRows:
+    """The plate's unknowns δ bordering the condensed system: Ψ, Φ_b = b_i·Φ_i, S and the step's load."""
+
+    normal: np.ndarray
+    directed: np.ndarray
+    stiffness: np.ndarray
+    load: np.ndarray
+
+
 class CondensedSystem:
-    """The step problem condensed onto the n contact points (dense n × n algebra).
+    """The step problem condensed onto the n contact points (dense (n + r) × (n + r) algebra).
 
     ``factors`` caches LU factorisations of the Newton matrix by (active set, p'): with a
     piecewise-linear law the matrix repeats across iterations and steps and is factorised once.
+    The plate's rows are multiplied by h / ‖Ψ_k‖∞ (h the largest point compliance H_ii), which turns
+    forces into lengths comparable with the rows of s.  A body held by the plate alone (S = 0) with no
+    contact stiffness in the Newton matrix moves rigidly to its force balance first
+    (:func:`balance_along`); the Jacobian's S gets a spring 10⁻¹² times the body's contact stiffness,
+    which keeps the tilts regular while few points touch.
     """
 
-    def __init__(self, H, A, weights, s_load, d0, gap, law: PointLaw, factors: dict | None = None):
+    def __init__(self, H, A, weights, s_load, d0, gap, law: PointLaw, factors: dict | None = None,
+                 plate: PlateRows | None = None):
         self.H, self.A, self.m = H, A, weights
         self.s_load, self.d0, self.g, self.law = s_load, d0, gap, law
+        self.n = len(weights)
         diag = np.maximum(np.diag(H) * weights, 1e-300)
         self.c = 1.0 / diag
         self.scale = max(np.abs(s_load).max(initial=0.0), gap)
         self.factors = {} if factors is None else factors
+        self.plate = plate
+        if plate is not None:
+            reach = np.maximum(np.abs(plate.normal).max(axis=0, initial=0.0), 1e-300)
+            self.rows = np.diag(H).max(initial=1.0) / reach
+            contact_stiffness = (plate.normal ** 2 / np.maximum(np.diag(H), 1e-300)[:, None]).sum(axis=0)
+            self.jacobian_stiffness = plate.stiffness + np.diag(np.maximum(1e-12 * contact_stiffness, 1e-300))
+            self.floating = plate.stiffness[0, 0] <= 1e-9 * contact_stiffness[0]
 
-    def gap(self, s):
-        return s - self.d0 - self.g
+    def gap(self, x):
+        return x[:self.n] - self.d0 - self.g
 
-    def residual(self, s, lam):
-        p = self.law.pressure(s - self.d0)
-        return s - self.s_load + self.A @ (self.m * p) + self.H @ (self.m * lam)
+    def residual(self, x, lam):
+        s, p = x[:self.n], self.law.pressure(x[:self.n] - self.d0)
+        r_s = s - self.s_load + self.A @ (self.m * p) + self.H @ (self.m * lam)
+        if self.plate is None:
+            return r_s
+        plate, delta = self.plate, x[self.n:]
+        r_d = plate.stiffness @ delta + plate.directed.T @ (self.m * p) + plate.normal.T @ (self.m * lam) - plate.load
+        return np.concatenate([r_s - plate.normal @ delta, self.rows * r_d])
 
-    def merit(self, s, lam):
-        comp = np.minimum(lam / self.c, -self.gap(s))
-        return max(np.abs(self.residual(s, lam)).max(initial=0), np.abs(comp).max(initial=0)) / self.scale
+    def merit(self, x, lam):
+        comp = np.minimum(lam / self.c, -self.gap(x))
+        return max(np.abs(self.residual(x, lam)).max(initial=0), np.abs(comp).max(initial=0)) / self.scale
 
     def _factor(self, active, dp):
-        """LU of M = [J_{:,I} | H_{:,A} diag(m_A)] with J = I + A diag(m p')."""
+        """LU of M = [J_{:,I} | H_{:,A} diag(m_A) | −Ψ] with J = I + A diag(m p'), bordered by the plate's rows."""
         key = active.tobytes() + dp.tobytes()
         if key not in self.factors:
             inactive = ~active
             M = self.A * (self.m * dp * inactive)[None, :] + self.H * (self.m * active)[None, :]
             M[np.diag_indices(len(dp))] += inactive
+            if self.plate is not None:
+                plate = self.plate
+                below = (plate.directed * (self.m * dp * inactive)[:, None]
+                         + plate.normal * (self.m * active)[:, None]).T
+                M = np.block([[M, -plate.normal],
+                              [self.rows[:, None] * below, self.rows[:, None] * self.jacobian_stiffness]])
             if len(self.factors) >= 16:
                 self.factors.clear()
             self.factors[key] = sla.lu_factor(M, check_finite=False)
         return self.factors[key]
 
-    def step(self, s, lam, active):
-        dp = self.law.derivative(s - self.d0)
-        ds = np.zeros(len(s))
-        ds[active] = -self.gap(s)[active]
-        rhs = -self.residual(s, lam) + self.H @ (self.m * lam) - ds - self.A @ (self.m * dp * ds)
-        sol = sla.lu_solve(self._factor(active, dp), rhs, check_finite=False)
-        lam_new = np.where(active, sol, 0.0)
-        ds[~active] = sol[~active]
-        return ds, lam_new
+    def step(self, x, lam, active):
+        n = self.n
+        dp = self.law.derivative(x[:n] - self.d0)
+        if self.plate is not None and self.floating and not active.any() and not dp.any():
+            rigid = np.concatenate([self.plate.normal[:, 0], np.eye(len(x) - n)[0]])
+            return balance_along(lambda y: self.residual(y, lam)[n], x, rigid), lam
+        ds = np.zeros(n)
+        ds[active] = -self.gap(x)[active]
+        known = np.zeros(len(x))
+        known[:n] = self.H @ (self.m * lam) - ds - self.A @ (self.m * dp * ds)
+        if self.plate is not None:
+            plate = self.plate
+            known[n:] = self.rows * (plate.normal.T @ (self.m * lam) - plate.directed.T @ (self.m * dp * ds))
+        sol = sla.lu_solve(self._factor(active, dp), -self.residual(x, lam) + known, check_finite=False)
+        lam_new = np.where(active, sol[:n], 0.0)
+        dx = sol.copy()
+        dx[:n] = np.where(active, ds, sol[:n])
+        return dx, lam_new
 
 
 class FullSystem:
-    """The step problem on all free DOFs, linearised by NGSolve at every iteration (reference path)."""
+    """The step problem on the free DOFs (and the plate's δ), linearised by NGSolve at every iteration.
 
-    def __init__(self, contact_form, load, free, N, weights, d0, gap, stiffness_diag):
-        self.cf, self.load = contact_form, load
-        self.free = np.flatnonzero(free)
-        self.N = N[:, self.free].tocsr()  # normal evaluation at the points, free columns
+    The unknowns x are the coefficients of u = T x in the basis T = [free DOFs | plate modes E];
+    ``load`` is Tᵀ f at this step (the plate's rows include its force).  This is the reference path.
+    For a body held by the plate alone, ``rigid`` is its translation along ν in these coordinates
+    (the plate's translation is x's first entry after the free DOFs):
+    when no point has contact stiffness (``law.derivative`` = 0), the step is the rigid motion to the
+    force balance along ν, rigidᵀ R = 0 (:func:`balance_along`), and the plate's translation gets a
+    spring 10⁻¹² × the largest diagonal entry in the Jacobian, as in :class:`CondensedSystem`.
+    """
+
+    def __init__(self, contact_form, basis: sp.csr_matrix, load, N, weights, d0, gap, stiffness,
+                 law: PointLaw, plate_modes: int = 0, rigid: np.ndarray | None = None):
+        self.cf, self.T, self.load = contact_form, basis.tocsc(), load
+        self.N = (N @ self.T).tocsr()                       # normal evaluation at the points
         self.m, self.d0, self.g = weights, d0, gap
         self._gf = ngs.GridFunction(contact_form.form.space)
         self._res = self._gf.vec.CreateVector()
-        self.scale = max(np.abs(load[self.free]).max(initial=0.0), 1e-300)
-        local_stiffness = (self.N.multiply(self.N) @ stiffness_diag[self.free]) / weights
-        self.c = np.maximum(local_stiffness, 1e-300)
+        self.scale = max(np.abs(load).max(initial=0.0), 1e-300)
+        diagonal = np.asarray(self.T.multiply(stiffness @ self.T).sum(axis=0)).ravel()
+        self.c = np.maximum((self.N.multiply(self.N) @ diagonal) / weights, 1e-300)
         self._gscale = max(gap, 1e-300)
+        self.law, self.plate_modes, self.rigid = law, plate_modes, rigid
 
     def _set(self, x):
-        vec = self._gf.vec.FV().NumPy()
-        vec[:] = 0.0
-        vec[self.free] = x
+        self._gf.vec.FV().NumPy()[:] = self.T @ x
 
     def gap(self, x):
         return self.N @ x - self.d0 - self.g
@@ -185,8 +259,7 @@ class FullSystem:
     def residual(self, x, lam):
         self._set(x)
         self.cf.form.Apply(self._gf.vec, self._res)
-        r = self._res.FV().NumPy()[self.free] - self.load[self.free]
-        return r + self.N.T @ (self.m * lam)
+        return self.T.T @ self._res.FV().NumPy() - self.load + self.N.T @ (self.m * lam)
 
     def merit(self, x, lam):
         comp = np.minimum(lam / self.c, -self.gap(x))
@@ -194,18 +267,23 @@ class FullSystem:
                    np.abs(comp).max(initial=0) / self._gscale)
 
     def step(self, x, lam, active):
+        if self.rigid is not None and not active.any() and not self.law.derivative(self.gap(x) + self.g).any():
+            return balance_along(lambda y: self.rigid @ self.residual(y, lam), x, self.rigid), lam
         self._set(x)
         self.cf.form.AssembleLinearization(self._gf.vec)
         vals, cols, ptr = self.cf.form.mat.CSR()
         n_all = len(self._gf.vec)
         J = sp.csr_matrix((np.array(vals), np.array(cols), np.array(ptr)), shape=(n_all, n_all))
-        J = J[self.free][:, self.free]
+        J = (self.T.T @ J @ self.T).tocsr()
+        if self.rigid is not None:
+            plate = self.T.shape[1] - self.plate_modes
+            J = J + sp.csr_matrix(([1e-12 * abs(J.diagonal()).max()], ([plate], [plate])), shape=J.shape)
         B = self.N[active]
         rhs_u = -self.residual(x, lam) + self.N.T @ (self.m * lam)
         rhs_g = -self.gap(x)[active]
         K = sp.bmat([[J, B.T.multiply(self.m[active][None, :])], [B, None]], format="csc")
         sol = spla.spsolve(K, np.concatenate([rhs_u, rhs_g]))
-        nf = len(self.free)
+        nx = self.T.shape[1]
         lam_new = np.zeros(len(lam))
-        lam_new[active] = sol[nf:]
-        return sol[:nf], lam_new
+        lam_new[active] = sol[nx:]
+        return sol[:nx], lam_new

@@ -63,7 +63,7 @@ class WearIntegrator:
             return PointLaw(lambda z: law(z - a), lambda z: law.derivative(z - a))
         if law.exponent == 1.0:  # closed form p = L (z − a)₊ / (1 + c L), free of cancellation in z − W
             scale = law.stiffness / (1 + c * law.stiffness)
-            return PointLaw(lambda z: scale * np.maximum(z - a, 0.0), lambda z: np.where(z > a, scale, 0.0))
+            return PointLaw(lambda z: scale * np.maximum(z - a, 0.0), lambda z: np.where(z >= a, scale, 0.0))
 
         def derivative(z):
             dp = law.derivative(z - worn(law, a, c, z))

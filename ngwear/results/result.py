@@ -2,7 +2,9 @@
 
 Arrays of shape (steps + 1, n_c) over the contact points (fewer rows if the run stopped early):
 ``wear`` w, ``normal_displacement`` u_ν, ``pressure`` p(u_ν − d₀ − w), ``reaction`` λ (the
-constraint multiplier, a traction like the pressure).  What an engineer reads off a part, one value
+constraint multiplier, a traction like the pressure); ``plate_displacement`` δ (steps + 1, r) of a
+rigid plate (its translation along ν, then its tilts; r = 0 without a plate).  What an engineer
+reads off a part, one value
 per step, with m_i the nodal weights of the contact points:
 
 * ``normal_force``  Σ m_i (p_i + λ_i), the force the foundation carries;
@@ -27,7 +29,7 @@ from ..model.scene import Scene
 from ..numerics.forms import initial_distance
 from ..numerics.solver import NewtonRecord
 
-ARRAYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces")
+ARRAYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces", "plate_displacement")
 PART = ("normal_force", "torque", "contact_area", "wear_volume")
 
 
@@ -44,6 +46,7 @@ class Result:
     pressure: np.ndarray
     reaction: np.ndarray
     forces: np.ndarray
+    plate_displacement: np.ndarray
     newton: list[NewtonRecord] = field(default_factory=list)
     status: str = "completed"
     warnings: list[str] = field(default_factory=list)
@@ -56,17 +59,17 @@ class Result:
     def empty(cls, scene: Scene, disc) -> Result:
         """A result with room for every step; the public arrays are views of the completed rows."""
         rows, n, d = scene.time.steps + 1, disc.points.n, scene.dim
-        buffers = {name: np.zeros((rows, n, d) if name == "forces" else (rows, n) if name != "times" else rows)
-                   for name in ARRAYS}
+        shapes = {"times": (rows,), "forces": (rows, n, d), "plate_displacement": (rows, disc.plate_modes_count)}
+        buffers = {name: np.zeros(shapes.get(name, (rows, n))) for name in ARRAYS}
         result = cls(scene, disc.points.coords, disc.points.weights,
                      *(buf[:0] for buf in buffers.values()), discretization=disc)
         result._buffers = buffers
         return result
 
-    def append(self, t, w, s, p, lam, forces, record: NewtonRecord) -> None:
+    def append(self, t, w, s, p, lam, forces, delta, record: NewtonRecord) -> None:
         """Record step j = number of steps so far."""
         j = len(self.times)
-        for name, value in zip(ARRAYS, (t, w, s, p, lam, forces)):
+        for name, value in zip(ARRAYS, (t, w, s, p, lam, forces, delta)):
             self._buffers[name][j] = value
             setattr(self, name, self._buffers[name][:j + 1])
         self.newton.append(record)
@@ -128,7 +131,8 @@ class Result:
         if step not in self.fields:
             if self.discretization is None:
                 raise KeyError(f"step {step} was not stored; stored steps: {sorted(self.fields)}")
-            self.fields[step] = self.discretization.recover(self.forces[step], self.times[step])
+            self.fields[step] = self.discretization.recover(self.forces[step], self.times[step],
+                                                            self.plate_displacement[step])
         return self.fields[step]
 
     def displacement_at(self, points, step: int) -> np.ndarray:

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..model.scene import Scene
 from ..numerics.discrete import Discretization
-from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, semismooth_newton
+from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, PlateRows, semismooth_newton
 from ..numerics.wear import WearIntegrator, explicit_stability
 from ..results.result import Result
 
@@ -42,8 +42,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None,
         log.warning("%s", warning)
         result.warnings.append(warning)
     stepper = _Stepper(disc)
-    x = np.zeros(n) if scene.solver.method == "condensed" else np.zeros(int(disc.free.sum()))
-    lam = np.zeros(n)
+    x, lam = stepper.unknowns(), np.zeros(n)
     t_prev = None  # step 0 continues from the unloaded state u = 0
     bar = _progress(range(steps + 1), scene.name) if progress else range(steps + 1)
     for j in bar:
@@ -54,13 +53,13 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None,
         except ConvergenceError as err:
             result.fail(f"step {j} (t = {t:.4g}): {err}; {_remedy(scene, err.record)}", err.record)
             break
-        s = stepper.normal(x)
+        s, delta = stepper.normal(x), stepper.plate(x)
         pressure = law.pressure(s - disc.d0)
-        if not (np.all(np.isfinite(s)) and np.all(np.isfinite(lam)) and np.all(np.isfinite(pressure))):
+        if not all(np.all(np.isfinite(a)) for a in (s, lam, pressure, delta)):
             result.fail(f"step {j} (t = {t:.4g}): non-finite solution", record)
             break
         w = integrator.wear_at(s - disc.d0)
-        result.append(t, w, s, pressure, lam, disc.contact_forces(pressure, lam, t), record)
+        result.append(t, w, s, pressure, lam, disc.contact_forces(pressure, lam, t), delta, record)
         integrator.advance(w, pressure, disc.alpha(t), disc.alpha(t + k))
         t_prev = t
     result.wall_time = time.perf_counter() - start
@@ -84,8 +83,23 @@ class _Stepper:
         self._matrices: dict = {}
         self._factors: dict = {}
 
+    @property
+    def _full(self) -> bool:
+        return self.scene.solver.method == "full"
+
+    def unknowns(self) -> np.ndarray:
+        """The unknowns at rest: s at the contact points (condensed) or the free DOFs (full), then δ."""
+        disc = self.disc
+        size = disc.full_basis.shape[1] if self._full else disc.points.n + disc.plate_modes_count
+        return np.zeros(size)
+
     def normal(self, x):
-        return x if self.scene.solver.method == "condensed" else self.disc.N[:, self.disc.free] @ x
+        """The normal displacements s = ν·u at the contact points."""
+        return self.disc.N @ (self.disc.full_basis @ x) if self._full else x[:self.disc.points.n]
+
+    def plate(self, x):
+        """δ, the plate's displacement (and tilts)."""
+        return x[len(x) - self.disc.plate_modes_count:]
 
     def solve(self, t, t_prev, law, x, lam, integrator):
         target = self.disc.load_factor(t)
@@ -114,16 +128,22 @@ class _Stepper:
 
     def _system(self, t, load_factor, law, integrator):
         disc = self.disc
-        if self.scene.solver.method == "full":
+        if self._full:
             return _full_system(disc, t, load_factor, integrator)
         n_star, mu = disc.n_star(t), self.scene.contact.friction
         key = n_star.tobytes()
         if key not in self._matrices:
             H = disc.normal_compliance
-            self._matrices = {key: H + mu * disc.friction_compliance(n_star) if mu > 0 and n_star.any() else H}
+            A = H + mu * disc.friction_compliance(n_star) if mu > 0 and n_star.any() else H
+            coupling = disc.plate
+            directed = None if coupling is None else coupling.directed(disc.nu[None, :] + mu * n_star)
+            self._matrices = {key: (A, directed)}
             self._factors = {}
-        return CondensedSystem(disc.normal_compliance, self._matrices[key], disc.points.weights,
-                               load_factor * disc.s_load, disc.d0, self.scene.contact.gap, law, self._factors)
+        A, directed = self._matrices[key]
+        plate = None if directed is None else PlateRows(disc.plate.normal, directed, disc.plate.stiffness,
+                                                        load_factor * disc.plate_load)
+        return CondensedSystem(disc.normal_compliance, A, disc.points.weights, load_factor * disc.s_load, disc.d0,
+                               self.scene.contact.gap, law, self._factors, plate)
 
 
 def _remedy(scene: Scene, record) -> str:
@@ -146,8 +166,12 @@ def _full_system(disc: Discretization, t: float, load_factor: float, integrator:
     cf.mu.Set(disc.scene.contact.friction)
     for gf, component in zip(cf.n_star, disc.n_star(t).T):
         disc.set_nodal(gf, component)
-    return FullSystem(cf, load_factor * disc.load, disc.free, disc.N, disc.points.weights,
-                      disc.d0, disc.scene.contact.gap, disc.stiffness.diagonal())
+    load = disc.full_basis.T @ disc.load
+    load[len(load) - disc.plate_modes_count:] += disc.plate_force
+    floating = disc.plate_modes_count and not disc.scene.geometry.dirichlet
+    return FullSystem(cf, disc.full_basis, load_factor * load, disc.N, disc.points.weights, disc.d0,
+                      disc.scene.contact.gap, disc.stiffness, integrator.point_law(), disc.plate_modes_count,
+                      disc.rigid_translation if floating else None)
 
 
 def _progress(iterable, name):
