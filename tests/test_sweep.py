@@ -8,6 +8,7 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -86,7 +87,7 @@ def stop(processes):
 
 @pytest.fixture
 def cli_cluster(tmp_path):
-    """``dask scheduler`` and two ``dask worker`` processes on 127.0.0.1; yields the scheduler's address."""
+    """``dask scheduler`` and two ``dask worker`` processes on 127.0.0.1; yields the address and processes."""
     file, log = tmp_path / "scheduler.json", (tmp_path / "dask.log").open("w")
     processes = [group([DASK, "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
                         "--scheduler-file", str(file)], log)]
@@ -98,7 +99,7 @@ def cli_cluster(tmp_path):
         for name in ("first", "second"):
             processes.append(group([DASK, "worker", address, "--name", name, "--nthreads", "1", "--host", "127.0.0.1",
                                     "--no-dashboard"], log))
-        yield address
+        yield address, processes
     finally:
         stop(processes)
         log.close()
@@ -106,7 +107,7 @@ def cli_cluster(tmp_path):
 
 def test_cli_cluster_gives_identical_numbers(local, cli_cluster, tmp_path):
     path, table, _ = local
-    done = subprocess.run([sys.executable, "-m", "ngwear.cli", "sweep", str(path), "--scheduler", cli_cluster,
+    done = subprocess.run([sys.executable, "-m", "ngwear.cli", "sweep", str(path), "--scheduler", cli_cluster[0],
                            "--workers", "2", "--out", str(tmp_path / "out"), "--quiet"],
                           capture_output=True, text=True, cwd=ROOT, timeout=180)
     assert done.returncode == 0, done.stderr
@@ -114,6 +115,31 @@ def test_cli_cluster_gives_identical_numbers(local, cli_cluster, tmp_path):
     pd.testing.assert_frame_equal(remote[NUMBERS], table[NUMBERS], check_exact=True)
     assert set(remote.worker) != set(table.worker) and remote.worker.nunique() == 2
     assert "4 cases (4 completed); 0 finished earlier, 4 run on 2 workers" in done.stdout
+
+
+def test_cases_of_a_dead_worker_run_on_the_other(cli_cluster, tmp_path):
+    from distributed import Client
+
+    address, processes = cli_cluster
+    grid = GRID.replace('"mesh.maxh" = 0.2', '"mesh.maxh" = 0.1').replace("[0.3, 0.9]", "[0.3, 0.6, 0.9, 1.2]")
+    path = write(tmp_path, grid)
+    with Client(address) as client:
+        client.wait_for_workers(2, timeout=60)
+        second = next(a for a, w in client.scheduler_info(n_workers=-1)["workers"].items() if w["name"] == "second")
+    tables = []
+    run = threading.Thread(target=lambda: tables.append(
+        ngwear.sweep(path, address, out=tmp_path / "out", workers=2, progress=False)))
+    run.start()
+    deadline = time.monotonic() + 120
+    while not list(tmp_path.glob("out/cases/*/row.json")) and time.monotonic() < deadline:
+        time.sleep(0.02)
+    finished = len(list(tmp_path.glob("out/cases/*/row.json")))
+    stop(processes[2:])  # the second worker (and its nanny) dies with the study under way
+    run.join(timeout=120)
+    assert not run.is_alive() and tables, "the study finished"
+    table = tables[0]
+    assert len(table) == 8 and (table.status == "completed").all()
+    assert (table.worker == second).sum() <= finished + 1 < 8, "the dead worker's cases ran on the other"
 
 
 def test_failing_cases_are_recorded_and_do_not_stop_the_study(tmp_path):
