@@ -80,6 +80,8 @@ def sweep(study, client=None, *, out=None, workers: int | None = None,
     progress : bool
         Show a progress bar over all cases (and the Dask dashboard's link when it has one).
     """
+    if isinstance(study, Study) and overrides:
+        raise StudyError("overrides: only for a study file or dict (a Study is already built)")
     if not isinstance(study, Study):
         study = (load_study(study, overrides) if isinstance(study, (str, Path))
                  else study_from_dict(study, overrides=overrides))
@@ -87,7 +89,7 @@ def sweep(study, client=None, *, out=None, workers: int | None = None,
         raise StudyError(f"workers: must be a whole number >= 1 (got {workers!r})")
     out = Path(out) if out is not None else Path("out") / study.name
     start = perf_counter()
-    rows = {c.index: _row(c, status="rejected", error=c.error) for c in study.cases if c.error}
+    rows = {c.index: _row(status="rejected", error=c.error, case_id=c.id) for c in study.cases if c.error}
     earlier = _finished(out, study.cases)
     rows.update(earlier)
     todo = [c for c in study.cases if c.index not in rows]
@@ -97,8 +99,9 @@ def sweep(study, client=None, *, out=None, workers: int | None = None,
             ran = _run(dask_client, todo, out, study.name, len(study.cases), progress)
     rows.update(ran)
     table = _table(study, rows)
+    _write(out, study, table)
     summary = _summary(study, rows, ran, earlier, perf_counter() - start, out)
-    _write(out, study, table, summary)
+    (out / "summary.json").write_text(json.dumps(summary, indent=2))
     table.attrs["summary"] = summary
     return table
 
@@ -135,7 +138,7 @@ def run_case(scene, group: str) -> tuple[dict, dict[str, bytes]]:
         try:
             result = simulate(scene, discretization=cached, progress=False)
         except SceneError as err:
-            return _row(None, status="rejected", error=str(err), wall_time=perf_counter() - start,
+            return _row(status="rejected", error=str(err), wall_time=perf_counter() - start,
                         worker=_worker(), factorised=False), {}
         disc = result.discretization
         operator = disc.__dict__.get("operator")
@@ -148,7 +151,7 @@ def run_case(scene, group: str) -> tuple[dict, dict[str, bytes]]:
             result.save(tmp)
             files = {p.relative_to(tmp).as_posix(): p.read_bytes() for p in sorted(Path(tmp).rglob("*"))
                      if p.is_file()}
-        row = _row(None, **outputs(result), status="completed" if result.completed else "stopped",
+        row = _row(**outputs(result), status="completed" if result.completed else "stopped",
                    error=None if result.completed else result.status,
                    warnings="; ".join(result.warnings) or None, wall_time=perf_counter() - start,
                    worker=_worker(), factorised=operator is not None and operator is not before)
@@ -234,7 +237,7 @@ def _run(client, cases: list[Case], out: Path, name: str, total: int, progress: 
                 row, files = future.result()
             except Exception as err:  # the task raised on every try, or its workers kept dying
                 message = str(err).strip().splitlines()
-                row, files = _row(None, status="crashed",
+                row, files = _row(status="crashed",
                                   error=f"{type(err).__name__}: {message[0] if message else ''}"), {}
             rows[case.index] = _save_case(out, case, row, files)
             future.release()
@@ -251,13 +254,11 @@ def _dashboard(client) -> str | None:
     return client.dashboard_link if "dashboard" in services else None
 
 
-def _row(case: Case | None, **values) -> dict:
+def _row(**values) -> dict:
+    """A table row: NaN outputs and empty bookkeeping, updated with ``values``."""
     row = {name: float("nan") for name in OUTPUTS}
     row.update({"error": None, "warnings": None, "wall_time": 0.0, "worker": None, "factorised": False})
-    row.update(values)
-    if case is not None:
-        row["case_id"] = case.id
-    return row
+    return row | values
 
 
 def _save_case(out: Path, case: Case, row: dict, files: dict[str, bytes]) -> dict:
@@ -312,13 +313,12 @@ def _summary(study: Study, rows, ran, earlier, wall_time: float, out: Path) -> d
     }
 
 
-def _write(out: Path, study: Study, table: pd.DataFrame, summary: dict) -> None:
+def _write(out: Path, study: Study, table: pd.DataFrame) -> None:
     from ..views.sweep_plots import against, heat_map
 
     out.mkdir(parents=True, exist_ok=True)
     table.to_parquet(out / "results.parquet", index=False)
     table.to_csv(out / "results.csv", index=False)
-    (out / "summary.json").write_text(json.dumps(summary, indent=2))
     for key in study.varied:
         against(table, key, [k for k in study.varied if k != key], study.outputs, out / "plots" / f"{key}.png")
     if len(study.varied) == 2 and study.grid == study.varied:
