@@ -1,4 +1,8 @@
-"""Script mode: ``ngwear run SCENE.toml [--out DIR] [--set KEY=VALUE ...] [--no-pictures]``, ``ngwear schema``.
+"""Script mode: ``ngwear run SCENE.toml [--out DIR] [--set KEY=VALUE ...] [--no-pictures]``.
+
+Also ``ngwear verify``, ``ngwear stress``, ``ngwear schema`` (the scene files' JSON Schema) and
+``ngwear sweep STUDY.toml [--out DIR] [--scheduler ADDRESS] [--workers N]`` (a parameter study on
+Dask, see :mod:`ngwear.studies.sweep`).
 
 Bad input exits with status 2 and one line naming the field; a run that stops part-way writes the
 steps it completed and exits with status 1.
@@ -11,6 +15,7 @@ import sys
 from pathlib import Path
 
 from .model.scene import SceneError, load_scene, parse_override
+from .studies.study import StudyError
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -30,6 +35,15 @@ def _parser() -> argparse.ArgumentParser:
     ver.add_argument("--quick", action="store_true", help="coarse meshes and few steps (about 10 s)")
     schema = sub.add_parser("schema", help="write the scene files' JSON Schema (for editors)")
     schema.add_argument("--out", help="file to write (default: print it)")
+    sweep = sub.add_parser("sweep", help="run a parameter study on Dask and tabulate its outputs")
+    sweep.add_argument("study", help="study TOML file, e.g. geometries/studies/friction_wear.toml")
+    sweep.add_argument("--out", help="output directory (default: out/<study name>); finished cases are kept")
+    sweep.add_argument("--scheduler", metavar="ADDRESS",
+                       help="Dask scheduler of an existing cluster, e.g. tcp://host:8786 (default: a local cluster)")
+    sweep.add_argument("--workers", type=int, metavar="N",
+                       help="local cluster: worker processes (default: one per core); --scheduler: workers to wait for")
+    sweep.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE", help="override the base scene")
+    sweep.add_argument("--quiet", action="store_true", help="no progress bar")
     stress = sub.add_parser("stress", help="run the stability stress matrix and write its report")
     stress.add_argument("args", nargs=argparse.REMAINDER, help="passed on (see `ngwear stress -- --help`)")
     return parser
@@ -119,6 +133,24 @@ def schema(args) -> int:
     return 0
 
 
+def sweep(args) -> int:
+    from .studies.sweep import summary_text
+    from .studies.sweep import sweep as run_study
+
+    overrides = dict(parse_override(item) for item in args.set)
+    table = run_study(args.study, args.scheduler, out=args.out, workers=args.workers, overrides=overrides,
+                      progress=not args.quiet)
+    summary = table.attrs["summary"]
+    shown = table.drop(columns=["warnings", "worker", "case_id"])
+    print(shown.to_string(index=False, float_format=lambda v: f"{v:.4g}", max_colwidth=60))
+    print(summary_text(summary))
+    failed = summary["cases"] - summary["completed"]
+    if failed:
+        print(f"ngwear: {failed} of {summary['cases']} cases did not complete (see the error column)", file=sys.stderr)
+        return 1
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     logging.basicConfig(level=logging.WARNING, format="ngwear: %(message)s")
@@ -126,8 +158,8 @@ def main(argv: list[str] | None = None) -> int:
         from .studies.stress import main as stress_main
         return stress_main([a for a in args.args if a != "--"])
     try:
-        return {"run": run, "verify": verify, "schema": schema}[args.command](args)
-    except SceneError as err:
+        return {"run": run, "verify": verify, "schema": schema, "sweep": sweep}[args.command](args)
+    except (SceneError, StudyError) as err:
         print(f"ngwear: {err}", file=sys.stderr)
         return 2
     except OSError as err:

@@ -1,0 +1,325 @@
+"""Parameter studies on Dask: every case of a study run on a cluster, tabulated, nothing recomputed.
+
+``sweep(study, client=None)`` runs the cases of a :class:`~ngwear.studies.study.Study` on a
+``dask.distributed`` cluster — by default a ``LocalCluster`` of single-threaded worker processes, one
+per usable core — and returns a pandas table with one row per case: ``case``, the varied parameters
+under their dotted keys, the study's outputs (:mod:`ngwear.studies.outputs`), ``status``, ``error``,
+``warnings``, ``wall_time`` (seconds on the worker), ``worker`` (its address), ``factorised`` and
+``case_id``; ``table.attrs["summary"]`` says what the study did.
+
+Reuse.  Cases are submitted grouped by mesh and material (:attr:`Case.group`).  Each worker process
+keeps the discretizations of the last :data:`CACHED_GROUPS` groups it ran and passes them to
+``simulate(scene, discretization=...)``, so a worker meshes and factorises once per group it meets.
+A case ``factorised`` when its discretization's ``operator`` (the factorised stiffness) was built
+anew; the summary counts them.
+
+Files in ``out``: ``cases/<case_id>/`` holds the case's ``Result.save`` folder (written by the worker
+into a temporary folder and shipped back, so workers need no shared file system) and ``row.json``,
+written last; ``results.parquet``, ``results.csv``, ``summary.json`` and ``plots/``
+(:mod:`ngwear.views.sweep_plots`).
+
+Robustness.  A case whose scene is invalid, or that raises a SceneError while running (a layer too thin
+to mesh), is ``rejected``; one whose Newton iteration fails is ``stopped`` (its completed steps are
+kept); both carry their one-line message in ``error``.  Any other exception is retried by Dask
+(:data:`RETRIES`) and the cases of a worker that dies are rescheduled on the others (the scheduler's
+``allowed-failures``); what still fails is ``crashed``.  A re-run in the same ``out`` skips every case
+with a ``row.json`` (completed, stopped or rejected), so an interrupted study resumes; crashed cases
+run again.
+"""
+from __future__ import annotations
+
+import json
+import logging
+import shutil
+import tempfile
+import threading
+import uuid
+from collections import OrderedDict
+from contextlib import contextmanager
+from pathlib import Path
+from time import perf_counter
+from typing import TYPE_CHECKING, Any
+
+from ..model.scene import SceneError
+from ..runs.simulate import simulate
+from .outputs import OUTPUTS, outputs
+from .study import Case, Study, StudyError, load_study, study_from_dict
+
+RETRIES = 2
+"""Dask re-runs a case whose task raised (not a rejected or stopped case: those are results) this often."""
+CACHED_GROUPS = 2
+"""Discretizations (mesh, factorisation) each worker process keeps, most recently used first."""
+FINISHED = ("completed", "stopped", "rejected")
+"""Statuses that a re-run in the same folder keeps instead of running the case again."""
+COLUMNS = ("status", "error", "warnings", "wall_time", "worker", "factorised", "case_id")
+CONNECT_TIMEOUT = 30
+
+if TYPE_CHECKING:  # pandas is imported where a table is made, not with ``import ngwear``
+    import pandas as pd
+
+
+def sweep(study, client=None, *, out=None, workers: int | None = None,
+          overrides: dict[str, Any] | None = None, progress: bool = True) -> pd.DataFrame:
+    """Run every case of a study on Dask and tabulate it; see the module docstring.
+
+    Parameters
+    ----------
+    study : Study, path or dict
+        A :class:`Study`, a study TOML file or its nested dict (scene paths relative to the working
+        directory).
+    client : distributed.Client, str or None
+        The cluster: a client, a scheduler address (``"tcp://host:8786"``), or None for a new
+        ``LocalCluster`` (closed at the end).
+    out : path, optional
+        Output folder (default ``out/<study name>``); finished cases found there are not run again.
+    workers : int, optional
+        Worker processes of the local cluster (default: one per usable core); with an existing
+        cluster, the number of workers to wait for before submitting.
+    overrides : dict, optional
+        Extra fixed scene overrides (dotted keys, like the study's ``[set]``) for a path or dict.
+    progress : bool
+        Show a progress bar over all cases (and the Dask dashboard's link when it has one).
+    """
+    if isinstance(study, Study) and overrides:
+        raise StudyError("overrides: only for a study file or dict (a Study is already built)")
+    if not isinstance(study, Study):
+        study = (load_study(study, overrides) if isinstance(study, (str, Path))
+                 else study_from_dict(study, overrides=overrides))
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise StudyError(f"workers: must be a whole number >= 1 (got {workers!r})")
+    out = Path(out) if out is not None else Path("out") / study.name
+    start = perf_counter()
+    rows = {c.index: _row(status="rejected", error=c.error, case_id=c.id) for c in study.cases if c.error}
+    earlier = _finished(out, study.cases)
+    rows.update(earlier)
+    todo = [c for c in study.cases if c.index not in rows]
+    ran = {}
+    if todo:
+        with _connect(client, workers) as dask_client:
+            ran = _run(dask_client, todo, out, study.name, len(study.cases), progress)
+    rows.update(ran)
+    table = _table(study, rows)
+    _write(out, study, table)
+    summary = _summary(study, rows, ran, earlier, perf_counter() - start, out)
+    (out / "summary.json").write_text(json.dumps(summary, indent=2))
+    table.attrs["summary"] = summary
+    return table
+
+
+def summary_text(summary: dict) -> str:
+    """The summary as two lines (what ``ngwear sweep`` prints)."""
+    counts = ", ".join(f"{summary[s]} {s}" for s in (*FINISHED, "crashed") if summary[s])
+    return (f"{summary['cases']} cases ({counts}); {summary['skipped']} finished earlier, {summary['run']} run "
+            f"on {summary['workers']} workers in {summary['wall_time']:.1f} s\n"
+            f"{summary['factorisations']} factorisations for {summary['groups']} mesh/material groups; "
+            f"results in {summary['out']}")
+
+
+# ---------------------------------------------------------------- on the workers
+
+_CACHE: OrderedDict = OrderedDict()
+_LOCKS: dict[str, threading.Lock] = {}
+_GUARD = threading.Lock()
+
+
+def run_case(scene, group: str) -> tuple[dict, dict[str, bytes]]:
+    """Run one case on this worker, reusing the discretization of its group; (row, saved files).
+
+    The row holds every output of :data:`~ngwear.studies.outputs.OUTPUTS`; the files are the result
+    folder of ``Result.save`` as {relative path: bytes}.  Cases of one group run one at a time per
+    process (they share the factorisation).
+    """
+    with _GUARD:
+        lock = _LOCKS.setdefault(group, threading.Lock())
+    with lock, _quiet():
+        start = perf_counter()
+        cached = _CACHE.get(group)
+        before = cached.__dict__.get("operator") if cached is not None else None
+        try:
+            result = simulate(scene, discretization=cached, progress=False)
+        except SceneError as err:
+            return _row(status="rejected", error=str(err), wall_time=perf_counter() - start,
+                        worker=_worker(), factorised=False), {}
+        disc = result.discretization
+        operator = disc.__dict__.get("operator")
+        with _GUARD:
+            _CACHE[group] = disc
+            _CACHE.move_to_end(group)
+            while len(_CACHE) > CACHED_GROUPS:
+                _CACHE.popitem(last=False)
+        with tempfile.TemporaryDirectory() as tmp:
+            result.save(tmp)
+            files = {p.relative_to(tmp).as_posix(): p.read_bytes() for p in sorted(Path(tmp).rglob("*"))
+                     if p.is_file()}
+        row = _row(**outputs(result), status="completed" if result.completed else "stopped",
+                   error=None if result.completed else result.status,
+                   warnings="; ".join(result.warnings) or None, wall_time=perf_counter() - start,
+                   worker=_worker(), factorised=operator is not None and operator is not before)
+    return row, files
+
+
+@contextmanager
+def _quiet():
+    """Keep ngwear's per-run warnings out of the worker's log (they are in the row's ``warnings``)."""
+    logger = logging.getLogger("ngwear")
+    level = logger.level
+    logger.setLevel(logging.ERROR)
+    try:
+        yield
+    finally:
+        logger.setLevel(level)
+
+
+def _worker() -> str:
+    from distributed import get_worker
+    try:
+        return get_worker().address
+    except ValueError:  # called outside a Dask worker
+        return "local"
+
+
+# ---------------------------------------------------------------- on the client
+
+
+@contextmanager
+def _connect(client, workers):
+    """A client for ``client`` (a Client, an address or None: a new LocalCluster) with workers joined."""
+    from distributed import Client, LocalCluster
+    if client is None:
+        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
+                          silence_logs=logging.CRITICAL) as cluster, Client(cluster) as local:
+            yield local
+        return
+    if isinstance(client, str):
+        try:
+            remote = Client(client, timeout=CONNECT_TIMEOUT)
+        except OSError as err:
+            raise StudyError(f"scheduler: cannot connect to {client} ({err})") from None
+        with remote:
+            _wait(remote, workers)
+            yield remote
+        return
+    _wait(client, workers)
+    yield client
+
+
+def _wait(client, workers) -> None:
+    try:
+        client.wait_for_workers(workers or 1, timeout=CONNECT_TIMEOUT)
+    except TimeoutError:
+        have = len(client.scheduler_info(n_workers=-1)["workers"])
+        raise StudyError(f"workers: {have} of {workers or 1} joined {client.scheduler.address} "
+                         f"within {CONNECT_TIMEOUT} s") from None
+
+
+def _run(client, cases: list[Case], out: Path, name: str, total: int, progress: bool) -> dict[int, dict]:
+    """Submit the cases grouped by mesh and material; save each as it completes; rows by case index."""
+    from distributed import as_completed
+    from tqdm.auto import tqdm
+
+    token = uuid.uuid4().hex[:8]
+    keys = {}
+    futures = []
+    for case in sorted(cases, key=lambda c: (c.group, c.index)):
+        future = client.submit(run_case, case.scene, case.group, key=f"ngwear-{case.id}-{token}",
+                               pure=False, retries=RETRIES)
+        keys[future.key] = case
+        futures.append(future)
+    bar = tqdm(total=total, initial=total - len(cases), desc=name, unit="case", disable=not progress)
+    link = _dashboard(client)
+    if link and progress:
+        bar.write(f"Dask dashboard: {link}")
+    rows = {}
+    try:
+        for future in as_completed(futures):
+            case = keys[future.key]
+            try:
+                row, files = future.result()
+            except Exception as err:  # the task raised on every try, or its workers kept dying
+                message = str(err).strip().splitlines()
+                row, files = _row(status="crashed",
+                                  error=f"{type(err).__name__}: {message[0] if message else ''}"), {}
+            rows[case.index] = _save_case(out, case, row, files)
+            future.release()
+            bar.update()
+    finally:
+        client.cancel([f for f in futures if not f.done()])
+        bar.close()
+    return rows
+
+
+def _dashboard(client) -> str | None:
+    """The dashboard's link when the scheduler serves one (it needs bokeh)."""
+    services = client.scheduler_info(n_workers=0).get("services", {})
+    return client.dashboard_link if "dashboard" in services else None
+
+
+def _row(**values) -> dict:
+    """A table row: NaN outputs and empty bookkeeping, updated with ``values``."""
+    row = {name: float("nan") for name in OUTPUTS}
+    row.update({"error": None, "warnings": None, "wall_time": 0.0, "worker": None, "factorised": False})
+    return row | values
+
+
+def _save_case(out: Path, case: Case, row: dict, files: dict[str, bytes]) -> dict:
+    """Write the case's result folder and, last, its ``row.json`` (not for crashed cases)."""
+    row = dict(row, case_id=case.id)
+    if row["status"] in FINISHED:
+        folder = out / "cases" / case.id
+        shutil.rmtree(folder, ignore_errors=True)
+        folder.mkdir(parents=True)
+        for name, data in files.items():
+            (folder / name).parent.mkdir(parents=True, exist_ok=True)
+            (folder / name).write_bytes(data)
+        tmp = folder / "row.json.tmp"
+        tmp.write_text(json.dumps(row, indent=1))
+        tmp.replace(folder / "row.json")
+    return row
+
+
+def _finished(out: Path, cases) -> dict[int, dict]:
+    """Rows of the cases finished by an earlier run in ``out`` (by case id)."""
+    rows = {}
+    for case in cases:
+        path = out / "cases" / case.id / "row.json"
+        if case.error is None and path.is_file():
+            try:
+                row = json.loads(path.read_text())
+            except (OSError, ValueError):
+                continue
+            if row.get("status") in FINISHED:
+                rows[case.index] = row
+    return rows
+
+
+def _table(study: Study, rows: dict[int, dict]) -> pd.DataFrame:
+    import pandas as pd
+
+    records = [{"case": c.index, **c.params, **{name: rows[c.index].get(name) for name in study.outputs},
+                **{name: rows[c.index].get(name) for name in COLUMNS}} for c in study.cases]
+    return pd.DataFrame.from_records(records)
+
+
+def _summary(study: Study, rows, ran, earlier, wall_time: float, out: Path) -> dict:
+    statuses = [rows[c.index]["status"] for c in study.cases]
+    return {
+        "study": study.name, "cases": len(study.cases),
+        **{status: statuses.count(status) for status in (*FINISHED, "crashed")},
+        "skipped": len(earlier), "run": len(ran),
+        "groups": len({c.group for c in study.cases if c.scene is not None}),
+        "factorisations": sum(bool(row["factorised"]) for row in ran.values()),
+        "workers": len({row["worker"] for row in ran.values() if row["worker"]}),
+        "wall_time": round(wall_time, 3), "out": str(out),
+    }
+
+
+def _write(out: Path, study: Study, table: pd.DataFrame) -> None:
+    from ..views.sweep_plots import against, heat_map
+
+    out.mkdir(parents=True, exist_ok=True)
+    table.to_parquet(out / "results.parquet", index=False)
+    table.to_csv(out / "results.csv", index=False)
+    for key in study.varied:
+        against(table, key, [k for k in study.varied if k != key], study.outputs, out / "plots" / f"{key}.png")
+    if len(study.varied) == 2 and study.grid == study.varied:
+        heat_map(table, study.varied, study.outputs, out / "plots" / "heat_map.png")

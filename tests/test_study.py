@@ -1,0 +1,106 @@
+"""Study files: cases from grids, lists and samples; invalid studies refused up front naming the field."""
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from conftest import PAPER, ROOT
+
+from ngwear.studies.outputs import OUTPUTS
+from ngwear.studies.study import StudyError, load_study, study_from_dict
+
+BASE = {"scene": str(PAPER), "set": {"mesh.maxh": 0.2, "time.steps": 10}}
+
+
+def study(**blocks):
+    return study_from_dict({**BASE, **blocks})
+
+
+def test_grid_is_the_cartesian_product_in_order():
+    s = study(grid={"contact.friction": [0.2, 0.4, 0.6], "contact": {"wear": [0.5, 1.5]}})
+    assert s.varied == s.grid == ("contact.friction", "contact.wear")
+    assert [tuple(c.params.values()) for c in s.cases] == [(m, k) for m in (0.2, 0.4, 0.6) for k in (0.5, 1.5)]
+    assert all(c.scene.contact.friction == c.params["contact.friction"] and c.scene.mesh.maxh == 0.2 for c in s.cases)
+    assert len({c.id for c in s.cases}) == 6 and len({c.group for c in s.cases}) == 1
+    assert s.outputs == tuple(OUTPUTS)
+
+
+def test_cases_at_every_grid_point_and_groups_by_material():
+    s = study(grid={"material.lame_mu": [1.0, 2.0]},
+              cases=[{"contact.friction": 0.1}, {"contact.friction": 0.3, "loads.traction.top": [0.0, -0.2]}])
+    assert len(s.cases) == 4 and s.grid == ("material.lame_mu",)
+    assert s.cases[3].scene.loads.traction == {"top": (0.0, -0.2), "right": (0.0, -0.1)}
+    assert len({c.group for c in s.cases}) == 2
+
+
+def test_latin_hypercube_has_one_point_per_stratum_and_is_seeded():
+    sample = {"count": 8, "seed": 3, "ranges": {"contact.gap": [0.1, 0.3], "time.steps": [10, 17]}}
+    s = study(sample=sample)
+    gaps = np.array([c.params["contact.gap"] for c in s.cases])
+    assert sorted(np.floor((gaps - 0.1) / 0.2 * 8).astype(int)) == list(range(8))
+    assert sorted(c.params["time.steps"] for c in s.cases) == list(range(10, 18))
+    assert [c.params for c in study(sample=sample).cases] == [c.params for c in s.cases]
+    assert [c.params for c in study(sample=dict(sample, seed=4)).cases] != [c.params for c in s.cases]
+    random = study(sample=dict(sample, method="random", count=50)).cases
+    assert all(0.1 <= c.params["contact.gap"] <= 0.3 and isinstance(c.params["time.steps"], int) for c in random)
+
+
+def test_a_value_invalid_alone_is_a_rejected_case():
+    s = study(grid={"contact.gap": [0.2, -1.0]})
+    assert s.cases[0].error is None and s.cases[1].scene is None
+    assert s.cases[1].error == "contact.gap: must be > 0 (got -1.0)"
+
+
+@pytest.mark.parametrize("data, message", [
+    ({"grid": {"contact.frictoin": [0.2, 0.4]}},
+     "grid.contact.frictoin: unknown key (allowed: law, stiffness, exponent, gap, friction, wear, direction)"),
+    ({"grid": {"contactt.friction": [0.2]}}, "grid.contactt.friction: contactt: unknown section (allowed:"),
+    ({"grid": {"contact.friction": [-1.0, -2.0]}}, "grid.contact.friction: must be >= 0 (got -1.0)"),
+    ({"grid": {"contact.friction": 0.2}}, "grid.contact.friction: must be a non-empty list of values (got 0.2)"),
+    ({"grid": {"contact.friction": []}}, "grid.contact.friction: must be a non-empty list of values (got [])"),
+    ({"cases": [{"contact.wear": 1.0}], "grid": {"contact.wear": [1.0]}}, "grid.contact.wear: also varied by cases"),
+    ({"cases": {"contact.wear": 1.0}}, "cases: must be a non-empty list of tables ([[cases]])"),
+    ({"sample": {"count": 4, "method": "sobol", "ranges": {"contact.gap": [0.1, 0.2]}}},
+     "sample.method: must be one of latin_hypercube, random (got 'sobol')"),
+    ({"sample": {"count": 0, "ranges": {"contact.gap": [0.1, 0.2]}}}, "sample.count: must be a whole number >= 1"),
+    ({"sample": {"count": 4, "ranges": {"contact.gap": [0.3, 0.2]}}},
+     "sample.ranges.contact.gap: must be [low, high] with low < high (got [0.3, 0.2])"),
+    ({"grid": {"contact.gap": [0.2]}, "outputs": ["heat"]}, "outputs: unknown output 'heat' (allowed: max_wear,"),
+    ({"grid": {"contact.gap": [0.2]}, "sweeps": 3}, "sweeps: unknown study field (allowed: name, scene,"),
+    ({}, "grid: nothing to vary (give a [grid], [[cases]] or [sample])"),
+    ({"grid": {"contact.gap": [0.2]}, "set": {"mesh.maxh": -1}}, "set.mesh.maxh: must be in (0, 3.0] (got -1.0)"),
+    ({"grid": {"contact.wear": [1.0], "foundation.velocity": [[0.0, 0.0]]}},
+     "grid.foundation.velocity: must have a non-zero part tangential to contact.direction"),
+    ({"cases": [{"contact.gap": -1.0}, {"contact.friction": -1.0}]},
+     "cases: no valid case; case 0: contact.gap: must be > 0 (got -1.0)"),
+])
+def test_invalid_study_is_refused_naming_the_field(data, message):
+    with pytest.raises(StudyError) as err:
+        study_from_dict({**BASE, **data})
+    assert "\n" not in str(err.value) and str(err.value).startswith(message), str(err.value)
+
+
+def test_scene_file_and_inline_scene(tmp_path):
+    (tmp_path / "s.toml").write_text('scene = "missing.toml"\n[grid]\n"contact.gap" = [0.2]\n')
+    with pytest.raises(StudyError, match=r"^scene: scene file: .*missing.toml does not exist$"):
+        load_study(tmp_path / "s.toml")
+    (tmp_path / "s.toml").write_text('[scene]\nname = "inline"\n[scene.geometry]\nkind = "strip"\n'
+                                     '[grid]\n"contact.gap" = [0.1, 0.2]\n')
+    s = load_study(tmp_path / "s.toml")
+    assert s.name == "s" and s.base.name == "inline" and [c.scene.contact.gap for c in s.cases] == [0.1, 0.2]
+
+
+def test_cli_refuses_invalid_study_before_running(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text(f'scene = "{PAPER}"\n[grid]\n"contact.frictoin" = [0.2, 0.4]\n')
+    done = subprocess.run([sys.executable, "-m", "ngwear.cli", "sweep", str(path), "--out", str(tmp_path / "out")],
+                          capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert done.returncode == 2 and not (tmp_path / "out").exists()
+    assert done.stderr.strip().splitlines() == [
+        "ngwear: grid.contact.frictoin: unknown key (allowed: law, stiffness, exponent, gap, friction, wear, direction)"]
+
+
+def test_shipped_studies_are_valid():
+    for path in sorted((ROOT / "geometries" / "studies").glob("*.toml")):
+        s = load_study(path)
+        assert s.cases and all(c.error is None for c in s.cases), path
