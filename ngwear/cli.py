@@ -26,7 +26,7 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--out", help="output directory (default: out/<scene name>)")
     run.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE",
                      help="override scene fields, e.g. time.steps=10 mesh.maxh=0.05")
-    run.add_argument("--no-pictures", action="store_true", help="skip the pyvista PNGs")
+    run.add_argument("--no-pictures", action="store_true", help="skip the pictures and plots (PNG)")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     ver = sub.add_parser("verify", help="convergence study (h and k) and the (H_S) check of a scene")
     ver.add_argument("scene", help="scene TOML file")
@@ -101,8 +101,8 @@ def run(args) -> int:
     result.save(out)
     pictures = []
     if not args.no_pictures and result.steps >= 0:
-        from .views.render import paper_figures
-        pictures = paper_figures(result, out)
+        from .views.pictures import write_pictures
+        pictures = write_pictures(result, out)
     summary = result.summary()
     width = max(map(len, summary))
     for key, value in summary.items():

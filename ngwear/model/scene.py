@@ -52,20 +52,27 @@ class SceneError(ValueError):
 
 @dataclass(frozen=True)
 class Kind:
-    """What a geometry kind fixes: dimension, default size, named boundaries, default clamping."""
+    """What a geometry kind fixes: dimension, default size, named boundaries, default clamping.
 
-    dim: int
-    size: tuple[float, ...]
-    boundaries: tuple[str, ...]
+    The part files (``step``, ``mesh``) fix none of these: the file gives dimension and boundaries.
+    """
+
+    dim: int | None
+    size: tuple[float, ...] | None
+    boundaries: tuple[str, ...] | None
     dirichlet: tuple[str, ...]
-    flat: bool
 
 
 KINDS = {
-    "strip": Kind(2, (3.0, 1.0), ("left", "right", "top", "contact"), ("left",), True),
-    "box": Kind(3, (1.0, 0.5, 0.5), ("left", "right", "front", "back", "top", "contact"), ("left",), True),
-    "half_disk": Kind(2, (1.0,), ("top", "contact"), ("top",), False),
+    "strip": Kind(2, (3.0, 1.0), ("left", "right", "top", "contact"), ("left",)),
+    "box": Kind(3, (1.0, 0.5, 0.5), ("left", "right", "front", "back", "top", "contact"), ("left",)),
+    "half_disk": Kind(2, (1.0,), ("top", "contact"), ("top",)),
+    "pad": Kind(3, (0.6, 1.0, 60.0, 0.15), ("contact", "back", "inner", "outer", "leading", "trailing"), ()),
+    "pin": Kind(3, (0.1, 0.3), ("contact", "back", "side"), ()),
+    "step": Kind(None, None, None, ()),
+    "mesh": Kind(None, None, None, ()),
 }
+PIN_KEYS = ("position", "end", "end_radius")
 
 
 def key(default: Any, doc: str, *, shown: str | None = None, allowed: str | None = None, **limits) -> Any:
@@ -79,23 +86,56 @@ class Section(BaseModel):
 
 
 class Geometry(Section):
-    """Body shape: ``strip`` [0,Lx]×[0,Ly] (2D), ``box`` [0,Lx]×[0,Ly]×[0,Lz] (3D), ``half_disk`` of radius R (2D)."""
+    """Body shape: a built-in kind with its ``size``, or the user's part from ``file`` (see :mod:`ngwear.model.cad`)."""
 
-    kind: Literal["strip", "box", "half_disk"] = key("strip", "body shape")
-    size: Vector | None = key(None, "`strip` [Lx, Ly], `box` [Lx, Ly, Lz], `half_disk` [R]",
-                              shown="[3, 1] / [1, 0.5, 0.5] / [1]", allowed="lengths > 0")
-    dirichlet: tuple[str, ...] | None = key(None, "clamped boundaries", shown="[left] ([top] for `half_disk`)",
-                                            allowed="named boundaries except `contact`")
+    kind: Literal["strip", "box", "half_disk", "pad", "pin", "step", "mesh"] = key(
+        "strip", "`strip` [0,Lx]×[0,Ly] (2D); `box` [0,Lx]×[0,Ly]×[0,Lz]; `half_disk` the lower half of the disk "
+        "of radius R centred at (0, R) (2D); `pad` an annular-sector brake pad r_i ≤ r ≤ r_o, |φ| ≤ angle/2, "
+        "0 ≤ z ≤ thickness (faces contact z = 0, back, inner, outer, leading φ = −angle/2, trailing); `pin` a "
+        "cylinder of radius a from z = 0 up to z = length (faces contact, back, side); `step` a STEP/IGES/BREP "
+        "file; `mesh` a Netgen .vol or Gmsh .msh file")
+    size: Vector | None = key(None, "`strip` [Lx, Ly], `box` [Lx, Ly, Lz], `half_disk` [R], `pad` [r_inner, "
+                              "r_outer, angle_deg, thickness], `pin` [a, length]; not for files",
+                              shown="[3, 1] / [1, 0.5, 0.5] / [1] / [0.6, 1, 60, 0.15] / [0.1, 0.3]",
+                              allowed="lengths > 0")
+    dirichlet: tuple[str, ...] | None = key(None, "clamped boundaries", shown="[left]; [top] (`half_disk`); [] "
+                                            "(`pad`, `pin`, files)", allowed="named boundaries except `contact`")
+    position: Vector | None = key(None, "`pin`: (x, y) of its axis on the disc", shown="(1, 0)",
+                                  allowed="2 numbers")
+    end: Literal["flat", "sphere"] | None = key(None, "`pin`: a flat end, or a spherical cap touching the disc at "
+                                                "its lowest point (curved Γ_C, initial distance d₀)", shown="flat")
+    end_radius: Number | None = key(None, "`pin` with `end = \"sphere\"`: the cap's radius R", shown="a",
+                                    allowed=">= a")
+    file: str | None = key(None, "`step`, `mesh`: the part file (relative to the scene file); its named "
+                           "boundaries, one of them `contact`", shown="—", allowed="an existing file")
+
+    @property
+    def part(self):
+        """The part file's dimension, boundaries and extent (None for the built-in kinds)."""
+        if self.file is None:
+            return None
+        from .cad import describe
+        return describe(self.file, self.kind)
 
     @property
     def dim(self) -> int:
-        return KINDS[self.kind].dim
+        return KINDS[self.kind].dim or self.part.dim
+
+    @property
+    def boundaries(self) -> tuple[str, ...]:
+        return KINDS[self.kind].boundaries or self.part.boundaries
+
+    @property
+    def extent(self) -> float:
+        """The part's largest dimension (the bound of ``mesh.maxh``)."""
+        return _extent(self.kind, self.size, self.part)
 
 
 class MeshSpec(Section):
     """Netgen mesh size, polynomial order, refinement of Γ_C and grading."""
 
-    maxh: Number = key(0.1, "Netgen's largest element size", allowed="(0, largest of geometry.size]")
+    maxh: Number | None = key(None, "Netgen's largest element size (not for `geometry.kind = \"mesh\"`)",
+                              shown="0.1; a tenth of a file's part", allowed="(0, size of the part]")
     order: Whole = key(1, "polynomial order", ge=1, le=2, allowed="1, 2 (2 in 2D only)")
     contact_maxh: Number | None = key(None, "mesh size on Γ_C; for `half_disk` on the arc within "
                                       "`mesh.contact_zone` of its lowest point", shown="`mesh.maxh`",
@@ -274,11 +314,22 @@ class Scene(BaseModel):
             return data
         data = {name: dict(v) if isinstance(v, dict) else v for name, v in data.items()}
         g = data.get("geometry", {})
+        if isinstance(g, dict) and "shape" in g:
+            _store_shape(g)
         kind = KINDS.get(g.get("kind", "strip")) if isinstance(g, dict) else None
         if kind is None:
             return data
-        dim = kind.dim
-        _default(data, "geometry", "size", list(kind.size))
+        part = _part(g)
+        dim = kind.dim or (part.dim if part else 3)
+        if kind.size is not None:
+            _default(data, "geometry", "size", list(kind.size))
+        if g.get("kind") == "pin":
+            _default(data, "geometry", "position", [1.0, 0.0])
+            _default(data, "geometry", "end", "flat")
+            if g["end"] == "sphere" and isinstance(g.get("size"), list) and g["size"]:
+                _default(data, "geometry", "end_radius", g["size"][0])
+        if g.get("kind") != "mesh":
+            _default(data, "mesh", "maxh", 0.1 if part is None else float(f"{part.extent / 10:.2g}"))
         _default(data, "geometry", "dirichlet", list(kind.dirichlet))
         _default(data, "contact", "direction", [0.0] * (dim - 1) + [-1.0])
         _default(data, "foundation", "velocity", [1.0] + [0.0] * (dim - 1))
@@ -318,6 +369,9 @@ def load_scene(path: str | Path) -> Scene:
     except tomllib.TOMLDecodeError as err:
         raise SceneError(f"scene file: {path} is not valid TOML ({err})") from None
     data.setdefault("name", path.stem)
+    geometry = data.get("geometry")
+    if isinstance(geometry, dict) and isinstance(geometry.get("file"), str):
+        geometry["file"] = str(path.parent / Path(geometry["file"]).expanduser())   # relative to the scene file
     return Scene.from_dict(data)
 
 
@@ -372,6 +426,43 @@ def reference_table() -> str:
     for section, model in SECTIONS.items():
         table(model, f"{section}.")
     return "\n".join(rows)
+
+
+# ---------------------------------------------------------------- part kinds
+
+
+def _store_shape(g: dict) -> None:
+    """``geometry.shape`` (a netgen.occ shape or a mesh, Python only) becomes a cached part file."""
+    from .cad import PartError, store
+    try:
+        g["kind"], g["file"] = store(g.pop("shape"))
+    except PartError as err:
+        raise SceneError(str(err)) from None
+    g.pop("size", None)
+
+
+def _part(g: dict):
+    """The described part file of a raw ``[geometry]`` table (None for built-in kinds); resolves its path."""
+    if g.get("kind") not in ("step", "mesh"):
+        return None
+    file = g.get("file")
+    if not isinstance(file, str) or not file:
+        raise SceneError(f"geometry.file: must name a file for geometry.kind = {g['kind']!r} (got {file!r})")
+    from .cad import PartError, describe
+    g["file"] = str(Path(file).expanduser().resolve())
+    try:
+        return describe(g["file"], g["kind"])
+    except PartError as err:
+        raise SceneError(f"geometry.file: {err}") from None
+
+
+def _extent(kind: str, size, part) -> float:
+    """The part's largest dimension: of the file, or of the built-in shape from its size."""
+    if part is not None:
+        return part.extent
+    if kind == "pad":
+        return max(size[1], size[3])
+    return max(size)
 
 
 # ---------------------------------------------------------------- messages from declarations
@@ -478,7 +569,7 @@ def _raw(data: Any, dotted: str) -> Any:
 def _dim_of(data: Any) -> int | None:
     g = data.get("geometry") if isinstance(data, dict) else None
     kind = KINDS.get(g.get("kind", "strip")) if isinstance(g, dict) else KINDS["strip"]
-    return kind.dim if kind else None
+    return kind.dim if kind and kind.dim else None
 
 
 def _what(info: FieldInfo, name: str, data: Any) -> tuple[str, str]:
@@ -501,15 +592,16 @@ def _what(info: FieldInfo, name: str, data: Any) -> tuple[str, str]:
         if get_args(base)[0] is str:
             return "a list of boundary names", ""
         kind = KINDS.get(_raw(data, "geometry.kind") or "strip")
-        count = len(kind.size) if name == "geometry.size" and kind else _dim_of(data)
+        sizes = {"geometry.size": len(kind.size) if kind and kind.size else None, "geometry.position": 2}
+        count = sizes.get(name, _dim_of(data))
         return (f"a list of {count} numbers" if count else "a list of numbers"), ""
     return ("a whole number" if base is int else "a number"), rng
 
 
 def _maxh_range(data: Any) -> str:
-    size = _raw(data, "geometry.size")
-    if isinstance(size, list) and size and all(isinstance(v, (int, float)) for v in size):
-        return range_text(0, max(size), lo_open=True)
+    kind, size = _raw(data, "geometry.kind") or "strip", _raw(data, "geometry.size")
+    if kind in KINDS and isinstance(size, list) and size and all(isinstance(v, (int, float)) for v in size):
+        return range_text(0, _extent(kind, size, None), lo_open=True)
     return "> 0"
 
 
@@ -543,29 +635,66 @@ def _message(err: dict, data: Any) -> str:
 
 def _check_geometry(scene: Scene) -> None:
     g, m, kind = scene.geometry, scene.mesh, KINDS[scene.geometry.kind]
-    if len(g.size) != len(kind.size):
-        raise SceneError(f"geometry.size: must be a list of {len(kind.size)} numbers (got {list(g.size)})")
-    if min(g.size) <= 0:
-        raise SceneError(f"geometry.size: every length must be > 0 (got {list(g.size)})")
+    _check_size(g, kind)
+    only = {"position": "pin", "end": "pin", "end_radius": "pin", "file": "step' or 'mesh"}
+    for name, owner in only.items():
+        if getattr(g, name) is not None and g.kind not in owner.split("' or '"):
+            raise SceneError(f"geometry.{name}: only for geometry.kind = '{owner}' (got kind {g.kind!r})")
+    boundaries = g.boundaries
+    if "contact" not in boundaries:
+        raise SceneError(f"geometry.file: {Path(g.file).name} has no boundary named 'contact' (its named "
+                         f"boundaries: {', '.join(boundaries) or 'none'})")
     if not g.dirichlet and scene.loads.plate is None:
         raise SceneError("geometry.dirichlet: must name at least one boundary, or give loads.plate (a rigid plate "
                          "pressed along contact.direction) to hold the body (got [])")
     for b in g.dirichlet:
-        if b not in kind.boundaries or b == "contact":
-            allowed = ", ".join(x for x in kind.boundaries if x != "contact")
+        if b not in boundaries or b == "contact":
+            allowed = ", ".join(x for x in boundaries if x != "contact")
             raise SceneError(f"geometry.dirichlet: unknown or non-Dirichlet boundary {b!r} (allowed: {allowed})")
-    if not 0 < m.maxh <= max(g.size):
-        raise SceneError(f"mesh.maxh: must be {range_text(0, max(g.size), lo_open=True)} (got {m.maxh!r})")
+    if g.kind == "mesh":
+        if m.maxh is not None or m.contact_maxh is not None or m.grading is not None:
+            raise SceneError("mesh.maxh: not used with geometry.kind = 'mesh' (the file is the mesh; leave "
+                             "mesh.maxh, mesh.contact_maxh and mesh.grading out)")
+    elif not 0 < m.maxh <= g.extent:
+        raise SceneError(f"mesh.maxh: must be {range_text(0, round(g.extent, 6), lo_open=True)} (got {m.maxh!r})")
     if m.order == 2 and scene.dim == 3:
         raise SceneError(f"mesh.order: must be in [1, 1] in 3D (got {m.order})")
     if m.contact_maxh is not None and not 0 < m.contact_maxh <= m.maxh:
         raise SceneError(f"mesh.contact_maxh: must be {range_text(0, m.maxh, lo_open=True)} (got {m.contact_maxh!r})")
     if m.contact_zone is not None:
-        if kind.flat:
+        if g.kind != "half_disk":
             raise SceneError(f"mesh.contact_zone: only for geometry.kind = 'half_disk' (got kind {g.kind!r})")
         if not 0 < m.contact_zone <= g.size[0]:
             raise SceneError(f"mesh.contact_zone: must be {range_text(0, g.size[0], lo_open=True)} "
                              f"(got {m.contact_zone!r})")
+
+
+def _check_size(g: Geometry, kind: Kind) -> None:
+    """The size of a built-in kind (lengths, the pad's sector, the pin's cap); none for a file."""
+    if kind.size is None:
+        if g.size is not None:
+            raise SceneError(f"geometry.size: not used with geometry.kind = {g.kind!r} (the file gives the shape)")
+        return
+    size = g.size
+    if len(size) != len(kind.size):
+        raise SceneError(f"geometry.size: must be a list of {len(kind.size)} numbers (got {list(size)})")
+    if min(size) <= 0:
+        raise SceneError(f"geometry.size: every length must be > 0 (got {list(size)})")
+    if g.kind == "pad" and not (size[0] < size[1] and size[2] < 360):
+        raise SceneError("geometry.size: must be [r_inner, r_outer, angle_deg, thickness] with r_inner < r_outer "
+                         f"and angle_deg < 360 (got {list(size)})")
+    if g.kind == "pin":
+        _vector(g.position, "geometry.position", 2)
+        radius, length = size
+        if g.end == "sphere":
+            if g.end_radius < radius:
+                raise SceneError(f"geometry.end_radius: must be >= the pin's radius a = {radius} (got {g.end_radius})")
+            cap = g.end_radius - math.sqrt(g.end_radius ** 2 - radius ** 2)
+            if cap >= length:
+                raise SceneError(f"geometry.size: the pin's length must exceed its cap's height {cap:.4g} (got "
+                                 f"{list(size)})")
+        elif g.end_radius is not None:
+            raise SceneError("geometry.end_radius: only for geometry.end = 'sphere'")
 
 
 def _check_material(mat: Material) -> None:
@@ -629,7 +758,7 @@ def _check_table(table, name: str, T: float) -> None:
 
 def _check_loads(scene: Scene) -> None:
     loads, g = scene.loads, scene.geometry
-    boundaries = KINDS[g.kind].boundaries
+    boundaries = g.boundaries
     for bname, vec in loads.traction.items():
         if bname not in boundaries or bname == "contact" or bname in g.dirichlet:
             allowed = ", ".join(x for x in boundaries if x != "contact" and x not in g.dirichlet)

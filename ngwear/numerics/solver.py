@@ -166,7 +166,7 @@ class CondensedSystem:
         self.plate = plate
         if plate is not None:
             reach = np.maximum(np.abs(plate.normal).max(axis=0, initial=0.0), 1e-300)
-            self.rows = np.diag(H).max(initial=1.0) / reach
+            self.rows = max(np.diag(H).max(initial=0.0), 1e-300) / reach
             contact_stiffness = (plate.normal ** 2 / np.maximum(np.diag(H), 1e-300)[:, None]).sum(axis=0)
             self.jacobian_stiffness = plate.stiffness + np.diag(np.maximum(1e-12 * contact_stiffness, 1e-300))
             self.floating = plate.stiffness[0, 0] <= 1e-9 * contact_stiffness[0]

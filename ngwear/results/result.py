@@ -163,6 +163,8 @@ class Result:
             "max_penetration": float(pen.max(initial=0.0)),
             "gap": g,
             **part,
+            **({"plate_displacement": float(self.plate_displacement[last, 0])}
+               if self.plate_displacement.shape[1] and len(self.times) else {}),
             "contact_fraction": float((self.pressure[last] > 0).mean()) if len(self.times) else 0.0,
             "active_fraction": float((self.reaction[last] > 0).mean()) if len(self.times) else 0.0,
             "newton_iterations_total": int(sum(its)),

@@ -1,7 +1,10 @@
 """Off-screen pictures of a result: the deformed body, its soft layer and the moving foundation.
 
 The picture (paper, Figs. 1–4) in the reference frame with vertical axis e_d (ν = −e_d): the body
-is drawn at X + m u(X).  The rigid foundation's surface stays at x_d = −g and moves with v*.  The
+is drawn at X + m u(X).  The rigid foundation's surface stays at x_d = −g and moves with v*: a block
+with an arrow for v*, or, for a counterface turning about an axis along ν (a brake disc), a sector
+of the disc under the part with an arc arrow for ω.  Under a rigid plate the body is coloured by
+its elastic displacement |u − δν| (the plate's translation δ moves it rigidly).  The
 soft layer is drawn on Γ_C, offset along ν: under a contact point X with displacement u, wear w and
 compression r = u_ν − d₀ − w it keeps
 
@@ -25,7 +28,7 @@ from __future__ import annotations
 import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from functools import partial, wraps
+from functools import cached_property, partial, wraps
 from pathlib import Path
 
 import ngsolve as ngs
@@ -38,7 +41,7 @@ pv.OFF_SCREEN = True
 LAYER_FIELDS = {"displacement": "wear", "wear": "wear", "pressure": "pressure"}
 TITLES = {"displacement": "displacement", "wear": "wear w", "pressure": "pressure p"}
 CMAPS = {"displacement": "viridis", "wear": "YlOrRd", "pressure": "plasma"}
-BODY_COLOR, FOUNDATION_COLOR, WORN_COLOR = "lightsteelblue", "dimgray", "white"
+BODY_COLOR, FOUNDATION_COLOR, WORN_COLOR, ARROW_COLOR = "lightsteelblue", "dimgray", "white", "white"
 CELL_TYPES = {(2, 3): pv.CellType.TRIANGLE, (3, 4): pv.CellType.TETRA}
 LAYER_CELLS = {2: pv.CellType.QUAD, 3: pv.CellType.WEDGE}
 _RENDER_THREAD = ThreadPoolExecutor(max_workers=1, thread_name_prefix="ngwear-render")
@@ -96,9 +99,9 @@ class _Picture:
 
     def __init__(self, result, steps, field: str, magnify: float, mesh: _Mesh):
         self.result, self.field, self.magnify, self.mesh = result, field, magnify, mesh
-        shown = [_vertex_displacement(result, s) for s in sorted(set(result.stored_steps) | set(steps))]
-        self.scales = _Scales.of(result, shown)
-        moved = np.array([mesh.points + magnify * u for u in shown])
+        shown = {s: _vertex_displacement(result, s) for s in sorted(set(result.stored_steps) | set(steps))}
+        self.scales = _Scales.of(result, [_elastic(result, s, u) for s, u in shown.items()])
+        moved = np.array([mesh.points + magnify * u for u in shown.values()])
         self.lo, self.hi = moved.min(axis=(0, 1)), moved.max(axis=(0, 1))
         self.point_of_vertex = np.full(len(mesh.points), -1)
         vertices = result.discretization.points.vertices
@@ -109,9 +112,9 @@ class _Picture:
         return self.result.scene.dim
 
     def body(self, step: int) -> tuple[np.ndarray, np.ndarray]:
-        """Vertices at X + m u and |u| there."""
+        """Vertices at X + m u and |u| there (|u − δν| under a plate)."""
         u = _vertex_displacement(self.result, step)
-        return self.mesh.points + self.magnify * u, np.linalg.norm(u, axis=1)
+        return self.mesh.points + self.magnify * u, np.linalg.norm(_elastic(self.result, step, u), axis=1)
 
     def layer(self, step: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Per mesh vertex: the body's surface t, the layer's bottom b, the worn part's bottom, the field (w or p).
@@ -127,6 +130,45 @@ class _Picture:
         worn = bottom + np.clip(m * wear, 0.0, m * g)[:, None] * nu
         return top, bottom, worn, getattr(result, LAYER_FIELDS[self.field])[step][at]
 
+    @cached_property
+    def disc(self) -> dict | None:
+        """The disc sector under the part when the counterface turns about an axis along ν (3D), else None.
+
+        Its radii and angles cover the contact points' with a margin; ``level`` is its surface ν·x.
+        """
+        scene, slip = self.result.scene, self.result.discretization.slip
+        nu = np.asarray(scene.contact.direction)
+        if self.dim != 3 or not slip.rotating or abs(abs(slip.axis @ nu) - 1) > 1e-9:
+            return None
+        first = np.cross(nu, np.eye(3)[np.argmin(np.abs(nu))])
+        basis = np.array([first / np.linalg.norm(first), np.cross(nu, first / np.linalg.norm(first))])
+        arms = (self.result.contact_points - slip.center) @ basis.T
+        radius, angle = np.linalg.norm(arms, axis=1), np.unwrap(np.arctan2(arms[:, 1], arms[:, 0]))
+        width = max(np.ptp(radius), 0.05 * radius.max())
+        turn = max(np.ptp(angle), 3 * width / max(radius.max(), 1e-300))
+        level = float((self.result.contact_points @ nu).max()) + scene.contact.gap
+        return {"nu": nu, "basis": basis, "level": level,
+                "center": slip.center + (level - slip.center @ nu) * nu,
+                "radii": (max(radius.min() - 0.3 * width, 0.0), radius.max() + 0.3 * width),
+                "angles": (angle.min() - 0.4 * turn, angle.max() + 0.25 * turn), "depth": 0.08 * width,
+                "free": angle.min() - 0.05 * turn}
+
+    def disc_point(self, radius, angle, below=0.0) -> np.ndarray:
+        """Points of the disc at polar coordinates about its axis, ``below`` its surface."""
+        d = self.disc
+        radius, angle, below = (a[..., None] for a in np.broadcast_arrays(radius, angle, below))
+        return d["center"] + below * d["nu"] + radius * (np.cos(angle) * d["basis"][0] + np.sin(angle) * d["basis"][1])
+
+    def foundation(self) -> pv.PolyData:
+        """The foundation's surface: the disc sector, or the block of :meth:`box`."""
+        if self.disc is None:
+            return pv.Box(self.box())
+        (r0, r1), (a0, a1) = self.disc["radii"], self.disc["angles"]
+        r, a, z = np.meshgrid(np.linspace(r0, r1, 8), np.linspace(a0, a1, 64), [0.0, self.disc["depth"]],
+                              indexing="ij")
+        xyz = self.disc_point(r, a, z)
+        return pv.StructuredGrid(*(xyz[..., k] for k in range(3))).extract_surface(algorithm="dataset_surface")
+
     def box(self) -> tuple:
         """Bounds of the foundation block: below x_d = −g, under the body at every step shown.
 
@@ -140,21 +182,49 @@ class _Picture:
                 else (x0, x1, lo[1] + 0.02 * size, hi[1] + 0.05 * size, -g - depth, -g))
 
     def view(self) -> list:
-        """Bounds the camera fits: the foundation block up to the highest point of the body."""
-        view = list(self.box())
-        view[2 * self.dim - 1] = self.hi[-1]
-        return view
+        """Bounds the camera fits: the foundation up to the highest point of the body."""
+        view = list(self.foundation().bounds)[:2 * self.dim]
+        view[2 * self.dim - 1] = max(self.hi[-1], view[2 * self.dim - 1])
+        return view if self.dim == 3 else [*view, -0.02, -0.01]
 
-    def arrow(self, step: int) -> tuple[np.ndarray, np.ndarray, float] | None:
-        """Start, v₀ s_v(t) and length of the foundation's translation arrow (None when it does not translate)."""
-        box, dim = self.box(), self.dim
-        slip = self.result.discretization.slip
-        v = np.asarray(self.result.scene.foundation.velocity) * slip.factor(self.result.times[step])
+    def motion(self, step: int) -> tuple[pv.PolyData, np.ndarray, str] | None:
+        """Arrow, label position and label of the foundation's motion at a step (None when it is at rest)."""
+        slip, t = self.result.discretization.slip, self.result.times[step]
+        factor = slip.factor(t)
+        if factor == 0 or not (slip.rotating or np.any(self.result.scene.foundation.velocity)):
+            return None
+        if self.disc is not None:
+            return self._arc(factor * np.asarray(slip.omega))
+        # v* where Γ_C is, at its contact point nearest to the centroid (the translation v₀ s_v if no ω)
+        nearest = np.argmin(np.linalg.norm(slip.points - slip.points.mean(axis=0), axis=1))
+        v = slip.velocity(t)[nearest]
         if not v.any():
             return None
+        box, dim = self.box(), self.dim
         size, top, bottom = box[1] - box[0], box[2 * dim - 1], box[2 * dim - 2]
         start = np.array([box[0] + 0.05 * size, box[2] - 1e-3, top + 0.7 * (bottom - top)])
-        return (start if dim == 3 else start[[0, 2, 1]] * (1, 1, 0)), v, 0.2 * size
+        start = start if dim == 3 else start[[0, 2, 1]] * (1, 1, 0)
+        direction = _xyz(v[None])[0] / np.linalg.norm(v)
+        arrow = pv.Arrow(start=start, direction=direction, scale=0.2 * size, shaft_radius=0.04, tip_radius=0.1)
+        label = "rigid foundation, v* = (" + ", ".join(f"{c:.3g}" for c in v) + ")"
+        return arrow, start + 0.22 * size * direction, label
+
+    def _arc(self, omega: np.ndarray) -> tuple[pv.PolyData, np.ndarray, str]:
+        """An arc arrow on the disc in front of the part (the free band of angles below it), turning as ω does."""
+        d = self.disc
+        (r0, r1), (a0, _) = d["radii"], d["angles"]
+        sense = np.sign(omega @ d["nu"])     # angles turn from e1 to e2 = ν × e1, i.e. counter-clockwise about ν
+        start, end = a0 + 0.1 * (d["free"] - a0), d["free"]
+        start, end = (start, end) if sense > 0 else (end, start)
+        path = self.disc_point(0.5 * (r0 + r1), np.linspace(start, end, 40), -0.02 * (r1 - r0))
+        thickness = 0.02 * (r1 - r0)
+        tip = path[-1] + 6 * thickness * (path[-1] - path[-2]) / np.linalg.norm(path[-1] - path[-2])
+        head = pv.Cone(center=0.5 * (path[-1] + tip), direction=tip - path[-1], height=np.linalg.norm(tip - path[-1]),
+                       radius=2.5 * thickness, resolution=24)
+        arrow = pv.lines_from_points(path).tube(radius=thickness, n_sides=12).merge(head)
+        arrow = arrow.extract_surface(algorithm="dataset_surface")
+        label = f"disc, omega = {np.linalg.norm(omega):.3g} rad/s"
+        return arrow, path[len(path) // 2] - 0.15 * (r1 - r0) * d["nu"], label
 
     def caption(self, step: int) -> str:
         return f"t = {self.result.times[step]:.2f} (step {step})"
@@ -248,10 +318,10 @@ class Canvas:
                 line_width=0.5, scalar_bar_args=_bar(TITLES[name], int(self.field == "displacement"), width),
                 **lit)
             pl.add_mesh(parts["worn"].grid, color=WORN_COLOR, opacity=0.5, **lit)
-        parts["box"] = pv.Box(picture.box())
-        pl.add_mesh(parts["box"], color=FOUNDATION_COLOR, **lit)
+        parts["foundation"] = picture.foundation()
+        pl.add_mesh(parts["foundation"], color=FOUNDATION_COLOR, **lit)
         parts["arrow"] = pv.Arrow()
-        parts["arrow_actor"] = pl.add_mesh(parts["arrow"], color="white", **lit)
+        parts["arrow_actor"] = pl.add_mesh(parts["arrow"], color=ARROW_COLOR, **lit)
         parts["label"] = pv.PolyData(np.zeros((1, 3)))
         parts["label"].point_data["label"] = np.array([""])
         parts["label_actor"] = pl.add_point_labels(
@@ -277,19 +347,16 @@ class Canvas:
             parts["layer"].update(top, bottom, {name: values})
             parts["worn"].update(bottom, worn, {})
             parts["layer_actor"].mapper.scalar_range = (0, getattr(scales, name))
-        parts["box"].copy_from(pv.Box(picture.box()))
-        arrow = picture.arrow(step)
-        parts["arrow_actor"].visibility = parts["label_actor"].visibility = arrow is not None
-        if arrow is not None:
-            start, v, length = arrow
-            direction = _xyz(v[None])[0] / np.linalg.norm(v)
-            parts["arrow"].copy_from(pv.Arrow(start=start, direction=direction, scale=length,
-                                              shaft_radius=0.04, tip_radius=0.1))
-            parts["label"].points = (start + 1.1 * length * direction)[None]
-            parts["label"].point_data["label"] = np.array(
-                ["rigid foundation, v* = (" + ", ".join(f"{c:.3g}" for c in v) + ")"])
+        parts["foundation"].copy_from(picture.foundation())
+        motion = picture.motion(step)
+        parts["arrow_actor"].visibility = parts["label_actor"].visibility = motion is not None
+        if motion is not None:
+            arrow, where, label = motion
+            parts["arrow"].copy_from(arrow)
+            parts["label"].points = np.asarray(where)[None]
+            parts["label"].point_data["label"] = np.array([label])
         parts["caption"].SetInput(picture.caption(step))
-        _camera(self._plotter, picture.dim, picture.view(), self.window_size)
+        _camera(self._plotter, picture.dim, picture.view(), self.window_size, picture.disc is not None)
 
 
 def frame(result, step: int, *, field: str = "displacement", magnify: float = 1.0,
@@ -381,6 +448,13 @@ def quartile_steps(result) -> list[int]:
 # ---------------------------------------------------------------- fields on the picture's points
 
 
+def _elastic(result, step: int, u: np.ndarray) -> np.ndarray:
+    """The displacement without the plate's translation, u − δν (u itself without a plate)."""
+    if not result.plate_displacement.shape[1]:
+        return u
+    return u - result.plate_displacement[step, 0] * np.asarray(result.scene.contact.direction)
+
+
 def _vertex_displacement(result, step: int) -> np.ndarray:
     """Displacement at every mesh vertex, shape (nv, d): each component's vertex DOFs (0 off the body)."""
     gf = result.discretization.gridfunction(result.displacement(step))
@@ -439,17 +513,20 @@ def _bar(title: str, slot: int, width: int) -> dict:
     """A vertical scalar bar at the right edge of a window ``width`` pixels wide; slot 0 outermost."""
     scale = min(1.0, width / 1200)
     return dict(title=title, vertical=True, position_x=0.93 - 0.1 * slot, position_y=0.3, width=0.03,
-                height=0.6, color="black", fmt="%.3f", n_labels=5, title_font_size=round(16 * scale),
+                height=0.6, color="black", fmt="%.3g", n_labels=5, title_font_size=round(16 * scale),
                 label_font_size=round(13 * scale))
 
 
-def _camera(pl: pv.Plotter, dim: int, bounds, window_size) -> None:
-    """Fit the scene into the left ~80 % of the window (room for the scalar bars on the right)."""
+def _camera(pl: pv.Plotter, dim: int, bounds, window_size, disc: bool = False) -> None:
+    """Fit the scene into the left ~80 % of the window (room for the scalar bars on the right).
+
+    A part on a disc is seen from higher up, so that the disc's arc arrow shows.
+    """
     if dim == 3:
         pl.view_xz()
-        pl.camera.azimuth, pl.camera.elevation = -25, 20
+        pl.camera.azimuth, pl.camera.elevation = -25, 35 if disc else 20
         pl.reset_camera(bounds=bounds)
-        pl.camera.zoom(1.1)
+        pl.camera.zoom(1.25 if disc else 1.1)
         return
     lo, hi = np.array(bounds[::2]), np.array(bounds[1::2])
     aspect = window_size[0] / window_size[1]

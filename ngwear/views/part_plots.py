@@ -1,0 +1,102 @@
+"""Plots a brake or pin-on-disc engineer reads off a run (matplotlib, no display needed).
+
+``contact_maps``: the contact face Γ_C seen from above (projected on the plane ⟂ ν), coloured by the
+pressure p and by the wear depth w at chosen steps (a 3D result).  ``history``: the normal force, the
+friction torque about the counterface's axis, the worn volume and the plate's displacement over
+time.  ``pressure_radius``: p·r against the distance r from the axis at a few steps, with its mean:
+under a rigid backing plate a worn-in pad wears evenly, so p·r tends to a constant.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import ngsolve as ngs
+import numpy as np
+from matplotlib.figure import Figure
+from matplotlib.tri import Triangulation
+
+from ..model.kinematics import Slip
+from .plots import _sampled, _save
+
+FIELDS = {"pressure": ("pressure p", "plasma"), "wear": ("wear depth w", "YlOrRd")}
+
+
+def _plane(nu: np.ndarray) -> np.ndarray:
+    """Two orthonormal vectors of the plane ⟂ ν, the first along x where it can be: (x, y) for ν = ±e_z."""
+    first = np.eye(3)[0] - nu[0] * nu
+    if np.linalg.norm(first) < 1e-9:
+        first = np.eye(3)[1] - nu[1] * nu
+    first /= np.linalg.norm(first)
+    second = np.cross(-nu if nu[2] <= 0 else nu, first)
+    return np.array([first, second])
+
+
+def _triangulation(result) -> Triangulation:
+    """The Γ_C facets between the contact points at their vertices, projected on the plane ⟂ ν."""
+    disc = result.discretization
+    at = np.full(disc.mesh.nv, -1)
+    vertices = disc.points.vertices
+    at[vertices[vertices >= 0]] = np.flatnonzero(vertices >= 0)
+    facets = np.array([[at[v.nr] for v in el.vertices] for el in disc.mesh.Elements(ngs.BND) if el.mat == "contact"])
+    xy = result.contact_points @ _plane(np.asarray(result.scene.contact.direction)).T
+    return Triangulation(xy[:, 0], xy[:, 1], facets)
+
+
+def contact_maps(result, path, steps=None, fields=("pressure", "wear")) -> Path:
+    """Γ_C from above coloured by each of ``fields`` (rows) at ``steps`` (columns; default 4 of the run)."""
+    if result.scene.dim != 3:
+        raise ValueError("contact maps need a 3D result (in 2D, Γ_C is a line: see plots.wear_profiles)")
+    steps = [s for s, _ in _sampled(result, 4)] if steps is None else [range(result.steps + 1)[s] for s in steps]
+    tri = _triangulation(result)
+    aspect = np.clip(np.ptp(tri.x) / max(np.ptp(tri.y), 1e-300), 0.35, 3.0)
+    fig = Figure(figsize=((2.6 * aspect + 0.6) * len(steps) + 1, 3.0 * len(fields)), layout="constrained")
+    axes = np.atleast_2d(fig.subplots(len(fields), len(steps), squeeze=False))
+    for row, name in zip(axes, fields):
+        label, cmap = FIELDS[name]
+        values = getattr(result, name)
+        top = max(float(values[steps].max()), 1e-300)
+        for ax, step in zip(row, steps):
+            shaded = ax.tripcolor(tri, values[step], shading="gouraud", cmap=cmap, vmin=0.0, vmax=top)
+            ax.set_aspect("equal")
+            ax.set_title(f"{label}, t = {result.times[step]:.4g}", fontsize=9)
+            ax.tick_params(labelsize=7)
+        fig.colorbar(shaded, ax=row.tolist(), shrink=0.9, format="%.3g")
+    fig.suptitle(f"{result.scene.name}: contact face from above", fontsize=10)
+    return _save(fig, path)
+
+
+def history(result, path) -> Path:
+    """Normal force, friction torque, worn volume and (with a plate) its displacement over time."""
+    panels = [("normal force Σ m (p + λ)", result.normal_force), ("friction torque T (< 0: braking)", result.torque),
+              ("worn volume Σ m w", result.wear_volume)]
+    if result.plate_displacement.shape[1]:
+        panels.append(("plate displacement δ along ν", result.plate_displacement[:, 0]))
+    fig = Figure(figsize=(3.4 * len(panels), 3.0), layout="constrained")
+    for ax, (title, values) in zip(fig.subplots(1, len(panels)), panels):
+        ax.plot(result.times, values, color="C0")
+        ax.set(xlabel="time t", title=title)
+        ax.title.set_fontsize(9)
+        ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 4))
+    fig.suptitle(result.scene.name, fontsize=10)
+    return _save(fig, path)
+
+
+def pressure_radius(result, path, count: int = 4) -> Path:
+    """p·r against r (the distance from the axis) at ``count`` steps: flat once the pad is worn in."""
+    slip = Slip(result.scene.foundation, result.contact_points, result.scene.contact.direction)
+    arm = result.contact_points - slip.center
+    axis = np.asarray(slip.axis, dtype=float)
+    radius = np.linalg.norm(arm - np.outer(arm @ axis, axis), axis=1) if axis.ndim else np.linalg.norm(arm, axis=1)
+    fig = Figure(figsize=(6.5, 4), layout="constrained")
+    ax = fig.add_subplot()
+    for step, colour in _sampled(result, count):
+        pr = result.pressure[step] * radius
+        touching = result.pressure[step] > 0
+        ax.plot(radius[touching], pr[touching], ".", ms=3, color=colour, label=f"t = {result.times[step]:.4g}")
+        mean = pr[touching] @ result.weights[touching] / max(result.weights[touching].sum(), 1e-300)
+        ax.axhline(mean, color=colour, lw=0.8, ls="--")
+    ax.set(xlabel="distance r from the axis", ylabel="p · r",
+           title=f"{result.scene.name}: p·r over Γ_C (dashed: its mean; worn in: constant)")
+    ax.title.set_fontsize(9)
+    ax.legend(fontsize=8)
+    return _save(fig, path)

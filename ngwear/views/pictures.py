@@ -1,0 +1,25 @@
+"""Every picture a run gets: what ``ngwear run`` writes beside its results.
+
+The paper's four frames (Figs. 1–4) of the body, its layer and the foundation; the wear and the
+pressure along Γ_C (2D) or maps of the contact face (3D); the normal force, torque, worn volume and
+plate displacement over time; and for a turning counterface p·r against the radius.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from . import part_plots, plots, render
+
+
+def write_pictures(result, out_dir) -> list[Path]:
+    """Write the pictures that fit the result's scene into ``out_dir``; their paths."""
+    out = Path(out_dir)
+    paths = render.paper_figures(result, out)
+    if result.scene.dim == 2:
+        paths += [plots.wear_profiles(result, out / "wear.png"), plots.pressure_history(result, out / "pressure.png")]
+    else:
+        paths.append(part_plots.contact_maps(result, out / "contact_maps.png"))
+    paths.append(part_plots.history(result, out / "history.png"))
+    if result.discretization.slip.rotating:
+        paths.append(part_plots.pressure_radius(result, out / "pressure_radius.png"))
+    return paths
