@@ -7,7 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-PAPER = Path(__file__).resolve().parents[1] / "geometries" / "paper_strip.toml"
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = ROOT / "geometries" / "paper_strip.toml"
 SCRIPT = Path(sys.executable).with_name("ngwear")
 COMMAND = [str(SCRIPT)] if SCRIPT.exists() else [sys.executable, "-m", "ngwear.cli"]
 
@@ -78,3 +79,21 @@ def test_tiny_run(tmp_path):
     assert scene["time"]["steps"] == 4 and scene["mesh"]["maxh"] == 0.25
     data = np.load(out / "result.npz")
     assert data["wear"].shape[0] == 5 and float(data["wear"].max()) == pytest.approx(float(summary["max_wear"]), rel=1e-3)
+
+
+def test_brake_pad_run_writes_results_maps_and_plots(tmp_path):
+    """The shipped brake pad at a coarse mesh: summary lines of the part, result keys and the pictures."""
+    out = tmp_path / "pad"
+    proc = ngwear("run", ROOT / "geometries" / "brake_pad.toml", "--set", "mesh.maxh=0.012", "time.steps=20",
+                  "--quiet", "--out", out, cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    summary = dict(line.split(None, 1) for line in proc.stdout.strip().splitlines())
+    assert float(summary["normal_force"]) == pytest.approx(3000, rel=1e-9)
+    assert float(summary["torque"]) < 0 and float(summary["plate_displacement"]) > 0
+    assert float(summary["contact_area"]) == pytest.approx(np.pi / 6 * (0.15 ** 2 - 0.10 ** 2), rel=0.01)
+    data = np.load(out / "result.npz")
+    for key in ("torque", "normal_force", "contact_area", "wear_volume", "plate_displacement"):
+        assert data[key].shape[0] == 21, key
+    assert data["torque"][-1] == pytest.approx(float(summary["torque"]), rel=1e-3)
+    pictures = {p.name for p in out.glob("*.png")}
+    assert {"contact_maps.png", "history.png", "pressure_radius.png", "fig4_step020.png"} <= pictures

@@ -182,3 +182,41 @@ def test_plots_are_nontrivial_pngs(plot, result, request, tmp_path):
     image = np.asarray(Image.open(path).convert("L"))
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and image.shape[1] > 600
     assert (image < 128).mean() > 0.005 and image.std() > 20
+
+
+@pytest.fixture(scope="module")
+def pad():
+    """The shipped brake pad, coarse and short: a part under a plate on a disc turning about z."""
+    scene = ngwear.load_scene(PAPER.parent / "brake_pad.toml").replace(**{"mesh.maxh": 0.012, "time.steps": 12})
+    return ngwear.simulate(scene, progress=False)
+
+
+def test_part_on_a_disc_sector_with_an_arc_arrow(pad):
+    picture = render.frame(pad, -1, window_size=(600, 300)).astype(int)
+    grey = (np.ptp(picture, axis=-1) < 10) & (picture[..., 0] > 40) & (picture[..., 0] < 160)   # the lit disc
+    assert picture.std() > 20 and grey.mean() > 0.05
+    with render.Canvas(window_size=(600, 300)) as canvas:
+        canvas.frame(pad, -1)
+        drawn = canvas._picture
+        disc = drawn.disc
+        radii = np.linalg.norm(pad.contact_points[:, :2], axis=1)
+        assert disc["radii"][0] < radii.min() < radii.max() < disc["radii"][1]
+        assert np.allclose(drawn.foundation().bounds[5], -pad.scene.contact.gap, atol=1e-12)   # top at −g
+        arrow, _, label = drawn.motion(len(pad.times) - 1)
+        assert label == "disc, omega = 50 rad/s" and arrow.n_points > 100
+        assert "|u − δν|" in drawn.body.__doc__
+
+
+def test_part_plots(pad, tmp_path):
+    from ngwear.views import part_plots
+    paths = [part_plots.contact_maps(pad, tmp_path / "maps.png", steps=[0, -1]),
+             part_plots.history(pad, tmp_path / "history.png"),
+             part_plots.pressure_radius(pad, tmp_path / "pr.png")]
+    images = [np.asarray(Image.open(p).convert("RGB")) for p in paths]
+    assert all(im.std() > 20 for im in images)
+    maps = images[0]
+    assert near_cmap(maps, "plasma", 0.5, 1.0).sum() > 1000 and near_cmap(maps, "YlOrRd", 0.5, 1.0).sum() > 1000
+    with pytest.raises(ValueError, match="3D"):
+        part_plots.contact_maps(ngwear.simulate(ngwear.load_scene(PAPER).replace(**{"mesh.maxh": 0.5,
+                                                                                   "time.steps": 2}),
+                                                progress=False), tmp_path / "2d.png")
