@@ -68,7 +68,7 @@ def verify(args) -> int:
     h0 = scene.mesh.maxh
     hs, h_ref = ([4 * h0, 2 * h0, h0], h0 / 2) if args.quick else ([8 * h0, 4 * h0, 2 * h0, h0], h0 / 4)
     steps = [10, 20, 40] if args.quick else [10, 20, 40, 80]
-    base = scene.replace(**{"time.steps": 20, "output.every": 20})
+    base = scene.replace(**{"time.steps": 20, "output.every": 1.0})
     h_rows = study.h_study(base, hs, h_ref)
     sections = [f"# Convergence of {scene.name}\n",
                 f"{smallness(Discretization(scene)).message()}\n",

@@ -21,7 +21,7 @@ FORCE = 0.05
 def pressed():
     """The 3D box held only by a plate on its top face, pressed with F = 0.05 onto the moving foundation."""
     return ngwear.load_scene(BOX).replace(**{
-        "mesh.maxh": 0.2, "time.steps": 20, "output.every": 20, "geometry.dirichlet": [], "loads.traction": {},
+        "mesh.maxh": 0.2, "time.steps": 20, "output.every": 1.0, "geometry.dirichlet": [], "loads.traction": {},
         "loads.plate": {"boundary": "top", "force": [0.0, 0.0, -FORCE]}})
 
 
@@ -38,7 +38,7 @@ def test_force_balance_at_every_step(pressed):
 
 def test_a_stiff_body_is_a_rigid_punch_on_the_layer(pressed):
     scene = pressed.replace(**{"material": {"young": 1e7, "poisson": 0.3}, "contact.wear": 0.0,
-                               "contact.friction": 0.0, "time.steps": 2, "output.every": 2})
+                               "contact.friction": 0.0, "time.steps": 2, "output.every": 1.0})
     result = ngwear.simulate(scene, progress=False)
     area, stiffness = 1.0 * 0.5, scene.contact.stiffness
     assert result.pressure[-1] == pytest.approx(np.full(len(result.weights), FORCE / area), rel=1e-5)
@@ -62,7 +62,7 @@ def test_tilt_frees_the_plate_of_the_friction_couple(pressed, tilt):
     mu, h = 0.5, 0.5
     scene = pressed.replace(**{"material": {"young": 1e7, "poisson": 0.3}, "contact.wear": 0.0,
                                "contact.friction": mu, "loads.plate.tilt": tilt, "time.steps": 2,
-                               "output.every": 2})
+                               "output.every": 1.0})
     result = ngwear.simulate(scene, progress=False)
     assert result.completed
     expected = -mu * FORCE * h if tilt else 0.0
@@ -74,10 +74,10 @@ def test_tilt_frees_the_plate_of_the_friction_couple(pressed, tilt):
     {"loads.plate.tilt": True, "foundation.angular_velocity": [0, 0, 1.0], "foundation.center": [0.5, -1.0, 0]},
     {"geometry.dirichlet": ["left"]},
     {"contact.law": "power", "contact.exponent": 2.0, "contact.stiffness": 200.0, "wear.integrator": "explicit",
-     "time.steps": 60, "output.every": 60},
+     "time.steps": 60, "output.every": 1.0},
 ], ids=["tilt-rotation", "clamped-too", "power-law"])
 def test_full_system_agrees(pressed, changes):
-    scene = pressed.replace(**{"time.steps": 6, "output.every": 6, **changes})
+    scene = pressed.replace(**{"time.steps": 6, "output.every": 1.0, **changes})
     fast = ngwear.simulate(scene, progress=False)
     full = ngwear.simulate(scene.replace(**{"solver.method": "full"}), progress=False)
     assert fast.completed and full.completed
@@ -92,7 +92,7 @@ def test_worn_away_contact_is_found_again(pressed):
 
     With k α L = 1.5 the explicit update wears past the surface and every point leaves contact.
     """
-    scene = pressed.replace(**{"time.steps": 10, "output.every": 10})
+    scene = pressed.replace(**{"time.steps": 10, "output.every": 1.0})
     result = ngwear.simulate(scene, progress=False)
     assert result.completed
     assert max(r.iterations for r in result.newton) <= 8
@@ -100,15 +100,15 @@ def test_worn_away_contact_is_found_again(pressed):
 
 
 def test_plate_in_2d_with_tilt(paper_scene):
-    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 10, "output.every": 10, "geometry.dirichlet": [],
+    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 10, "output.every": 1.0, "geometry.dirichlet": [],
                                    "loads.traction": {}, "contact.friction": 0.3,
                                    "loads.plate": {"boundary": "top", "force": [0.0, -0.3], "tilt": True}})
     result = ngwear.simulate(scene, progress=False)
     assert result.completed and result.plate_displacement.shape == (11, 2)
     assert np.abs(result.normal_force - 0.3).max() < 1e-10
-    full = ngwear.simulate(scene.replace(**{"solver.method": "full", "time.steps": 3, "output.every": 3}),
+    full = ngwear.simulate(scene.replace(**{"solver.method": "full", "time.steps": 3, "output.every": 1.0}),
                            progress=False)
-    fast = ngwear.simulate(scene.replace(**{"time.steps": 3, "output.every": 3}), progress=False)
+    fast = ngwear.simulate(scene.replace(**{"time.steps": 3, "output.every": 1.0}), progress=False)
     assert np.abs(full.wear - fast.wear).max() < 1e-9
 
 

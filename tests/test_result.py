@@ -8,7 +8,7 @@ from ngwear.results.result import ARRAYS
 
 @pytest.fixture(scope="module")
 def small(paper_scene):
-    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 8, "output.every": 4})
+    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 8, "output.every": 0.5})
     return ngwear.simulate(scene, progress=False)
 
 

@@ -17,7 +17,7 @@ BOX = ROOT / "geometries" / "box3d.toml"
 
 @pytest.fixture(scope="module")
 def box():
-    return ngwear.load_scene(BOX).replace(**{"mesh.maxh": 0.2, "time.steps": 20, "output.every": 20})
+    return ngwear.load_scene(BOX).replace(**{"mesh.maxh": 0.2, "time.steps": 20, "output.every": 1.0})
 
 
 def spun(scene, radius, **extra):
@@ -98,7 +98,7 @@ def test_speed_reversal_flips_the_friction_direction(box):
 
 
 def test_full_system_agrees_on_a_rotating_counterface(box):
-    scene = spun(box, 1.0, **{"foundation.center": [0.2, 0.1, 0.0], "time.steps": 4, "output.every": 4})
+    scene = spun(box, 1.0, **{"foundation.center": [0.2, 0.1, 0.0], "time.steps": 4, "output.every": 1.0})
     fast = ngwear.simulate(scene, progress=False)
     full = ngwear.simulate(scene.replace(**{"solver.method": "full"}), progress=False)
     assert fast.completed and full.completed
@@ -108,7 +108,7 @@ def test_full_system_agrees_on_a_rotating_counterface(box):
 
 def test_rotation_in_2d(paper_scene):
     """The strip on top of a wheel of radius 50 turning clockwise (ω = −1/50): close to the paper's translation."""
-    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 20, "output.every": 20})
+    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 20, "output.every": 1.0})
     straight = ngwear.simulate(scene, progress=False)
     wheel = ngwear.simulate(scene.replace(**{"foundation.velocity": [0.0, 0.0], "foundation.angular_velocity": -0.02,
                                              "foundation.center": [1.5, -50.0]}),

@@ -179,10 +179,12 @@ TOML_CASES = [
      + '\n[solver]\nmethod = "full"\n', "solver.method", "only wear.integrator = 'explicit'"),
     ("tolerance-too-large", BASE + "\n[solver]\ntolerance = 0.5\n", "solver.tolerance", "in [1e-15, 0.01]"),
     ("max-iterations-zero", BASE + "\n[solver]\nmax_iterations = 0\n", "solver.max_iterations", "[1, 10000]"),
-    ("output-every-zero", BASE + "\n[output]\nevery = 0\n", "output.every", ">= 1"),
+    ("output-every-zero", BASE + "\n[output]\nevery = 0\n", "output.every", "a time in (0, time.T] = (0, 1.0]"),
+    ("output-every-steps", BASE + "\n[output]\nevery = 25\n", "output.every", "a time in (0, time.T]"),
+    ("name-path", edit('name = "base"', 'name = "../../../x"'), "name", "not a path"),
     ("section-not-table", edit('name = "base"', 'name = "base"\nwear = "explicit"', '[wear]\nintegrator = "explicit"', ""),
      "wear", "must be a table"),
-    ("name-empty", edit('name = "base"', 'name = ""'), "name", "non-empty string"),
+    ("name-empty", edit('name = "base"', 'name = ""'), "name", "a plain name"),
 ]
 
 

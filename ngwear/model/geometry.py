@@ -207,23 +207,35 @@ def _check_complete(mesh: ngs.Mesh, measure: float) -> None:
 
 
 def build_mesh(scene: Scene, use_cache: bool = True) -> ngs.Mesh:
-    """Mesh the scene's body, reusing the on-disk cache when possible (a mesh file is read as it is)."""
+    """Mesh the scene's body, reusing the on-disk cache when possible (a mesh file is read as it is).
+
+    A new mesh is returned as read back from its file: the file stores the vertices to the last bit
+    that reading restores, so a first run, a cached run and a run resumed from its output folder's
+    ``mesh.vol`` compute on the same numbers.
+    """
     g, m = scene.geometry, scene.mesh
     if g.kind == "mesh":
         return ngs.Mesh(read_mesh(g.file))
     path = cache_dir() / "meshes" / f"{mesh_key(scene)}.vol"
-    if use_cache and path.is_file():
-        ngmesh = netgen.meshing.Mesh(dim=g.dim)
-        ngmesh.Load(str(path))
-        return ngs.Mesh(ngmesh)
-    shape = SHAPES[g.kind](g, m)
-    options = {"grading": m.grading} if m.grading is not None else {}
-    ngmesh = OCCGeometry(shape, dim=g.dim).GenerateMesh(maxh=m.maxh, **options)
-    parts = shape.faces if g.dim == 2 else shape.solids
-    _check_complete(ngs.Mesh(ngmesh), sum(part.mass for part in parts))
-    if use_cache:
+    if not (use_cache and path.is_file()):
+        shape = SHAPES[g.kind](g, m)
+        options = {"grading": m.grading} if m.grading is not None else {}
+        ngmesh = OCCGeometry(shape, dim=g.dim).GenerateMesh(maxh=m.maxh, **options)
+        parts = shape.faces if g.dim == 2 else shape.solids
+        _check_complete(ngs.Mesh(ngmesh), sum(part.mass for part in parts))
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(f".{os.getpid()}.tmp.vol")
         ngmesh.Save(str(tmp))
+        if not use_cache:
+            mesh = load_mesh(tmp, g.dim)
+            tmp.unlink()
+            return mesh
         tmp.replace(path)
+    return load_mesh(path, g.dim)
+
+
+def load_mesh(path, dim: int) -> ngs.Mesh:
+    """A Netgen ``.vol`` mesh file as an NGSolve mesh."""
+    ngmesh = netgen.meshing.Mesh(dim=dim)
+    ngmesh.Load(str(path))
     return ngs.Mesh(ngmesh)

@@ -223,10 +223,15 @@ class Loads(Section):
 
 
 class TimeGrid(Section):
-    """Uniform time grid t_j = j T / steps, j = 0..steps."""
+    """Time steps: uniform, t_j = j T / steps, or chosen by an error controller (``adaptive``)."""
 
     T: Number = key(1.0, "final time", gt=0)
-    steps: Whole = key(100, "number of steps N (k = T/N)", ge=1, le=1_000_000)
+    steps: Whole = key(100, "number of steps N (k = T/N); with `time.adaptive` the first step is T/N",
+                       ge=1, le=1_000_000)
+    adaptive: Flag = key(False, "choose the steps by an error estimate of the wear (see `time.tolerance`)")
+    tolerance: Number = key(1e-3, "`adaptive`: the wear error to meet at T, relative to g", gt=0, le=0.5)
+    min_step: Number | None = key(None, "`adaptive`: smallest step", shown="T·1e-8", allowed="(0, max_step]")
+    max_step: Number | None = key(None, "`adaptive`: largest step", shown="T/10", allowed="(0, T]")
 
 
 class WearSpec(Section):
@@ -247,10 +252,14 @@ class SolverSpec(Section):
 
 
 class Output(Section):
-    """Steps whose full displacement field is written and rendered: every ``every``-th and the last."""
+    """When full fields are written and rendered (by time, whatever the steps), and checkpoints."""
 
-    every: Whole | None = key(None, "steps whose full fields are written/rendered (plus the last)",
-                              shown="steps/4", ge=1)
+    every: Number | None = key(None, "time between the frames whose full fields are written and rendered "
+                               "(from t = 0, plus the last step)", shown="T/4", allowed="(0, T]")
+    times: tuple[Number, ...] | None = key(None, "the frames' times (then `output.every` is not used)", shown="—",
+                                           allowed="in [0, T], increasing")
+    checkpoint_seconds: Number = key(60.0, "wall time between checkpoints of a run with an output folder "
+                                     "(0: none)", ge=0)
 
 
 SECTIONS = {"geometry": Geometry, "mesh": MeshSpec, "material": Material, "contact": Contact,
@@ -263,7 +272,8 @@ class Scene(BaseModel):
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
-    name: str = Field("scene", min_length=1, description="name of the scene (output folder, titles)")
+    name: str = Field("scene", description="name of the scene (output folder, titles)",
+                      pattern=r"^[A-Za-z0-9][A-Za-z0-9._ -]*$", max_length=100)
     geometry: Geometry = Geometry()
     mesh: MeshSpec = MeshSpec()
     material: Material = Material()
@@ -337,9 +347,13 @@ class Scene(BaseModel):
         if isinstance(material, dict) and not {"young", "poisson"} & set(material):
             _default(data, "material", "lame_lambda", 1.0)
             _default(data, "material", "lame_mu", 1.0)
-        steps = data.get("time", {}).get("steps", 100) if isinstance(data.get("time"), dict) else 100
-        if isinstance(steps, int) and not isinstance(steps, bool) and steps >= 1:
-            _default(data, "output", "every", max(1, steps // 4))
+        final = data.get("time", {}).get("T", 1.0) if isinstance(data.get("time"), dict) else 1.0
+        if isinstance(final, (int, float)) and not isinstance(final, bool) and final > 0:
+            if not isinstance(data.get("output", {}), dict) or "times" not in data.get("output", {}):
+                _default(data, "output", "every", final / 4)
+            if isinstance(data.get("time", {}), dict) and data.get("time", {}).get("adaptive"):
+                _default(data, "time", "min_step", final * 1e-8)
+                _default(data, "time", "max_step", final / 10)
         return data
 
     @model_validator(mode="after")
@@ -349,6 +363,7 @@ class Scene(BaseModel):
         _check_contact(self)
         _check_motion(self)
         _check_loads(self)
+        _check_time(self)
         if self.solver.method == "full" and self.wear.integrator != "explicit":
             raise SceneError(f"solver.method: 'full' supports only wear.integrator = 'explicit' "
                              f"(got {self.wear.integrator!r}; use solver.method = 'condensed')")
@@ -582,6 +597,8 @@ def _what(info: FieldInfo, name: str, data: Any) -> tuple[str, str]:
         return "one of " + ", ".join(get_args(base)), ""
     if base is bool:
         return "true or false", ""
+    if name == "name":
+        return "a plain name of at most 100 letters, digits, '.', '_', '-' or spaces, not a path", ""
     if base is str:
         return "a non-empty string", ""
     if name == "loads.traction":
@@ -695,6 +712,22 @@ def _check_size(g: Geometry, kind: Kind) -> None:
                                  f"{list(size)})")
         elif g.end_radius is not None:
             raise SceneError("geometry.end_radius: only for geometry.end = 'sphere'")
+
+
+def _check_time(scene: Scene) -> None:
+    t, o = scene.time, scene.output
+    if not t.adaptive:
+        given = [k for k in ("min_step", "max_step") if getattr(t, k) is not None]
+        if given:
+            raise SceneError(f"time.{given[0]}: only with time.adaptive = true")
+    elif not 0 < t.min_step <= t.max_step <= t.T:
+        raise SceneError(f"time.max_step: must satisfy 0 < time.min_step <= time.max_step <= time.T = {t.T} "
+                         f"(got {t.min_step!r}, {t.max_step!r})")
+    if o.times is not None:
+        if not o.times or any(b <= a for a, b in zip(o.times, o.times[1:])) or o.times[0] < 0 or o.times[-1] > t.T:
+            raise SceneError(f"output.times: must be increasing times in [0, time.T] = [0, {t.T}] (got {list(o.times)})")
+    elif not 0 < o.every <= t.T:
+        raise SceneError(f"output.every: must be a time in (0, time.T] = (0, {t.T}] (got {o.every!r})")
 
 
 def _check_material(mat: Material) -> None:

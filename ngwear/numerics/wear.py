@@ -49,10 +49,10 @@ def worn(law: Compliance, a: np.ndarray, c: np.ndarray, z: np.ndarray) -> np.nda
 
 
 class WearIntegrator:
-    """Advances the nodal wear by one of the schemes of :data:`INTEGRATORS`."""
+    """Advances the nodal wear by one of the schemes of :data:`INTEGRATORS` (any step size k each step)."""
 
-    def __init__(self, name: str, law: Compliance, k: float, n: int):
-        self.law, self.k = law, k
+    def __init__(self, name: str, law: Compliance, n: int):
+        self.law = law
         self.theta_old, self.theta_new = INTEGRATORS[name]
         self.a, self.c = np.zeros(n), np.zeros(n)
 
@@ -74,15 +74,31 @@ class WearIntegrator:
         """w_j for the solved z_j."""
         return worn(self.law, self.a, self.c, z)
 
-    def advance(self, w: np.ndarray, pressure: np.ndarray, alpha: np.ndarray, alpha_next: np.ndarray) -> None:
-        """Prepare step j+1 from w_j, p_j and α_j, α_{j+1} (per contact point)."""
-        k = self.k
+    def prepare(self, w: np.ndarray, pressure: np.ndarray, alpha: np.ndarray, alpha_next: np.ndarray,
+                k: float) -> None:
+        """Prepare the step of size k from w_j, p_j and α_j, α_{j+1} (per contact point)."""
         self.a = w + self.theta_old * k * alpha * pressure if self.theta_old and alpha.any() else w
         self.c = self.theta_new * k * alpha_next
 
 
+def stable_step(scene, alpha: float) -> float:
+    """The largest step at which the wear update does not overshoot: 1/(αL_p) explicit, 2/(αL_p) trapezoidal.
+
+    L_p is the largest slope of p over [0, g]; ``alpha`` the largest α.  Implicit: no limit (inf).
+    """
+    limit = {"explicit": 1.0, "trapezoidal": 2.0, "implicit": np.inf}[scene.wear.integrator]
+    rate = alpha * largest_slope(scene.contact)
+    return limit / rate if rate > 0 else np.inf
+
+
+def largest_slope(contact) -> float:
+    """L_p, the largest slope of the compliance p over [0, g]."""
+    e = contact.exponent if contact.law == "power" else 1.0
+    return contact.stiffness * e * contact.gap ** (e - 1)
+
+
 def explicit_stability(scene, alpha: float) -> str | None:
-    """Warning text when the wear update overshoots, else None.
+    """Warning text when the wear update overshoots at the scene's uniform step, else None.
 
     For p = L r₊ the explicit update has amplification 1 − k α L (overshoots for k α L > 1, grows
     for > 2), the trapezoidal one (1 − kαL/2)/(1 + kαL/2) (overshoots for k α L > 2); implicit never.
@@ -91,9 +107,7 @@ def explicit_stability(scene, alpha: float) -> str | None:
     integrator = scene.wear.integrator
     if integrator == "implicit" or scene.contact.wear == 0:
         return None
-    c = scene.contact
-    e = c.exponent if c.law == "power" else 1.0
-    slope = c.stiffness * e * c.gap ** (e - 1)
+    slope = largest_slope(scene.contact)
     r = scene.dt * alpha * slope
     if integrator == "trapezoidal":
         if r <= 2:

@@ -1,11 +1,11 @@
 """Result of a run: per-step contact-point arrays, Newton records and displacement fields.
 
-Arrays of shape (steps + 1, n_c) over the contact points (fewer rows if the run stopped early):
+Arrays of shape (steps + 1, n_c) over the contact points (fewer rows if the run stopped early;
+``times`` t_j need not be uniform, see ``time.adaptive``):
 ``wear`` w, ``normal_displacement`` u_ν, ``pressure`` p(u_ν − d₀ − w), ``reaction`` λ (the
 constraint multiplier, a traction like the pressure); ``plate_displacement`` δ (steps + 1, r) of a
 rigid plate (its translation along ν, then its tilts; r = 0 without a plate).  What an engineer
-reads off a part, one value
-per step, with m_i the nodal weights of the contact points:
+reads off a part, one value per step, with m_i the nodal weights of the contact points:
 
 * ``normal_force``  Σ m_i (p_i + λ_i), the force the foundation carries;
 * ``torque``  T = Σ m_i μ p_i ((x_i − c) × n*_i)·e, the friction moment about the counterface's axis
@@ -13,12 +13,18 @@ per step, with m_i the nodal weights of the contact points:
 * ``contact_area``  Σ m_i over the points with p_i + λ_i > 0;
 * ``wear_volume``  Σ m_i w_i, the worn volume (area in 2D).
 
-``save(dir)`` writes ``result.npz`` (these names as keys), ``scene.json``, ``mesh.vol`` and a
-VTU/PVD series of the stored steps; :func:`load_result` reads them back.
+Full displacement fields are kept for the frames (``stored_steps``): the steps nearest to the
+output times (``output.every`` apart from t = 0, or ``output.times``) and the last step, so that the
+number of frames does not grow with the number of steps.  ``save(dir)`` writes ``result.npz``
+(these names as keys, with the Newton records), ``scene.json``, ``summary.json``, ``mesh.vol`` and
+a VTU/PVD series of the frames, each file written under a temporary name and then renamed, so that
+an interrupt never leaves half a file; :func:`load_result` reads them back.
 """
 from __future__ import annotations
 
 import json
+import os
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -57,26 +63,41 @@ class Result:
 
     @classmethod
     def empty(cls, scene: Scene, disc) -> Result:
-        """A result with room for every step; the public arrays are views of the completed rows."""
-        rows, n, d = scene.time.steps + 1, disc.points.n, scene.dim
-        shapes = {"times": (rows,), "forces": (rows, n, d), "plate_displacement": (rows, disc.plate_modes_count)}
-        buffers = {name: np.zeros(shapes.get(name, (rows, n))) for name in ARRAYS}
+        """A result with room for the scene's steps; the public arrays are views of the completed rows."""
+        n, d = disc.points.n, scene.dim
+        shapes = {"times": (), "forces": (n, d), "plate_displacement": (disc.plate_modes_count,)}
+        rows = scene.time.steps + 1
         result = cls(scene, disc.points.coords, disc.points.weights,
-                     *(buf[:0] for buf in buffers.values()), discretization=disc)
-        result._buffers = buffers
+                     *(np.zeros((0, *shapes.get(name, (n,)))) for name in ARRAYS), discretization=disc)
+        result._buffers = {name: np.zeros((rows, *shapes.get(name, (n,)))) for name in ARRAYS}
         return result
 
     def append(self, t, w, s, p, lam, forces, delta, record: NewtonRecord) -> None:
-        """Record step j = number of steps so far."""
+        """Record step j = number of steps so far (the buffers double when full: adaptive runs)."""
         j = len(self.times)
         for name, value in zip(ARRAYS, (t, w, s, p, lam, forces, delta)):
-            self._buffers[name][j] = value
-            setattr(self, name, self._buffers[name][:j + 1])
+            buffer = self._buffers.get(name)
+            if buffer is None or len(buffer) <= j:
+                buffer = np.concatenate([getattr(self, name), np.zeros((j + 1, *np.shape(value)))])
+                self._buffers[name] = buffer
+            buffer[j] = value
+            setattr(self, name, buffer[:j + 1])
         self.newton.append(record)
 
     def fail(self, message: str, record: NewtonRecord) -> None:
         self.status = message
         self.newton.append(record)
+
+    def settle(self) -> None:
+        """After an interrupt inside :meth:`append`: the arrays and records cut to the steps all of them hold."""
+        rows = min(len(getattr(self, name)) for name in ARRAYS)
+        for name in ARRAYS:
+            setattr(self, name, getattr(self, name)[:rows])
+        del self.newton[rows:]
+
+    def interrupt(self) -> None:
+        """Mark the run as stopped on request (Ctrl-C, SIGTERM): every completed step is kept."""
+        self.status = "interrupted"
 
     @property
     def completed(self) -> bool:
@@ -121,9 +142,15 @@ class Result:
 
     @property
     def stored_steps(self) -> list[int]:
-        """Steps written with full fields: every ``output.every``-th and the last completed."""
-        every = self.scene.output.every
-        return sorted(set(range(0, self.steps + 1, every)) | {self.steps}) if self.steps >= 0 else []
+        """The frames: for each output time up to the last step's, the step nearest to it; and the last step."""
+        if self.steps < 0:
+            return []
+        out, end = self.scene.output, self.times[-1]
+        wanted = np.asarray(out.times) if out.times is not None else np.arange(0.0, end + 0.5 * out.every,
+                                                                             out.every)
+        wanted = wanted[wanted <= end * (1 + 1e-12)]
+        nearest = np.abs(self.times[None, :] - wanted[:, None]).argmin(axis=1) if len(wanted) else []
+        return sorted({int(j) for j in nearest} | {self.steps})
 
     def displacement(self, step: int) -> np.ndarray:
         """DOF vector of u at a step, recovered with one back-substitution and cached."""
@@ -172,25 +199,28 @@ class Result:
             "wall_time_s": round(self.wall_time, 3),
         }
 
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Everything of the run as named arrays (``result.npz``, checkpoints): steps, records, status."""
+        return {"contact_points": self.contact_points, "weights": self.weights,
+                **{name: getattr(self, name) for name in ARRAYS}, **records_to_arrays(self.newton),
+                "status": np.array(self.status), "wall_time": np.array(self.wall_time),
+                "warnings": np.array(self.warnings, dtype=str)}
+
     def save(self, directory) -> Path:
-        """Write result.npz, scene.json, mesh.vol, summary.json and a VTU/PVD series."""
+        """Write result.npz, scene.json, mesh.vol, summary.json and a VTU/PVD series of the frames."""
         out = Path(directory)
         out.mkdir(parents=True, exist_ok=True)
         steps = self.stored_steps
         fields = np.array([self.displacement(s) for s in steps]) if self.discretization else np.zeros((0, 0))
-        np.savez_compressed(
-            out / "result.npz", contact_points=self.contact_points, weights=self.weights,
-            **{name: getattr(self, name) for name in ARRAYS + PART},
-            newton_iterations=np.array([r.iterations for r in self.newton]),
-            newton_converged=np.array([r.converged for r in self.newton]),
-            newton_active=np.array([r.active for r in self.newton]),
-            newton_residuals=np.array([r.residuals[-1] if r.residuals else np.nan for r in self.newton]),
-            field_steps=np.array(steps, dtype=int), fields=fields,
-            status=np.array(self.status), wall_time=np.array(self.wall_time))
-        (out / "scene.json").write_text(json.dumps(self.scene.to_dict(), indent=2))
-        (out / "summary.json").write_text(json.dumps(self.summary(), indent=2))
+        with replacing(out / "result.npz") as tmp:
+            np.savez_compressed(tmp, **self.arrays(), **{name: getattr(self, name) for name in PART},
+                                field_steps=np.array(steps, dtype=int), fields=fields)
+        with replacing(out / "scene.json") as tmp:
+            tmp.write_text(json.dumps(self.scene.to_dict(), indent=2))
+        with replacing(out / "summary.json") as tmp:
+            tmp.write_text(json.dumps(self.summary(), indent=2))
         if self.discretization is not None:
-            self.discretization.mesh.ngmesh.Save(str(out / "mesh.vol"))
+            save_mesh(self.discretization.mesh, out)
             from .vtk import write_series
             write_series(self, out)
         return out
@@ -203,21 +233,64 @@ def load_result(directory) -> Result:
         raise FileNotFoundError(f"{src}: no result.npz (not a saved ngwear result)")
     data = np.load(src / "result.npz")
     scene = Scene.from_dict(json.loads((src / "scene.json").read_text()))
-    newton = [NewtonRecord(bool(c), int(i), [float(r)], int(a)) for i, c, a, r in zip(
-        data["newton_iterations"], data["newton_converged"], data["newton_active"], data["newton_residuals"])]
-    disc = None
-    if (src / "mesh.vol").is_file():
-        import netgen.meshing
-        import ngsolve as ngs
-
-        from ..numerics.discrete import Discretization
-        ngmesh = netgen.meshing.Mesh(dim=scene.dim)
-        ngmesh.Load(str(src / "mesh.vol"))
-        disc = Discretization(scene, ngs.Mesh(ngmesh))
-    result = Result(scene, data["contact_points"], data["weights"],
-                    *(data[name] for name in ARRAYS), newton=newton, status=str(data["status"]),
-                    wall_time=float(data["wall_time"]),
-                    fields={int(s): f for s, f in zip(data["field_steps"], data["fields"])},
-                    discretization=disc)
+    result = from_arrays(scene, data, _discretization(scene, src))
+    result.fields = {int(s): f for s, f in zip(data["field_steps"], data["fields"])}
     return result
 
+
+def from_arrays(scene: Scene, data, disc) -> Result:
+    """The result that :meth:`Result.arrays` wrote, on the discretization ``disc`` (or None)."""
+    result = Result(scene, data["contact_points"], data["weights"], *(np.array(data[name]) for name in ARRAYS),
+                    newton=records_from_arrays(data), status=str(data["status"]),
+                    wall_time=float(data["wall_time"]), warnings=[str(w) for w in data["warnings"]],
+                    discretization=disc)
+    result._buffers = {name: getattr(result, name) for name in ARRAYS}
+    return result
+
+
+def _discretization(scene: Scene, folder: Path):
+    """The discretization of a saved run on the mesh of its folder (None without one)."""
+    if not (folder / "mesh.vol").is_file():
+        return None
+    from ..model.geometry import load_mesh
+    from ..numerics.discrete import Discretization
+    return Discretization(scene, load_mesh(folder / "mesh.vol", scene.dim))
+
+
+def records_to_arrays(newton: list[NewtonRecord]) -> dict[str, np.ndarray]:
+    """Newton records as flat arrays (residual histories concatenated, with their lengths)."""
+    return {"newton_iterations": np.array([r.iterations for r in newton], dtype=int),
+            "newton_converged": np.array([r.converged for r in newton], dtype=bool),
+            "newton_active": np.array([r.active for r in newton], dtype=int),
+            "newton_damped": np.array([r.damped for r in newton], dtype=int),
+            "newton_lengths": np.array([len(r.residuals) for r in newton], dtype=int),
+            "newton_residuals": np.array([v for r in newton for v in r.residuals], dtype=float)}
+
+
+def records_from_arrays(data) -> list[NewtonRecord]:
+    """The Newton records that :func:`records_to_arrays` flattened."""
+    bounds = np.concatenate([[0], np.cumsum(data["newton_lengths"])])
+    residuals = data["newton_residuals"]
+    return [NewtonRecord(bool(c), int(i), [float(v) for v in residuals[a:b]], int(act), int(dmp))
+            for i, c, act, dmp, a, b in zip(data["newton_iterations"], data["newton_converged"], data["newton_active"],
+                                            data["newton_damped"], bounds[:-1], bounds[1:])]
+
+
+@contextmanager
+def replacing(path):
+    """``with replacing(path) as tmp:`` write ``tmp``; then it replaces ``path`` in one rename (or vanishes)."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
+    try:
+        yield tmp
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    os.replace(tmp, path)
+
+
+def save_mesh(mesh, folder: Path) -> Path:
+    """The run's mesh as ``mesh.vol`` in ``folder`` (atomically); the mesh a resumed run reads."""
+    with replacing(Path(folder) / "mesh.vol") as tmp:
+        mesh.ngmesh.Save(str(tmp))
+    return Path(folder) / "mesh.vol"

@@ -1,22 +1,34 @@
-"""VTU/PVD output of a result's stored steps for ParaView (NGSolve's VTKOutput)."""
+"""VTU/PVD output of a result's frames for ParaView (NGSolve's VTKOutput).
+
+The series is written into a scratch folder and moved in when complete: an interrupted write never
+leaves a half series, and a rerun into the same folder leaves no frame of an earlier run behind.
+"""
 from __future__ import annotations
 
+import shutil
+import tempfile
 from pathlib import Path
 
 import ngsolve as ngs
 
 
 def write_series(result, directory: Path) -> Path:
-    """Write one VTU (displacement, wear) per stored step and ``fields.pvd`` with their times."""
+    """Write one VTU (displacement, wear) per frame and ``fields.pvd`` with their times."""
+    directory = Path(directory)
     disc = result.discretization
     mesh = disc.mesh
     u = ngs.GridFunction(disc.fes)
     wear = ngs.GridFunction(ngs.H1(mesh, order=result.scene.mesh.order, definedon="body"))
-    vtk = ngs.VTKOutput(mesh, coefs=[u, wear], names=["displacement", "wear"],
-                        filename=str(Path(directory) / "fields"), subdivision=result.scene.mesh.order - 1)
-    body = mesh.Materials("body").Mask()
-    for step in result.stored_steps:
-        u.vec.FV().NumPy()[:] = result.displacement(step)
-        wear.vec.FV().NumPy()[:] = disc.points.Q @ result.wear[step]
-        vtk.Do(time=float(result.times[step]), drawelems=body)
-    return Path(directory) / "fields.pvd"
+    with tempfile.TemporaryDirectory(dir=directory, prefix=".fields-") as scratch:
+        vtk = ngs.VTKOutput(mesh, coefs=[u, wear], names=["displacement", "wear"],
+                            filename=str(Path(scratch) / "fields"), subdivision=result.scene.mesh.order - 1)
+        body = mesh.Materials("body").Mask()
+        for step in result.stored_steps:
+            u.vec.FV().NumPy()[:] = result.displacement(step)
+            disc.set_nodal(wear, result.wear[step])
+            vtk.Do(time=float(result.times[step]), drawelems=body)
+        for old in directory.glob("fields*.vtu"):
+            old.unlink()
+        for new in sorted(Path(scratch).iterdir(), key=lambda f: f.suffix == ".pvd"):   # the index last
+            shutil.move(str(new), directory / new.name)
+    return directory / "fields.pvd"

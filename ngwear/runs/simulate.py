@@ -1,14 +1,20 @@
 """The time loop: scheme P^hk of the paper (eqs. 14–15) and its implicit / second-order variants.
 
-For j = 0..N (t_j = j k):  solve the contact problem for u_j with the wear law of step j
-(:mod:`ngwear.wear`), then record s_j = ν·u_j, p_j, λ_j, w_j at the contact points and advance the
-wear.  Bulk displacement fields are recovered (one back-substitution each) only for the steps
-that are written or looked at.
+Step 0 solves the contact problem at t = 0 with no wear; then, step after step, the wear law of the
+next step is prepared from w_j, p_j (:mod:`ngwear.numerics.wear`), the contact problem is solved at
+t_{j+1} and s = ν·u, p, λ, w are recorded at the contact points.  The steps are uniform or chosen by
+an error estimate (:mod:`ngwear.runs.clock`; a rejected step is redone smaller).  Bulk displacement
+fields are recovered (one back-substitution each) only for the steps that are written or looked at.
+
+Nothing is lost on an interrupt: a set ``stop`` event (the CLI's SIGINT/SIGTERM) or Ctrl-C ends the
+run at a step boundary with status ``interrupted`` and every completed step; with an output folder
+the run writes checkpoints there (:mod:`ngwear.results.checkpoint`) from which ``resume`` goes on.
 """
 from __future__ import annotations
 
 import logging
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -16,56 +22,166 @@ from ..model.scene import Scene
 from ..numerics.discrete import Discretization
 from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, PlateRows, semismooth_newton
 from ..numerics.wear import WearIntegrator, explicit_stability
+from ..results.checkpoint import Checkpoint, write_checkpoint
 from ..results.result import Result
+from .clock import Clock
 
 log = logging.getLogger(__name__)
 
 
-def simulate(scene: Scene, *, discretization: Discretization | None = None,
-             progress: bool = True) -> Result:
-    """Run the scene's time loop; a run that fails part-way returns the steps it completed.
+def simulate(scene: Scene, *, discretization: Discretization | None = None, progress: bool = True,
+             checkpoint=None, resume=None, stop=None) -> Result:
+    """Run the scene's time loop; a run that fails or is interrupted part-way returns the steps it completed.
 
-    Pass the ``discretization`` of an earlier run to reuse its mesh, factorisation and contact
-    compliance wherever the scene change allows (see :meth:`Discretization.with_scene`).
+    Parameters
+    ----------
+    discretization : Discretization, optional
+        Of an earlier run: its mesh, factorisation and contact compliance are reused wherever the
+        scene change allows (see :meth:`Discretization.with_scene`).
+    checkpoint : path, optional
+        An output folder: a checkpoint is written there every ``output.checkpoint_seconds`` of wall
+        time (0: never), when the run is interrupted and when it ends.
+    resume : path, optional
+        The output folder of an earlier run: go on from its checkpoint, on its mesh.  ``scene`` may
+        extend ``time.T``; ``None`` takes the checkpoint's scene.  Checkpoints go on in that folder.
+    stop : threading.Event, optional
+        When set, the run stops at the next step boundary with status ``interrupted``.
     """
     start = time.perf_counter()
-    if discretization is None:
-        disc = Discretization(scene)
+    if resume is not None:
+        saved = Checkpoint(resume, scene)
+        scene, result, disc = saved.scene, saved.result, saved.result.discretization
+        x, lam, checkpoint = saved.x, saved.lam, checkpoint if checkpoint is not None else resume
     else:
-        disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
-    k, steps = scene.dt, scene.time.steps
-    n = disc.points.n
-    integrator = WearIntegrator(scene.wear.integrator, disc.law, k, n)
-    result = Result.empty(scene, disc)
-    warning = explicit_stability(scene, disc.largest_alpha())
-    if warning:
-        log.warning("%s", warning)
-        result.warnings.append(warning)
+        disc = Discretization(scene) if discretization is None else (
+            discretization if discretization.scene == scene else discretization.with_scene(scene))
+        result = Result.empty(scene, disc)
+        warning = None if scene.time.adaptive else explicit_stability(scene, disc.largest_alpha())
+        if warning:
+            log.warning("%s", warning)
+            result.warnings.append(warning)
+    clock = Clock(scene, disc.largest_alpha())
+    if resume is not None:
+        clock.step = saved.step
     stepper = _Stepper(disc)
-    x, lam = stepper.unknowns(), np.zeros(n)
-    t_prev = None  # step 0 continues from the unloaded state u = 0
-    bar = _progress(range(steps + 1), scene.name) if progress else range(steps + 1)
-    for j in bar:
-        t = j * k
-        law = integrator.point_law()
-        try:
-            x, lam, record = stepper.solve(t, t_prev, law, x, lam, integrator)
-        except ConvergenceError as err:
-            result.fail(f"step {j} (t = {t:.4g}): {err}; {_remedy(scene, err.record)}", err.record)
-            break
-        s, delta = stepper.normal(x), stepper.plate(x)
-        pressure = law.pressure(s - disc.d0)
-        if not all(np.all(np.isfinite(a)) for a in (s, lam, pressure, delta)):
-            result.fail(f"step {j} (t = {t:.4g}): non-finite solution", record)
-            break
-        w = integrator.wear_at(s - disc.d0)
-        result.append(t, w, s, pressure, lam, disc.contact_forces(pressure, lam, t), delta, record)
-        integrator.advance(w, pressure, disc.alpha(t), disc.alpha(t + k))
-        t_prev = t
-    result.wall_time = time.perf_counter() - start
+    if resume is None:
+        x, lam = stepper.unknowns(), np.zeros(disc.points.n)
+    integrator = WearIntegrator(scene.wear.integrator, disc.law, disc.points.n)
+    saver = _Saver(checkpoint, scene.output.checkpoint_seconds)
+    bar = _progress(scene, result) if progress else None
+    before = result.wall_time
+    try:
+        if result.steps < 0:
+            x, lam = _first(stepper, integrator, result, x, lam)
+        while result.completed and not clock.done(result.steps, result.times[-1]):
+            if stop is not None and stop.is_set():
+                result.interrupt()
+                break
+            attempt = _next(stepper, integrator, clock, result, x, lam)
+            if attempt is None:
+                break
+            x, lam = attempt
+            if bar is not None:
+                bar.update(1 if not scene.time.adaptive else result.times[-1] - result.times[-2])
+            saver.maybe(result, x, lam, clock)
+    except KeyboardInterrupt:
+        result.settle()
+        result.interrupt()
+    result.wall_time = before + time.perf_counter() - start
+    if clock.unmet:
+        result.warnings.append(f"time.tolerance: steps at time.min_step = {scene.time.min_step:g} missed the "
+                               "tolerance; lower time.min_step")
+    saver.write(result, x, lam, clock)
+    if bar is not None:
+        bar.close()
     if result.status != "completed":
         log.warning("%s: %s", scene.name, result.status)
     return result
+
+
+@dataclass
+class _Attempt:
+    """One solved step: the unknowns, the contact-point values and the Newton record."""
+
+    x: np.ndarray
+    lam: np.ndarray
+    s: np.ndarray
+    delta: np.ndarray
+    pressure: np.ndarray
+    wear: np.ndarray
+    record: object
+
+
+def _solve(stepper, integrator, t: float, t_prev: float | None, x, lam) -> _Attempt:
+    """Solve the step ending at t with the prepared wear law; ConvergenceError or ArithmeticError on failure."""
+    disc, law = stepper.disc, integrator.point_law()
+    x, lam, record = stepper.solve(t, t_prev, law, x, lam, integrator)
+    s, delta = stepper.normal(x), stepper.plate(x)
+    pressure = law.pressure(s - disc.d0)
+    if not all(np.all(np.isfinite(a)) for a in (s, lam, pressure, delta)):
+        raise ArithmeticError(record)
+    return _Attempt(x, lam, s, delta, pressure, integrator.wear_at(s - disc.d0), record)
+
+
+def _record(result: Result, stepper, t: float, attempt: _Attempt) -> None:
+    disc = stepper.disc
+    result.append(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam,
+                  disc.contact_forces(attempt.pressure, attempt.lam, t), attempt.delta, attempt.record)
+
+
+def _failed(result: Result, scene: Scene, j: int, t: float, err: Exception) -> None:
+    if isinstance(err, ArithmeticError):
+        result.fail(f"step {j} (t = {t:.4g}): non-finite solution", err.args[0])
+    else:
+        result.fail(f"step {j} (t = {t:.4g}): {err}; {_remedy(scene, err.record)}", err.record)
+
+
+def _first(stepper, integrator, result: Result, x, lam):
+    """Step 0: the contact problem at t = 0, before any wear (from the unloaded state)."""
+    try:
+        attempt = _solve(stepper, integrator, 0.0, None, x, lam)
+    except (ConvergenceError, ArithmeticError) as err:
+        _failed(result, stepper.scene, 0, 0.0, err)
+        return x, lam
+    _record(result, stepper, 0.0, attempt)
+    return attempt.x, attempt.lam
+
+
+def _next(stepper, integrator, clock: Clock, result: Result, x, lam):
+    """The step after the last recorded one, redone smaller while the clock rejects it; (x, λ) or None."""
+    disc, j = stepper.disc, result.steps
+    t, w, p = result.times[j], result.wear[j], result.pressure[j]
+    times = list(result.times[max(j - 1, 0):j + 1])
+    rates = [disc.alpha(tt) * pp for tt, pp in zip(times, result.pressure[max(j - 1, 0):j + 1])]
+    while True:
+        t_next = clock.next_time(j, t)
+        integrator.prepare(w, p, disc.alpha(t), disc.alpha(t_next), t_next - t)
+        try:
+            attempt = _solve(stepper, integrator, t_next, t, x, lam)
+        except (ConvergenceError, ArithmeticError) as err:
+            if clock.shrink():
+                continue
+            _failed(result, stepper.scene, j + 1, t_next, err)
+            return None
+        if clock.judge([*times, t_next], [*rates, disc.alpha(t_next) * attempt.pressure]):
+            _record(result, stepper, t_next, attempt)
+            return attempt.x, attempt.lam
+
+
+class _Saver:
+    """Checkpoints into an output folder: every ``seconds`` of wall time (0: never) and at the end."""
+
+    def __init__(self, folder, seconds: float):
+        self.folder, self.seconds, self.last = folder, seconds, time.perf_counter()
+
+    def maybe(self, result: Result, x, lam, clock: Clock) -> None:
+        if self.folder is not None and self.seconds > 0 and time.perf_counter() - self.last >= self.seconds:
+            self.write(result, x, lam, clock)
+
+    def write(self, result: Result, x, lam, clock: Clock) -> None:
+        if self.folder is not None and result.steps >= 0:
+            write_checkpoint(self.folder, result, x, lam, clock.step if clock.adaptive else clock.uniform)
+            self.last = time.perf_counter()
 
 
 class _Stepper:
@@ -174,6 +290,11 @@ def _full_system(disc: Discretization, t: float, load_factor: float, integrator:
                       disc.rigid_translation if floating else None)
 
 
-def _progress(iterable, name):
+def _progress(scene: Scene, result: Result):
+    """A progress bar over the steps (uniform) or over time (adaptive), from where the run starts."""
     from tqdm.auto import tqdm
-    return tqdm(iterable, desc=name, unit="step", leave=False)
+    if not scene.time.adaptive:
+        return tqdm(total=scene.time.steps, initial=max(result.steps, 0), desc=scene.name, unit="step",
+                    leave=False)
+    return tqdm(total=scene.time.T, initial=result.times[-1] if len(result.times) else 0.0, desc=scene.name,
+                leave=False, bar_format="{l_bar}{bar}| t = {n:.4g} of {total:.4g} [{elapsed}<{remaining}]")

@@ -15,6 +15,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from ..numerics.discrete import Discretization
+from ..numerics.wear import largest_slope
 
 
 @dataclass(frozen=True)
@@ -60,7 +61,5 @@ def trace_constant(disc: Discretization) -> float:
 def smallness(disc: Discretization) -> SmallnessCheck:
     """Evaluate (H_S) for the discretization's scene."""
     contact = disc.scene.contact
-    e = contact.exponent if contact.law == "power" else 1.0
-    slope = contact.stiffness * e * contact.gap ** (e - 1)
     _, eta = disc.scene.material.lame
-    return SmallnessCheck(trace_constant(disc), slope, contact.friction, 2 * eta)
+    return SmallnessCheck(trace_constant(disc), largest_slope(contact), contact.friction, 2 * eta)

@@ -93,10 +93,10 @@ def h_study(scene: Scene, maxhs, ref_maxh: float) -> list[dict]:
 
 def k_study(scene: Scene, steps, ref_steps: int) -> list[dict]:
     """Errors of the scene with ``steps`` time steps against ``ref_steps`` steps (same mesh)."""
-    ref, _ = _run(scene.replace(**{"time.steps": ref_steps, "output.every": ref_steps}))
+    ref, _ = _run(scene.replace(**{"time.steps": ref_steps, "output.every": scene.time.T}))
     rows = []
     for n in steps:
-        result, seconds = _run(scene.replace(**{"time.steps": n, "output.every": n}))
+        result, seconds = _run(scene.replace(**{"time.steps": n, "output.every": scene.time.T}))
         rows.append({"k": scene.time.T / n, "steps": n, "seconds": seconds, **errors(result, ref).__dict__})
     return rows
 
@@ -140,12 +140,13 @@ def stability_study(scene: Scene, steps, ref_steps: int = 640) -> list[dict]:
     contact = scene.contact
     alpha_l = contact.wear * float(np.linalg.norm(scene.foundation.velocity)) * contact.stiffness
     ref, _ = _run(scene.replace(**{"time.steps": ref_steps, "wear.integrator": "trapezoidal",
-                                   "output.every": ref_steps}))
+                                   "output.every": scene.time.T}))
     rows = []
     for n in steps:
         row = {"steps": n, "k_alpha_L": scene.time.T * alpha_l / n}
         for integrator in ("explicit", "implicit", "trapezoidal"):
-            result, _ = _run(scene.replace(**{"time.steps": n, "wear.integrator": integrator, "output.every": n}))
+            result, _ = _run(scene.replace(**{"time.steps": n, "wear.integrator": integrator,
+                                              "output.every": scene.time.T}))
             dw = result.wear[-1] - ref.wear[-1]
             row[f"{integrator}_W_final"] = float(np.sqrt(dw @ (ref.weights * dw)))
             row[f"{integrator}_overshoot"] = overshoot(result)

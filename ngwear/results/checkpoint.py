@@ -1,0 +1,84 @@
+"""Checkpoints: everything a run needs to go on, written atomically into its output folder.
+
+``checkpoint.npz`` holds the result so far (its arrays and Newton records, :meth:`Result.arrays`), the
+solver's warm start (x, λ), the adaptive clock's next step and the scene (as JSON); the mesh is the
+folder's ``mesh.vol``, so a resumed run needs no meshing.  Resumed, a run computes the same numbers,
+to the last bit, as if it had never stopped: every step starts from values that the checkpoint holds
+exactly.  A resumed scene may differ from the checkpoint's only in ``time.T`` (growing, to extend a
+run; with uniform steps ``time.steps`` grows with it, k = T/N kept) and in ``output.*``.
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from ..model.scene import Scene, SceneError
+from .result import Result, from_arrays, replacing, save_mesh
+
+CHECKPOINT = "checkpoint.npz"
+FREE = ("time.T", "time.steps")
+
+
+def write_checkpoint(folder, result: Result, x: np.ndarray, lam: np.ndarray, step: float) -> Path:
+    """Write (or replace) the checkpoint of ``result`` in ``folder``; the mesh too, the first time."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    if not (folder / "mesh.vol").is_file():
+        save_mesh(result.discretization.mesh, folder)
+    with replacing(folder / CHECKPOINT) as tmp:
+        np.savez(tmp, **result.arrays(), x=x, lam=lam, step=np.array(step),
+                 scene=np.array(json.dumps(result.scene.to_dict())))
+    return folder / CHECKPOINT
+
+
+class Checkpoint:
+    """A checkpoint read back: its scene, the result on the folder's mesh, the warm start and the next step."""
+
+    def __init__(self, folder, scene: Scene | None = None):
+        from ..model.geometry import load_mesh
+        from ..numerics.discrete import Discretization
+
+        folder = Path(folder)
+        path = folder / CHECKPOINT
+        if not path.is_file():
+            raise SceneError(f"resume: {folder} holds no {CHECKPOINT} (not the output folder of a run)")
+        with np.load(path) as data:
+            saved = Scene.from_dict(json.loads(str(data["scene"])))
+            self.scene = saved if scene is None else _continuing(saved, scene)
+            disc = Discretization(self.scene, load_mesh(folder / "mesh.vol", self.scene.dim))
+            self.result = from_arrays(self.scene, data, disc)
+            self.x, self.lam, self.step = np.array(data["x"]), np.array(data["lam"]), float(data["step"])
+        self.result.status = "completed"
+
+
+def _continuing(saved: Scene, scene: Scene) -> Scene:
+    """``scene`` if it may continue the run of ``saved`` (see the module docstring), else a SceneError."""
+    differing = [key for key in _dotted(saved.to_dict()) | _dotted(scene.to_dict())
+                 if _value(saved, key) != _value(scene, key) and not key.startswith("output.")]
+    refused = [key for key in differing if key not in FREE]
+    if refused:
+        raise SceneError(f"resume: the scene differs from the checkpoint's in {', '.join(sorted(refused))} "
+                         "(only time.T may change, to extend the run)")
+    if scene.time.T < saved.time.T:
+        raise SceneError(f"time.T: a resumed run may only go on longer (got {scene.time.T} < {saved.time.T})")
+    if not saved.time.adaptive and scene.dt != saved.dt:
+        steps = saved.time.steps * scene.time.T / saved.time.T
+        raise SceneError(f"time.steps: must be {steps:g} to keep the checkpoint's step k = {saved.dt:g} "
+                         f"(got {scene.time.steps})")
+    return scene
+
+
+def _dotted(data: dict, prefix: str = "") -> set[str]:
+    keys = set()
+    for name, value in data.items():
+        keys |= _dotted(value, f"{prefix}{name}.") if isinstance(value, dict) else {f"{prefix}{name}"}
+    return keys
+
+
+def _value(scene: Scene, key: str):
+    node = scene.to_dict()
+    for part in key.split("."):
+        node = node.get(part) if isinstance(node, dict) else None
+    return node
