@@ -22,16 +22,17 @@ def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="ngwear", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
     run = sub.add_parser("run", help="simulate a scene and write results, VTU/PVD and pictures")
-    run.add_argument("scene", help="scene TOML file, e.g. geometries/paper_strip.toml")
+    run.add_argument("scene", nargs="?", help="scene TOML file, e.g. geometries/paper_strip.toml")
     run.add_argument("--out", help="output directory (default: out/<scene name>)")
-    run.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE",
-                     help="override scene fields, e.g. time.steps=10 mesh.maxh=0.05")
+    _overrides(run)
+    run.add_argument("--resume", metavar="OUTDIR", help="go on from the checkpoint in OUTDIR (a SCENE or --set "
+                                                         "may extend time.T)")
     run.add_argument("--no-pictures", action="store_true", help="skip the pictures and plots (PNG)")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     ver = sub.add_parser("verify", help="convergence study (h and k) and the (H_S) check of a scene")
-    ver.add_argument("scene", help="scene TOML file")
+    ver.add_argument("scene", nargs="?", help="scene TOML file")
     ver.add_argument("--out", help="output directory (default: out/<scene name>-verify)")
-    ver.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE", help="override scene fields")
+    _overrides(ver)
     ver.add_argument("--quick", action="store_true", help="coarse meshes and few steps (about 10 s)")
     schema = sub.add_parser("schema", help="write the scene files' JSON Schema (for editors)")
     schema.add_argument("--out", help="file to write (default: print it)")
@@ -42,18 +43,33 @@ def _parser() -> argparse.ArgumentParser:
                        help="Dask scheduler of an existing cluster, e.g. tcp://host:8786 (default: a local cluster)")
     sweep.add_argument("--workers", type=int, metavar="N",
                        help="local cluster: worker processes (default: one per core); --scheduler: workers to wait for")
-    sweep.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE", help="override the base scene")
+    sweep.add_argument("--set", nargs="+", action="extend", default=[], metavar="KEY=VALUE",
+                       help="override the base scene (may be given several times)")
     sweep.add_argument("--quiet", action="store_true", help="no progress bar")
     stress = sub.add_parser("stress", help="run the stability stress matrix and write its report")
     stress.add_argument("args", nargs=argparse.REMAINDER, help="passed on (see `ngwear stress -- --help`)")
     return parser
 
 
-def _scene(args):
+def _overrides(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--set", nargs="+", action="extend", default=[], metavar="KEY=VALUE",
+                        help="override scene fields, e.g. time.steps=10 mesh.maxh=0.05 (may be given several times)")
+
+
+def _scene(args, required: bool = True):
+    """The scene of SCENE and --set; a --set item without '=' stands for SCENE (options in any order)."""
+    settings = [item for item in args.set if "=" in item]
+    strays = [item for item in args.set if "=" not in item]
+    if strays and args.scene is None and len(strays) == 1:
+        args.scene = strays.pop()
+    if strays:
+        parse_override(strays[0])                    # the one-line message for an item without '='
+    if args.scene is None:
+        if required:
+            raise SceneError("scene file: missing (give SCENE, e.g. geometries/paper_strip.toml)")
+        return None, settings
     scene = load_scene(args.scene)
-    if args.set:
-        scene = scene.replace(**dict(parse_override(item) for item in args.set))
-    return scene
+    return (scene.replace(**dict(parse_override(item) for item in settings)) if settings else scene), settings
 
 
 def verify(args) -> int:
@@ -62,7 +78,7 @@ def verify(args) -> int:
     from .studies.theory import smallness
     from .views import plots
 
-    scene = _scene(args)
+    scene, _ = _scene(args)
     out = Path(args.out or Path("out") / f"{scene.name}-verify")
     out.mkdir(parents=True, exist_ok=True)
     h0 = scene.mesh.maxh
@@ -93,31 +109,60 @@ def verify(args) -> int:
 
 
 def run(args) -> int:
+    import signal
+    import threading
+
     from .runs.simulate import simulate
 
-    scene = _scene(args)
-    out = Path(args.out or Path("out") / scene.name)
-    result = simulate(scene, progress=not args.quiet)
+    scene, settings = _scene(args, required=args.resume is None)
+    if args.resume is not None and scene is None:
+        from .results.checkpoint import Checkpoint
+        scene = Checkpoint(args.resume).scene
+        scene = scene.replace(**dict(parse_override(item) for item in settings)) if settings else scene
+    out = Path(args.resume or args.out or Path("out") / scene.name)
+    stop, received = threading.Event(), []
+
+    def interrupt(number, _frame):      # stop at the next step boundary; a second signal changes nothing
+        received.append(number)
+        stop.set()
+
+    handlers = {sig: signal.signal(sig, interrupt) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        result = simulate(scene, progress=not args.quiet, checkpoint=out, resume=args.resume, stop=stop)
+        _write(result, out, pictures=not args.no_pictures)
+    finally:
+        for sig, handler in handlers.items():
+            signal.signal(sig, handler)
+    if result.status == "interrupted":
+        t = result.times[-1] if len(result.times) else 0.0
+        print(f"ngwear: interrupted after step {result.steps} (t = {t:.4g}); resume with: ngwear run --resume {out}",
+              file=sys.stderr)
+        return 128 + (received[0] if received else signal.SIGINT)
+    if not result.completed:
+        print(f"ngwear: run stopped early: {result.status}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _write(result, out: Path, pictures: bool) -> None:
+    """Save the result and its pictures into ``out`` and print the summary."""
     result.save(out)
-    pictures = []
-    if not args.no_pictures and result.steps >= 0:
+    written = []
+    if pictures and result.steps >= 0:
         from .views.pictures import write_pictures
-        pictures = write_pictures(result, out)
+        written = write_pictures(result, out)
     summary = result.summary()
     width = max(map(len, summary))
     for key, value in summary.items():
         print(f"{key:<{width}}  {value:.4g}" if isinstance(value, float) else f"{key:<{width}}  {value}")
-    if scene.contact.friction > 0 and result.discretization is not None:
+    if result.scene.contact.friction > 0 and result.discretization is not None:
         from .studies.theory import smallness
         check = smallness(result.discretization)
         print(f"{'uniqueness' if check.holds else 'warning':<{width}}  {check.message()}")
     for warning in result.warnings:
         print(f"{'warning':<{width}}  {warning}")
-    print(f"{'written':<{width}}  {out}/ (result.npz, fields.pvd, {len(pictures)} PNG)")
-    if not result.completed:
-        print(f"ngwear: run stopped early: {result.status}", file=sys.stderr)
-        return 1
-    return 0
+    frames = len(result.stored_steps)
+    print(f"{'written':<{width}}  {out}/ (result.npz, fields.pvd with {frames} frames, {len(written)} PNG)")
 
 
 def schema(args) -> int:

@@ -33,6 +33,7 @@ class Clock:
         self.T, self.uniform, self.adaptive = t.T, t.T / t.steps, t.adaptive
         self.steps = t.steps
         self.unmet = False               # a step at min_step missed the tolerance (the run warns once)
+        self.rejected = 0                # steps redone smaller
         if not self.adaptive:
             return
         self.floor, limit = t.min_step, stable_step(scene, largest_alpha)
@@ -74,8 +75,10 @@ class Clock:
             error, order = k / 2 * np.abs(rates[-1] - rates[-2]).max(initial=0.0), 1
         allowed = k * self.per_time
         factor = GROWTH if error == 0 else min(GROWTH, max(SHRINK, SAFETY * (allowed / error) ** (1 / order)))
-        accept = error <= allowed or k <= self.floor * (1 + 1e-12)
-        self.unmet |= error > allowed
+        floored = k <= self.floor * (1 + 1e-12)
+        accept = error <= allowed or floored
+        self.unmet |= error > allowed and floored
+        self.rejected += not accept
         self.step = float(np.clip(k * factor, self.floor, self.ceiling))
         return accept
 

@@ -1,0 +1,168 @@
+"""Long runs: nothing lost on an interrupt, checkpoints, and resuming to the last bit.
+
+A run of the paper's scene (coarse mesh, many steps) is stopped by SIGINT, SIGTERM or SIGKILL at
+random moments — with a checkpoint every 20 ms, as long as a few steps, a signal often lands during a write — and
+resumed with ``ngwear run --resume``; its result must equal, bit for bit, the uninterrupted run's.
+"""
+import json
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+from conftest import PAPER
+
+import ngwear
+from ngwear.results.checkpoint import CHECKPOINT
+
+SETTINGS = ["mesh.maxh=0.2", "time.steps=6000", "output.checkpoint_seconds=0.02"]
+KEYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces", "newton_iterations",
+        "newton_residuals", "field_steps", "fields")
+
+
+def ngwear_cli(*args, **kw):
+    return subprocess.Popen([sys.executable, "-m", "ngwear.cli", *map(str, args)], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, **kw)
+
+
+@pytest.fixture(scope="module")
+def uninterrupted(tmp_path_factory):
+    out = tmp_path_factory.mktemp("full") / "run"
+    proc = ngwear_cli("run", PAPER, "--out", out, "--set", *SETTINGS, "--quiet", "--no-pictures")
+    assert proc.wait(timeout=600) == 0, proc.stderr.read()
+    return np.load(out / "result.npz")
+
+
+def interrupted(out, sig, rng):
+    """Start the run, wait until it steps (its first checkpoint), send ``sig`` a random moment later."""
+    proc = ngwear_cli("run", "--set", SETTINGS[0], "--set", *SETTINGS[1:], PAPER, "--out", out, "--quiet",
+                      "--no-pictures")
+    deadline = time.time() + 120
+    while not (out / CHECKPOINT).is_file() and proc.poll() is None and time.time() < deadline:
+        time.sleep(0.01)
+    time.sleep(rng.uniform(0.0, 1.5))
+    proc.send_signal(sig)
+    proc.wait(timeout=300)
+    return proc
+
+
+def same(a, b):
+    return all(np.array_equal(a[key], b[key]) for key in KEYS)
+
+
+@pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)], ids=["SIGINT", "SIGTERM"])
+def test_signal_stops_at_a_step_keeps_every_step_and_resumes_bit_identical(uninterrupted, tmp_path, sig, code):
+    rng = np.random.default_rng(int(sig))
+    for attempt in range(2):
+        out = tmp_path / f"run{attempt}"
+        proc = interrupted(out, sig, rng)
+        if proc.returncode == 0:
+            continue                           # the run was faster than the signal: nothing to resume
+        assert proc.returncode == code, proc.stderr.read()
+        stderr = proc.stderr.read()
+        assert f"resume with: ngwear run --resume {out}" in stderr and "Traceback" not in stderr
+        summary = json.loads((out / "summary.json").read_text())
+        saved = np.load(out / "result.npz")
+        assert summary["status"] == "interrupted" and 0 < summary["steps"] < 6000
+        assert len(saved["times"]) == summary["steps"] + 1 and np.isfinite(saved["wear"]).all()
+        assert np.array_equal(saved["wear"], uninterrupted["wear"][:len(saved["times"])])
+        resumed = ngwear_cli("run", "--resume", out, "--quiet", "--no-pictures")
+        assert resumed.wait(timeout=600) == 0, resumed.stderr.read()
+        assert same(np.load(out / "result.npz"), uninterrupted)
+        return
+    pytest.fail("the run always finished before the signal")
+
+
+def test_killed_run_resumes_from_its_last_checkpoint(uninterrupted, tmp_path):
+    out = tmp_path / "killed"
+    proc = interrupted(out, signal.SIGKILL, np.random.default_rng(7))
+    assert proc.returncode == -signal.SIGKILL
+    with np.load(out / CHECKPOINT) as checkpoint:                 # whole: a write cut short left only a temporary
+        assert 0 < len(checkpoint["times"]) <= 6001
+    resumed = ngwear_cli("run", "--resume", out, "--quiet", "--no-pictures")
+    assert resumed.wait(timeout=600) == 0, resumed.stderr.read()
+    assert same(np.load(out / "result.npz"), uninterrupted)
+
+
+def small(**changes):
+    return ngwear.load_scene(PAPER).replace(**{"mesh.maxh": 0.2, "time.steps": 40, **changes})
+
+
+def test_stop_event_and_resume_in_python(tmp_path, monkeypatch):
+    """A stop set after some steps (as the CLI's signal handler does) and simulate(resume=...)."""
+    scene = small(**{"output.checkpoint_seconds": 0.0})
+    full = ngwear.simulate(scene, progress=False)
+    stop = threading.Event()
+    calls = []
+    original = ngwear.Result.append
+
+    def counting(result, *args):
+        original(result, *args)
+        calls.append(1)
+        if len(calls) == 17:
+            stop.set()
+
+    monkeypatch.setattr(ngwear.Result, "append", counting)
+    part = ngwear.simulate(scene, progress=False, checkpoint=tmp_path, stop=stop)
+    monkeypatch.undo()
+    assert part.status == "interrupted" and part.steps == 16 and not part.completed
+    assert (tmp_path / CHECKPOINT).is_file() and (tmp_path / "mesh.vol").is_file()
+    resumed = ngwear.simulate(None, progress=False, resume=tmp_path)
+    assert resumed.completed and resumed.steps == 40
+    for name in ("times", "wear", "pressure", "reaction", "normal_displacement"):
+        assert np.array_equal(getattr(resumed, name), getattr(full, name)), name
+    assert [r.residuals for r in resumed.newton] == [r.residuals for r in full.newton]
+
+
+def test_ctrl_c_in_a_notebook_keeps_the_completed_steps(monkeypatch):
+    scene = small()
+    original = ngwear.runs.simulate._Stepper.solve
+    calls = []
+
+    def interrupting(stepper, *args):
+        calls.append(1)
+        if len(calls) == 9:
+            raise KeyboardInterrupt
+        return original(stepper, *args)
+
+    monkeypatch.setattr(ngwear.runs.simulate._Stepper, "solve", interrupting)
+    result = ngwear.simulate(scene, progress=False)
+    assert result.status == "interrupted" and result.steps == 7
+    assert len(result.newton) == 8 and len(result.wear) == 8
+
+
+def test_extending_a_finished_run(tmp_path):
+    """A finished run goes on to a later T: the same numbers as the longer run from the start."""
+    short = ngwear.simulate(small(), progress=False, checkpoint=tmp_path)
+    longer = small(**{"time.T": 2.0, "time.steps": 80})
+    extended = ngwear.simulate(longer, progress=False, resume=tmp_path)
+    direct = ngwear.simulate(longer, progress=False)
+    assert short.completed and extended.completed and extended.steps == 80
+    assert np.array_equal(extended.wear, direct.wear) and np.array_equal(extended.times, direct.times)
+
+
+@pytest.mark.parametrize("changes, message", [
+    ({"contact.friction": 0.5}, "resume: the scene differs from the checkpoint's in contact.friction"),
+    ({"time.T": 2.0}, "time.steps: must be 80 to keep the checkpoint's step k = 0.025"),
+    ({"time.T": 0.5, "time.steps": 20}, "time.T: a resumed run may only go on longer"),
+])
+def test_resume_refuses_another_scene(tmp_path, changes, message):
+    ngwear.simulate(small(), progress=False, checkpoint=tmp_path)
+    with pytest.raises(ngwear.SceneError, match=f"^{message}"):
+        ngwear.simulate(small(**changes), progress=False, resume=tmp_path)
+
+
+def test_cli_options_in_any_order_and_frames_by_time(tmp_path):
+    out = tmp_path / "many"
+    proc = ngwear_cli("run", "--set", "mesh.maxh=0.25", "--set", "time.steps=2000", "--quiet", PAPER, "--out", out,
+                      "--no-pictures")
+    assert proc.wait(timeout=300) == 0, proc.stderr.read()
+    assert "fields.pvd with 5 frames" in proc.stdout.read()
+    assert len(list(out.glob("fields*.vtu"))) == 5                 # t = 0, 0.25, 0.5, 0.75, 1: not 2000/25
+    bad = ngwear_cli("run", PAPER, "--set", "time.steps=3", "steps")
+    assert bad.wait(timeout=60) == 2 and "--set steps: expected KEY=VALUE" in bad.stderr.read()
+    resume = ngwear_cli("run", "--resume", tmp_path / "nothing")
+    assert resume.wait(timeout=60) == 2 and "holds no checkpoint.npz" in resume.stderr.read()
