@@ -1,4 +1,4 @@
-"""Script mode: ``ngwear run SCENE.toml [--out DIR] [--set KEY=VALUE ...] [--no-pictures]``.
+"""Script mode: ``ngwear run SCENE.toml [--out DIR] [--set KEY=VALUE ...] [--no-pictures]``; ``ngwear explore``.
 
 Bad input exits with status 2 and one line naming the field; a run that stops part-way writes the
 steps it completed and exits with status 1.
@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 from .model.scene import SceneError, load_scene, parse_override
+from .views.app import DEFAULT_PORT
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -28,6 +29,14 @@ def _parser() -> argparse.ArgumentParser:
     ver.add_argument("--out", help="output directory (default: out/<scene name>-verify)")
     ver.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE", help="override scene fields")
     ver.add_argument("--quick", action="store_true", help="coarse meshes and few steps (about 10 s)")
+    exp = sub.add_parser("explore", help="serve the explorer as a web app on 127.0.0.1 (needs ngwear[app])")
+    exp.add_argument("scene", nargs="?", default="geometries/paper_strip.toml",
+                     help="scene TOML file (default: geometries/paper_strip.toml)")
+    exp.add_argument("--port", type=int, help=f"port (default: {DEFAULT_PORT} or the next free one)")
+    exp.add_argument("--out", help="folder the save buttons write into (default: out/<scene name>-explore)")
+    exp.add_argument("--set", nargs="+", default=[], metavar="KEY=VALUE", help="override scene fields")
+    exp.add_argument("--kernel-timeout", type=int, default=60, metavar="SECONDS",
+                     help="end the kernel of a closed page once idle this long (default: 60)")
     stress = sub.add_parser("stress", help="run the stability stress matrix and write its report")
     stress.add_argument("args", nargs=argparse.REMAINDER, help="passed on (see `ngwear stress -- --help`)")
     return parser
@@ -104,6 +113,26 @@ def run(args) -> int:
     return 0
 
 
+def explore(args) -> int:
+    from importlib.util import find_spec
+
+    from .views import app
+    if find_spec("voila") is None:
+        print("ngwear: explore needs the optional packages of ngwear[app] (voila is missing): "
+              "pip install 'ngwear[app]'", file=sys.stderr)
+        return 2
+    scene = _scene(args)
+    if args.kernel_timeout < 1:
+        raise SceneError(f"--kernel-timeout: must be >= 1 s (got {args.kernel_timeout})")
+    try:
+        port = app.free_port(args.port)
+    except OSError as err:
+        print(f"ngwear: --port: {err}", file=sys.stderr)
+        return 2
+    folder = Path(args.out or Path("out") / f"{scene.name}-explore")
+    return app.serve(scene, port=port, folder=folder, kernel_timeout=args.kernel_timeout)
+
+
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     logging.basicConfig(level=logging.WARNING, format="ngwear: %(message)s")
@@ -111,7 +140,7 @@ def main(argv: list[str] | None = None) -> int:
         from .studies.stress import main as stress_main
         return stress_main([a for a in args.args if a != "--"])
     try:
-        return {"run": run, "verify": verify}[args.command](args)
+        return {"run": run, "verify": verify, "explore": explore}[args.command](args)
     except SceneError as err:
         print(f"ngwear: {err}", file=sys.stderr)
         return 2

@@ -63,7 +63,8 @@ class _View:
                                       layout=W.Layout(width="240px", flex="0 0 auto"))
         c["status"] = W.HTML(layout=W.Layout(flex="1 1 auto", width="auto"))
         c["message"] = W.HTML()
-        c["picture"], c["plots"] = W.Image(format="png"), W.Image(format="png")
+        width = W.Layout(width=f"{explorer.canvas.window_size[0]}px")  # natural size, not stretched
+        c["picture"], c["plots"] = W.Image(format="png", layout=width), W.Image(format="png", layout=width)
         for name, widget in c.items():
             widget.add_class(f"ngwear-slider-{name}" if name in {s.name for s in explorer.sliders} else f"ngwear-{name}")
         names = [s.name for s in explorer.sliders]
