@@ -33,14 +33,17 @@ def free_port() -> int:
 
 
 @contextmanager
-def server(argv: list[str], port: int, log: Path, env: dict | None = None, timeout: float = 60):
-    """Run ``argv`` (in its own process group) until it listens on ``port``; stop it with SIGINT at the end."""
+def server(argv: list[str], port: int, log: Path, env: dict | None = None, timeout: float = 90, ready: str = ""):
+    """Run ``argv`` (in its own process group) until it listens on ``port`` and has logged ``ready``.
+
+    SIGINT stops it at the end (as Ctrl-C would).
+    """
     with log.open("w") as out:
         process = subprocess.Popen(argv, stdout=out, stderr=subprocess.STDOUT, start_new_session=True,
                                    env=env, cwd=ROOT)
         try:
             deadline = time.monotonic() + timeout
-            while not _listening(port):
+            while not (_listening(port) and ready in log.read_text()):
                 if process.poll() is not None or time.monotonic() > deadline:
                     raise RuntimeError(f"{argv[:4]} did not listen on port {port}:\n{log.read_text()}")
                 time.sleep(0.2)

@@ -8,6 +8,7 @@ of a closed page ends, and Ctrl-C stops the server and its kernels.  Screenshots
 """
 import subprocess
 import sys
+import time
 import tomllib
 
 import numpy as np
@@ -70,10 +71,12 @@ def test_explore_app_in_chromium(tmp_path):
     port, shots = free_port(), Shots("test_app")
     argv = [sys.executable, "-m", "ngwear.cli", "explore", str(PAPER), "--port", str(port),
             "--out", str(tmp_path / "saved"), "--kernel-timeout", "3"]
-    with server(argv, port, tmp_path / "server.log") as app, chromium() as browser:
+    url = f"http://127.0.0.1:{port}/"
+    with server(argv, port, tmp_path / "server.log", ready=url) as app, chromium() as browser:
         page = browser.new_page(viewport={"width": 1280, "height": 1100})
         watch = Watch(page)
-        page.goto(f"http://127.0.0.1:{port}/")
+        time.sleep(5)  # the preheated kernel idles past --kernel-timeout: it must not be culled once handed out
+        page.goto(url)
         page.wait_for_function(f"() => {{ const i = document.querySelector('{PICTURE}');"
                                " return i && i.complete && i.naturalWidth > 0; }", timeout=90_000)
         shots(page, "opened")
