@@ -89,7 +89,7 @@ class Watch:
 
 
 class Shots:
-    """Numbered full-page screenshots in ``out/browser-artifacts/<name>/``."""
+    """Numbered full-page screenshots in ``out/browser-artifacts/<name>/``; ``on_failure`` adds one when a block fails."""
 
     def __init__(self, name: str):
         self.folder = ARTIFACTS / name
@@ -104,6 +104,14 @@ class Shots:
         path = self.folder / f"{self.count:02d}-{label}.png"
         page.screenshot(path=str(path), full_page=True)
         return path
+
+    @contextmanager
+    def on_failure(self, page):
+        try:
+            yield
+        except BaseException:
+            print(f"failed: see {self(page, 'failure')}")
+            raise
 
 
 IMAGE_JS = """async (selector) => {

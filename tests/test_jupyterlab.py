@@ -66,42 +66,46 @@ def test_explorer_notebook_in_jupyterlab(tmp_path):
     with server(argv, port, tmp_path / "lab.log", env=env), chromium() as browser:
         page = browser.new_page(viewport={"width": 1400, "height": 1200})
         watch = Watch(page)
-        page.goto(f"http://127.0.0.1:{port}/lab/tree/notebooks/explore.ipynb")
-        page.wait_for_selector(".jp-Notebook .jp-Cell", timeout=90_000)
-        page.wait_for_selector(".jp-Notebook-ExecutionIndicator[data-status='idle']", timeout=90_000)
-        page.get_by_role("menuitem", name="Run", exact=True).click()
-        page.get_by_role("menuitem", name="Run All Cells", exact=True).click()
-        page.wait_for_function("() => document.body.innerText.includes('new factorisation: False')", timeout=120_000)
-        page.wait_for_function(f"() => {{ const i = document.querySelector('{PICTURE}');"
-                               " return i && i.complete && i.naturalWidth > 0; }", timeout=60_000)
-        page.locator(PICTURE).scroll_into_view_if_needed()
-        shots(page, "run-all")
-        assert page.inner_text(".ngwear-slider-speed .widget-readout").strip() == "2.00", "explorer.set moved it"
+        with shots.on_failure(page):
+            page.goto(f"http://127.0.0.1:{port}/lab/tree/notebooks/explore.ipynb")
+            page.wait_for_selector(".jp-Notebook .jp-Cell", timeout=90_000)
+            page.wait_for_function(  # the kernel is connected and idle (the cell toolbar says idle earlier)
+                "() => document.querySelector('#jp-main-statusbar').textContent.includes('(ipykernel) | Idle')",
+                timeout=90_000)
+            page.get_by_role("menuitem", name="Run", exact=True).click()
+            page.get_by_role("menuitem", name="Run All Cells", exact=True).click()
+            page.wait_for_function("() => document.body.textContent.includes('new factorisation: False')", timeout=120_000)
+            page.wait_for_function(f"() => {{ const i = document.querySelector('{PICTURE}');"
+                                   " return i && i.complete && i.naturalWidth > 0; }", timeout=60_000)
+            page.locator(PICTURE).scroll_into_view_if_needed()
+            shots(page, "run-all")
+            assert page.inner_text(".ngwear-slider-speed .widget-readout").strip() == "2.00", "explorer.set moved it"
 
-        client = kernel(runtime)
-        pictures = [image(page, PICTURE)]
-        for slider, key in (("slider-load", "ArrowRight"), ("slider-wear", "ArrowLeft"), ("slider-friction", "End"),
-                            ("time", "Home"), ("time", "ArrowRight"), ("time", "End"), ("slider-load", "ArrowRight")):
-            old = src(page, PICTURE)
-            page.focus(f".ngwear-{slider} .noUi-handle")
-            page.keyboard.press(key)
-            wait_for_new_image(page, PICTURE, old)
-            page.wait_for_function("() => document.querySelector('.ngwear-progress').textContent.includes('ready')")
-            pictures.append(image(page, PICTURE))
-            assert is_real_picture(pictures[-1]) is None, f"after {key} on {slider}: {is_real_picture(pictures[-1])}"
-            assert np.abs(pictures[-1].astype(int) - pictures[-2]).mean() > 0.2, f"{key} on {slider} changed nothing"
-        shots(page, "moved-and-scrubbed")
+            client = kernel(runtime)
+            pictures = [image(page, PICTURE)]
+            for slider, key in (("slider-load", "ArrowRight"), ("slider-wear", "ArrowLeft"), ("slider-friction", "End"),
+                                ("time", "Home"), ("time", "ArrowRight"), ("time", "End"), ("slider-load", "ArrowRight")):
+                old = src(page, PICTURE)
+                page.focus(f".ngwear-{slider} .noUi-handle")
+                page.keyboard.press(key)
+                wait_for_new_image(page, PICTURE, old)
+                page.wait_for_function("() => document.querySelector('.ngwear-progress').textContent.includes('ready')")
+                pictures.append(image(page, PICTURE))
+                assert is_real_picture(pictures[-1]) is None, f"after {key} on {slider}: {is_real_picture(pictures[-1])}"
+                assert np.abs(pictures[-1].astype(int) - pictures[-2]).mean() > 0.2, f"{key} on {slider} changed nothing"
+            shots(page, "moved-and-scrubbed")
 
-        state = evaluate(client, "{'values': explorer.values, 'step': explorer.step, 'completed': explorer.result.completed,"
-                                 " 'threads': [t.name for t in __import__('threading').enumerate()]}")
-        shown = {name: float(page.inner_text(f".ngwear-slider-{name} .widget-readout"))
-                 for name in ("load", "speed", "wear", "friction", "gap", "steps")}
-        assert shown == pytest.approx(state["values"], rel=6e-3) and state["completed"]
-        assert state["values"]["friction"] == 2.0 and state["step"] == state["values"]["steps"]
-        assert any(name.startswith("subshell-") for name in state["threads"]), \
-            f"widget messages ran on the main shell, not a subshell: {state['threads']}"
-        kernel_picture = np.array(evaluate(client, "explorer.picture().tolist()"), dtype=np.uint8)
-        assert np.array_equal(kernel_picture, pictures[-1]), "the page shows the kernel's picture"
-        client.stop_channels()
-        assert not watch.errors, watch.errors
-        assert not watch.external, f"requests leaving 127.0.0.1: {watch.external}"
+            state = evaluate(client, "{'values': explorer.values, 'step': explorer.step, "
+                                     "'completed': explorer.result.completed, "
+                                     "'threads': [t.name for t in __import__('threading').enumerate()]}")
+            shown = {name: float(page.inner_text(f".ngwear-slider-{name} .widget-readout"))
+                     for name in ("load", "speed", "wear", "friction", "gap", "steps")}
+            assert shown == pytest.approx(state["values"], rel=6e-3) and state["completed"]
+            assert state["values"]["friction"] == 2.0 and state["step"] == state["values"]["steps"]
+            assert any(name.startswith("subshell-") for name in state["threads"]), \
+                f"widget messages ran on the main shell, not a subshell: {state['threads']}"
+            kernel_picture = np.array(evaluate(client, "explorer.picture().tolist()"), dtype=np.uint8)
+            assert np.array_equal(kernel_picture, pictures[-1]), "the page shows the kernel's picture"
+            client.stop_channels()
+            assert not watch.errors, watch.errors
+            assert not watch.external, f"requests leaving 127.0.0.1: {watch.external}"
