@@ -5,13 +5,13 @@ and gives every page its own kernel, so that the same ipywidgets explorer as in 
 app.  ngwear serves a one-cell notebook calling :func:`page` with the scene, and configures:
 
 * its own template (``app_data/voila/templates/ngwear``): Voilà's lab template without the icon
-  fonts it loads from a CDN, so that the page needs nothing from the internet;
+  fonts and mermaid.js it loads from CDNs, so that the page needs nothing from the internet;
 * its own kernel spec, this Python, whatever kernels the user has installed;
 * the end of the kernels of closed pages: a kernel whose page has gone and that has been idle for
-  ``kernel_timeout`` seconds is shut down (Voilà would keep it, ~570 MB, until the server stops);
+  ``kernel_timeout`` seconds is shut down (Voilà would keep it, ~500 MB, until the server stops);
 * one kernel preheated: Voilà runs the page's notebook before a page asks for it (import, solve,
-  first render with its shader compilation), so that a page shows its first picture in about a
-  second and a half; the URL is printed once the first one is ready;
+  first render with its shader compilation), so that a page shows its first picture in about two
+  seconds; the URL is printed once the first one is ready;
 * Ctrl-C (or SIGTERM) stops the server and shuts its kernels down.
 """
 from __future__ import annotations
