@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import common as C
 
-from ngwear.views.explore import DEFAULT_MAXH, DEFAULT_STEPS, Explorer, png_bytes
+from ngwear.views.explore import Explorer, png_bytes
 
 TARGET = 0.5
 SLIDERS = {
@@ -30,7 +30,7 @@ SLIDERS = {
     "steps": None,  # multiples of the resolution's steps, see below
     "time": None,   # scrubbing: steps of the current run
 }
-RESOLUTIONS = ((DEFAULT_MAXH, DEFAULT_STEPS), (0.1, 50))
+RESOLUTIONS = ((0.05, 100), (0.1, 50))  # the paper scene's own resolution (the explorer's default), coarser
 
 
 def update(ex: Explorer, name: str, value) -> dict:

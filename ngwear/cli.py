@@ -1,6 +1,7 @@
 """Script mode: ``ngwear run SCENE.toml [--out DIR] [--set KEY=VALUE ...] [--no-pictures]``.
 
-Also ``ngwear verify``, ``ngwear stress``, ``ngwear schema`` (the scene files' JSON Schema) and
+Also ``ngwear explore`` (the explorer as a web app), ``ngwear verify``, ``ngwear stress``, ``ngwear schema``
+(the scene files' JSON Schema) and
 ``ngwear sweep STUDY.toml [--out DIR] [--scheduler ADDRESS] [--workers N]`` (a parameter study on
 Dask, see :mod:`ngwear.studies.sweep`).
 
@@ -16,6 +17,7 @@ from pathlib import Path
 
 from .model.scene import SceneError, load_scene, parse_override
 from .studies.study import StudyError
+from .views.app import DEFAULT_PORT
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -46,6 +48,14 @@ def _parser() -> argparse.ArgumentParser:
     sweep.add_argument("--set", nargs="+", action="extend", default=[], metavar="KEY=VALUE",
                        help="override the base scene (may be given several times)")
     sweep.add_argument("--quiet", action="store_true", help="no progress bar")
+    exp = sub.add_parser("explore", help="serve the explorer as a web app on 127.0.0.1 (needs ngwear[app])")
+    exp.add_argument("scene", nargs="?", default="geometries/paper_strip.toml",
+                     help="scene TOML file (default: geometries/paper_strip.toml)")
+    exp.add_argument("--port", type=int, help=f"port (default: {DEFAULT_PORT} or the next free one)")
+    exp.add_argument("--out", help="folder the save buttons write into (default: out/<scene name>-explore)")
+    _overrides(exp)
+    exp.add_argument("--kernel-timeout", type=int, default=60, metavar="SECONDS",
+                     help="end the kernel of a closed page once idle this long (default: 60)")
     stress = sub.add_parser("stress", help="run the stability stress matrix and write its report")
     stress.add_argument("args", nargs=argparse.REMAINDER, help="passed on (see `ngwear stress -- --help`)")
     return parser
@@ -196,6 +206,26 @@ def sweep(args) -> int:
     return 0
 
 
+def explore(args) -> int:
+    from importlib.util import find_spec
+
+    from .views import app
+    if find_spec("voila") is None:
+        print("ngwear: explore needs the optional packages of ngwear[app] (voila is missing): "
+              "pip install 'ngwear[app]'", file=sys.stderr)
+        return 2
+    scene, _ = _scene(args)
+    if args.kernel_timeout < 1:
+        raise SceneError(f"--kernel-timeout: must be >= 1 s (got {args.kernel_timeout})")
+    try:
+        port = app.free_port(args.port)
+    except OSError as err:
+        print(f"ngwear: --port: {err}", file=sys.stderr)
+        return 2
+    folder = Path(args.out or Path("out") / f"{scene.name}-explore")
+    return app.serve(scene, port=port, folder=folder, kernel_timeout=args.kernel_timeout)
+
+
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     logging.basicConfig(level=logging.WARNING, format="ngwear: %(message)s")
@@ -203,7 +233,7 @@ def main(argv: list[str] | None = None) -> int:
         from .studies.stress import main as stress_main
         return stress_main([a for a in args.args if a != "--"])
     try:
-        return {"run": run, "verify": verify, "schema": schema, "sweep": sweep}[args.command](args)
+        return {"run": run, "verify": verify, "schema": schema, "sweep": sweep, "explore": explore}[args.command](args)
     except (SceneError, StudyError) as err:
         print(f"ngwear: {err}", file=sys.stderr)
         return 2

@@ -1,14 +1,18 @@
 #!/usr/bin/env bash
-# Create .venv (Python >= 3.11) with ngwear and its test dependencies; idempotent.
+# Create .venv (Python >= 3.11) with ngwear, its test dependencies and the app extra; idempotent.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=${PYTHON:-python3}
-# Headless pictures: VTK renders through EGL with Mesa's software rasteriser.
-if ! ldconfig -p | grep -q 'libEGL.so.1'; then
+# Debian packages: EGL (headless pictures: VTK renders through EGL with Mesa's software rasteriser) and
+# Chromium (the browser tests drive it through Playwright, which cannot download its own browser here).
+missing=()
+ldconfig -p | grep -q 'libEGL.so.1' || missing+=(libegl1 libgl1 libgl1-mesa-dri)
+[ -x /usr/bin/chromium ] || missing+=(chromium)
+if [ ${#missing[@]} -gt 0 ]; then
   if [ "$(id -u)" = 0 ]; then
-    apt-get update -qq && apt-get install -y -qq --no-install-recommends libegl1 libgl1 libgl1-mesa-dri
+    apt-get update -qq && apt-get install -y -qq --no-install-recommends "${missing[@]}"
   else
-    echo "ngwear: pictures need libEGL: sudo apt-get install libegl1 libgl1 libgl1-mesa-dri" >&2
+    echo "ngwear: pictures and browser tests need: sudo apt-get install ${missing[*]}" >&2
   fi
 fi
 if [ ! -x .venv/bin/python ]; then
@@ -17,6 +21,6 @@ fi
 stamp=.venv/.ngwear-installed
 if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
   .venv/bin/python -m pip install --quiet --upgrade pip
-  .venv/bin/python -m pip install --quiet -e '.[test]'
+  .venv/bin/python -m pip install --quiet -e '.[test,app]'
   touch "$stamp"
 fi

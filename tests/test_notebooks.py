@@ -56,6 +56,7 @@ def test_explorer_notebook_runs(tmp_path, monkeypatch):
     assert len(outputs(notebook, "image/png")) == 2
     printed = "".join(o.get("text", "") for c in notebook.cells for o in c.get("outputs", []))
     assert "{'wear': 0.0}: max wear at t = 0.50: 0.0000" in printed and "new factorisation: False" in printed
+    assert "A/B: B differs from A in speed 1 → 2" in printed
 
 
 def test_convergence_notebook_runs(tmp_path, monkeypatch):

@@ -21,8 +21,9 @@ CHECKPOINT = "checkpoint.npz"
 FREE = ("time.T", "time.steps")
 
 
-def write_checkpoint(folder, result: Result, x: np.ndarray, lam: np.ndarray, step: float) -> Path:
-    """Write (or replace) the checkpoint of ``result`` in ``folder``; the mesh too, the first time."""
+def write_checkpoint(folder, result: Result) -> Path:
+    """Write (or replace) the checkpoint of ``result`` (its ``continuation``) in ``folder``; the mesh too, once."""
+    x, lam, step = result.continuation
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     if not (folder / "mesh.vol").is_file():

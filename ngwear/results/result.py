@@ -59,6 +59,7 @@ class Result:
     wall_time: float = 0.0
     fields: dict[int, np.ndarray] = field(default_factory=dict)
     discretization: object = field(default=None, repr=False)
+    continuation: tuple | None = field(default=None, repr=False)   # (x, λ, next step): to go on from the last step
     _buffers: dict = field(default_factory=dict, repr=False)
 
     @classmethod

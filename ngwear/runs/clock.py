@@ -49,6 +49,11 @@ class Clock:
         tables = [time for table in (scene.loads.time_table, scene.foundation.speed_table) for time, _ in table]
         self.marks = np.unique([m for m in (*frames, *tables, t.T) if 0 < m <= t.T])
 
+    @property
+    def next_step(self) -> float:
+        """The step the clock proposes next (the uniform k without adaptivity): what a checkpoint keeps."""
+        return self.step if self.adaptive else self.uniform
+
     def done(self, j: int, t: float) -> bool:
         """Whether the run has reached T (adaptive) or its N steps (uniform)."""
         return t >= self.T if self.adaptive else j >= self.steps

@@ -62,7 +62,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
             result.warnings.append(warning)
     clock = Clock(scene, disc.largest_alpha())
     if resume is not None:
-        clock.step = saved.step
+        clock.step, result.continuation = saved.step, (saved.x, saved.lam, saved.step)
     stepper = _Stepper(disc)
     if resume is None:
         x, lam = stepper.unknowns(), np.zeros(disc.points.n)
@@ -73,6 +73,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
     try:
         if result.steps < 0:
             x, lam = _first(stepper, integrator, result, x, lam)
+            result.continuation = (x, lam, clock.next_step)
         while result.completed and not clock.done(result.steps, result.times[-1]):
             if stop is not None and stop.is_set():
                 result.interrupt()
@@ -81,9 +82,10 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
             if attempt is None:
                 break
             x, lam = attempt
+            result.continuation = (x, lam, clock.next_step)
             if bar is not None:
                 bar.update(1 if not scene.time.adaptive else result.times[-1] - result.times[-2])
-            saver.maybe(result, x, lam, clock)
+            saver.maybe(result)
     except KeyboardInterrupt:
         result.settle()
         result.interrupt()
@@ -91,7 +93,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
     if clock.unmet:
         result.warnings.append(f"time.tolerance: steps at time.min_step = {scene.time.min_step:g} missed the "
                                "tolerance; lower time.min_step")
-    saver.write(result, x, lam, clock)
+    saver.write(result)
     if bar is not None:
         bar.close()
     if result.status != "completed":
@@ -174,13 +176,13 @@ class _Saver:
     def __init__(self, folder, seconds: float):
         self.folder, self.seconds, self.last = folder, seconds, time.perf_counter()
 
-    def maybe(self, result: Result, x, lam, clock: Clock) -> None:
+    def maybe(self, result: Result) -> None:
         if self.folder is not None and self.seconds > 0 and time.perf_counter() - self.last >= self.seconds:
-            self.write(result, x, lam, clock)
+            self.write(result)
 
-    def write(self, result: Result, x, lam, clock: Clock) -> None:
-        if self.folder is not None and result.steps >= 0:
-            write_checkpoint(self.folder, result, x, lam, clock.step if clock.adaptive else clock.uniform)
+    def write(self, result: Result) -> None:
+        if self.folder is not None and result.continuation is not None:
+            write_checkpoint(self.folder, result)
             self.last = time.perf_counter()
 
 

@@ -1,65 +1,56 @@
-"""Explore a scene interactively: change load, v*, κ, μ, g or the number of steps and see the new run.
+"""Explore a scene interactively: move its sliders and see the new run.
 
-:class:`Explorer` keeps the :class:`~ngwear.discrete.Discretization` of its scene and the last
-:class:`~ngwear.result.Result`.  :meth:`Explorer.set` re-solves through
+:class:`Explorer` keeps the :class:`~ngwear.numerics.discrete.Discretization` of its scene and the
+last good :class:`~ngwear.results.result.Result`.  :meth:`Explorer.set` re-solves through
 ``simulate(scene, discretization=...)``, which keeps mesh, factorisation and contact compliance for
-these parameters (only a load change costs one more back-substitution), and records what each update
-took.  :meth:`Explorer.picture` and :meth:`Explorer.plots` draw the current step with a reused
-:class:`~ngwear.render.Canvas` and :class:`~ngwear.plots.Dashboard`.  :meth:`Explorer.widget` puts
-sliders on all of this (ipywidgets, imported only there); the logic runs and is tested without it.
+the sliders' parameters, and records what each update took.  A change that fails, an invalid value
+(:class:`~ngwear.model.scene.SceneError`) or a run that stops part-way (:class:`RunError`), leaves
+the explorer as it was: scene, result and pictures stay those of the last good run.
 
-The sliders' friendly names:
-
-* ``load``: the largest traction (or body-force) magnitude; scales the starting scene's load pattern;
-* ``speed``: ‖v*‖ of the foundation; the direction of the starting scene's v* is kept;
-* ``wear``: κ (``contact.wear``); ``friction``: μ (``contact.friction``);
-* ``gap``: g, the soft layer's thickness (``contact.gap``);
-* ``steps``: the number of time steps N (``time.steps``; T is kept).
-
+The sliders a scene gets, their ranges and what they change are data (:mod:`ngwear.views.sliders`);
+for the paper's scene they are ``load`` (the largest traction, scaling the load pattern), ``speed``
+(‖v*‖, direction kept), ``wear`` κ, ``friction`` μ, ``gap`` g and ``steps`` N.
 :meth:`Explorer.set` also takes any dotted scene key (``"contact.wear"``, ``"loads.traction"``, …).
+
+:meth:`Explorer.picture` and :meth:`Explorer.plots` draw the step on show with a reused
+:class:`~ngwear.views.render.Canvas` and :class:`~ngwear.views.plots.Dashboard`; after
+:meth:`Explorer.pin` the plots compare the current run with the pinned one
+(:class:`~ngwear.views.compare.Comparison`).  ``save_scene``, ``save_picture`` and ``save_result``
+keep what is shown: a TOML scene that ``ngwear run`` reproduces, the PNG, and the folder
+``ngwear run`` writes.  Views register with :meth:`Explorer.on_change` and are told after every
+change, whoever made it, so they always show the state that produced the picture
+(:meth:`Explorer.widget`, ipywidgets, imported only there).  Every method may be called from any
+thread (JupyterLab runs widget callbacks on a subshell thread); one lock orders them.
 """
 from __future__ import annotations
 
 import io
 import logging
+import threading
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
+import tomli_w
 from PIL import Image
 
 from ..model.scene import Scene, SceneError
 from ..runs.simulate import simulate
+from .compare import Comparison, nearest_step
 from .plots import Dashboard
 from .render import Canvas
+from .sliders import sliders_for
 
 log = logging.getLogger(__name__)
 
-DEFAULT_MAXH, DEFAULT_STEPS = 0.05, 100
-"""The explorer's default resolution: the paper's (about 2 900 free DOFs, 61 contact points)."""
 
+class RunError(RuntimeError):
+    """A run stopped part-way (Newton failure); ``result`` holds the steps it completed."""
 
-@dataclass(frozen=True)
-class Parameter:
-    """A slider: friendly ``name``, its ``label`` and range."""
-
-    name: str
-    label: str
-    minimum: float
-    maximum: float
-    step: float
-
-
-PARAMETERS = (
-    Parameter("load", "load ‖f‖", 0.0, 0.3, 0.005),
-    Parameter("speed", "speed ‖v*‖", 0.1, 3.0, 0.05),
-    Parameter("wear", "wear κ", 0.0, 5.0, 0.05),
-    Parameter("friction", "friction μ", 0.0, 2.0, 0.05),
-    Parameter("gap", "layer g", 0.02, 0.5, 0.01),
-    Parameter("steps", "time steps", 10, 200, 10),
-)
-SCENE_KEYS = {"wear": "contact.wear", "friction": "contact.friction", "gap": "contact.gap",
-              "steps": "time.steps"}
+    def __init__(self, message: str, result):
+        super().__init__(message)
+        self.result = result
 
 
 @dataclass
@@ -78,18 +69,17 @@ class Update:
 
 
 class Explorer:
-    """A scene, its discretization, its last run and the step on show.
+    """A scene, its discretization, its last good run and the step on show.
 
     Parameters
     ----------
     scene : Scene
         The starting scene; its load pattern and foundation direction are what ``load`` and
-        ``speed`` scale.
+        ``speed`` scale, and relative slider ranges are relative to its values.
     maxh, steps : float, int or None
         Resolution (``mesh.maxh``, ``time.steps``) replacing the scene's; ``None`` keeps the scene's.
-        The default, the paper's resolution, updates in well under 0.5 s.
     field : {"displacement", "wear", "pressure"}
-        What the picture colours (see :func:`ngwear.render.frame`).
+        What the picture colours (see :func:`ngwear.views.render.frame`).
     window_size : (int, int)
         Size of the picture in pixels.
 
@@ -97,99 +87,124 @@ class Explorer:
     ----------
     scene, disc, result : Scene, Discretization, Result
         The current scene, its discretization and its run.
+    sliders : tuple of Slider
+        The scene's sliders (:func:`ngwear.views.sliders.sliders_for`).
     step : int
         The step on show (initially the last).
+    pinned : Result or None
+        Run A of the A/B comparison.
     updates : list of Update
         Every solve so far (the first is the initial run), with its timings.
+
+    Raises
+    ------
+    RunError
+        If the starting scene's run stops part-way.
     """
 
-    def __init__(self, scene: Scene, *, maxh: float | None = DEFAULT_MAXH, steps: int | None = DEFAULT_STEPS,
+    def __init__(self, scene: Scene, *, maxh: float | None = None, steps: int | None = None,
                  field: str = "displacement", window_size=(800, 330)):
         resolution = {"mesh.maxh": maxh, "time.steps": steps}
         self.base = scene.replace(**{k: v for k, v in resolution.items() if v is not None})
+        self.sliders = sliders_for(self.base)
         self.canvas = Canvas(field, window_size=window_size)
-        self.dashboard = Dashboard(size=(window_size[0] / 80, 2.6), dpi=80)
+        size = (window_size[0] / 80, 2.6)
+        self.dashboard, self.comparison = Dashboard(size=size, dpi=80), Comparison(size=size, dpi=80)
         self.updates: list[Update] = []
-        self.disc = None
+        self.disc, self.pinned, self._views = None, None, []
+        self._lock = threading.RLock()
         self._solve(self.base, {})
         self.step = self.result.steps
 
     # ---- parameters -----------------------------------------------------------------------
     @property
     def values(self) -> dict:
-        """Current slider values by friendly name."""
-        scene = self.scene
-        return {"load": _load_size(scene), "speed": float(np.linalg.norm(scene.foundation.velocity)),
-                "wear": scene.contact.wear, "friction": scene.contact.friction, "gap": scene.contact.gap,
-                "steps": scene.time.steps}
+        """Current slider values by name."""
+        return {s.name: s.value(self.scene) for s in self.sliders}
 
     def set(self, **values):
-        """Change parameters (friendly names or dotted scene keys) and re-solve if anything changed.
+        """Change parameters (slider names or dotted scene keys) and re-solve if anything changed.
 
-        Returns the new :class:`~ngwear.result.Result`.  Raises :class:`~ngwear.scene.SceneError`
-        (scene unchanged) for an invalid value.  The step on show keeps its time t.
+        Returns the new :class:`~ngwear.results.result.Result`.  The step on show keeps its time t.
+
+        Raises
+        ------
+        SceneError
+            For an unknown name or an invalid value.
+        RunError
+            If the new run stops part-way.  Either way the explorer keeps its last good run.
         """
-        dotted = {}
-        for name, value in values.items():
-            if name in SCENE_KEYS:
-                dotted[SCENE_KEYS[name]] = value
-            elif name == "load":
-                dotted.update(self._load(value))
-            elif name == "speed":
-                dotted["foundation.velocity"] = self._velocity(value)
-            elif "." in name:
-                dotted[name] = value
-            else:
-                names = ", ".join(p.name for p in PARAMETERS)
-                raise SceneError(f"{name}: not a parameter (use {names} or a dotted scene key)")
-        scene = self.scene.replace(**dotted)
-        if scene != self.scene:
-            t = self.result.times[self.step]
-            self._solve(scene, values)
-            self.step = min(round(t / scene.dt), self.result.steps)
-        return self.result
-
-    def _load(self, size: float) -> dict:
-        """Dotted load keys for the starting load pattern scaled to magnitude ``size``."""
-        loads, base = self.base.loads, _load_size(self.base)
-        if base == 0:
-            raise SceneError("load: the scene has no traction or body force to scale")
-        factor = size / base
-        out = {"loads.traction": {name: [factor * c for c in vec] for name, vec in loads.traction.items()}}
-        if loads.body_force is not None:
-            out["loads.body_force"] = [factor * c for c in loads.body_force]
-        return out
-
-    def _velocity(self, speed: float) -> list:
-        v = np.array(self.base.foundation.velocity, dtype=float)
-        norm = np.linalg.norm(v)
-        if norm == 0:
-            raise SceneError("speed: the scene's foundation is at rest (no direction to scale)")
-        return (speed / norm * v).tolist()
+        with self._lock:
+            sliders = {s.name: s for s in self.sliders}
+            dotted = {}
+            for name, value in values.items():
+                if name in sliders:
+                    dotted.update(sliders[name].changes(self.base, value))
+                elif "." in name:
+                    dotted[name] = value
+                else:
+                    raise SceneError(f"{name}: not a parameter (use {', '.join(sliders)} or a dotted scene key)")
+            scene = self.scene.replace(**dotted)
+            if scene != self.scene:
+                t = self.result.times[self.step]
+                self._solve(scene, values)
+                self.step = nearest_step(self.result, t)
+                if self.pinned is not None and not np.array_equal(self.pinned.contact_points,
+                                                                  self.result.contact_points):
+                    log.info("explorer: unpinned run A (the mesh changed)")
+                    self.pinned = None
+                self._changed()
+            return self.result
 
     def _solve(self, scene: Scene, changes: dict) -> None:
         operator = self.disc.__dict__.get("operator") if self.disc is not None else None
         start = time.perf_counter()
-        self.result = simulate(scene, discretization=self.disc, progress=False)
+        result = simulate(scene, discretization=self.disc, progress=False)
         elapsed = time.perf_counter() - start
-        self.scene, self.disc = scene, self.result.discretization
+        if not result.completed:
+            raise RunError(result.status, result)
+        self.scene, self.result, self.disc = scene, result, result.discretization
         refactorised = operator is None or self.disc.__dict__.get("operator") is not operator
         self.updates.append(Update(dict(changes), elapsed, refactorised))
         log.info("explorer: %s solved in %.3f s%s", changes or "scene", elapsed,
                  " (new factorisation)" if refactorised else "")
 
-    # ---- the step on show ---------------------------------------------------------------------
+    # ---- the step on show, A/B --------------------------------------------------------------
     def scrub(self, step: int) -> None:
         """Show ``step`` (negative counts from the end) of the current run."""
-        self.step = range(self.result.steps + 1)[step]
+        with self._lock:
+            step = range(self.result.steps + 1)[step]
+            if step != self.step:
+                self.step = step
+                self._changed()
 
+    def pin(self) -> None:
+        """Keep the current run as A: the plots then compare every later run (B) with it."""
+        with self._lock:
+            self.pinned = self.result
+            self._changed()
+
+    def unpin(self) -> None:
+        """Drop run A; the plots show the current run alone."""
+        with self._lock:
+            self.pinned = None
+            self._changed()
+
+    # ---- pictures -------------------------------------------------------------------------
     def picture(self) -> np.ndarray:
         """RGB image of body, layer and foundation at the step on show."""
-        return self._timed("picture", self.canvas.frame, self.result, self.step)
+        with self._lock:
+            return self._timed("picture", self.canvas.frame, self.result, self.step)
 
     def plots(self) -> np.ndarray:
-        """RGB image of wear and pressure along Γ_C at the step on show and their maxima over time."""
-        return self._timed("plots", self.dashboard.image, self.result, self.step)
+        """RGB image of wear and pressure along Γ_C at the step on show and of the maxima over time.
+
+        With a pinned run A, the A/B panels (current run B against A, and the difference of wear).
+        """
+        with self._lock:
+            if self.pinned is not None:
+                return self._timed("plots", self.comparison.image, self.pinned, self.result, self.step)
+            return self._timed("plots", self.dashboard.image, self.result, self.step)
 
     def _timed(self, kind: str, draw, *args) -> np.ndarray:
         """Draw, and record the time in the last update if this is its first drawing of that kind."""
@@ -201,99 +216,77 @@ class Explorer:
         return image
 
     def summary(self) -> str:
-        """One line on the last update: timings, reuse, and the run's key numbers and warnings."""
-        u, s = self.updates[-1], self.result.summary()
-        ms = lambda x: "–" if x is None else f"{1000 * x:.0f} ms"  # noqa: E731
-        reuse = "new factorisation" if u.refactorised else "factorisation reused"
-        text = (f"solve {ms(u.solve)} ({reuse}), picture {ms(u.picture)}, plots {ms(u.plots)} · "
-                f"max wear {s['max_wear']:.4g}, max penetration {s['max_penetration']:.4g} "
-                f"(g = {s['gap']:.3g})")
-        notes = [] if self.result.completed else [self.result.status]
-        return " · ".join([text, *notes, *self.result.warnings])
+        """One line on the last update: timings, reuse, the run's key numbers and warnings, and A/B."""
+        with self._lock:
+            u, s = self.updates[-1], self.result.summary()
+            ms = lambda x: "–" if x is None else f"{1000 * x:.0f} ms"  # noqa: E731
+            reuse = "new factorisation" if u.refactorised else "factorisation reused"
+            parts = [f"solve {ms(u.solve)} ({reuse}), picture {ms(u.picture)}, plots {ms(u.plots)}",
+                     f"max wear {s['max_wear']:.4g}, max penetration {s['max_penetration']:.4g} "
+                     f"(g = {s['gap']:.3g})", *self.result.warnings]
+            if self.pinned is not None:
+                parts.append(self._ab_line())
+            return " · ".join(parts)
+
+    def _ab_line(self) -> str:
+        a, b = self.pinned, self.result
+        was = {s.name: s.value(a.scene) for s in self.sliders}
+        changed = [f"{name} {_short(was[name])} → {_short(now)}" for name, now in self.values.items()
+                   if not np.isclose(now, was[name])]
+        wear_a = a.wear[nearest_step(a, b.times[self.step])]
+        difference = np.abs(b.wear[self.step] - wear_a).max(initial=0.0)
+        return (f"A/B: B differs from A in {', '.join(changed)}" if changed else "A/B: B has A's parameters") + \
+            f"; max |w_B − w_A| at t = {b.times[self.step]:.2f}: {difference:.4g}"
+
+    # ---- keeping what is shown ----------------------------------------------------------------
+    def save_scene(self, path) -> Path:
+        """Write the current scene as TOML; ``ngwear run`` on it reproduces the current run."""
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with self._lock:
+            text = tomli_w.dumps(self.scene.to_dict())
+        path.write_text(f"# saved by the ngwear explorer\n{text}", encoding="utf-8")
+        return path
+
+    def save_picture(self, path) -> Path:
+        """Write the picture on show as a PNG."""
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        Image.fromarray(self.picture()).save(path)
+        return path
+
+    def save_result(self, directory) -> Path:
+        """Write the current run as ``ngwear run`` does: results, checkpoint, VTU/PVD and the pictures."""
+        from ..results.checkpoint import write_checkpoint
+        from .pictures import write_pictures
+        with self._lock:
+            result = self.result
+        out = result.save(directory)
+        write_checkpoint(out, result)
+        write_pictures(result, out)
+        return out
+
+    # ---- views ------------------------------------------------------------------------------
+    def on_change(self, callback) -> None:
+        """Call ``callback()`` after every change of scene, run, step on show or pin."""
+        self._views.append(callback)
+
+    def _changed(self) -> None:
+        for callback in self._views:
+            callback()
 
     def close(self) -> None:
         """Release the picture's plotter."""
         self.canvas.close()
 
-    # ---- ipywidgets ---------------------------------------------------------------------------
-    def widget(self):
-        """The explorer as ipywidgets: parameter sliders, a time slider, progress, picture and plots.
-
-        Sliders act when released (a solve and both pictures take ~0.2 s; dragging would queue
-        them).  The controls stay reachable as ``explorer.controls[name]`` (parameter names,
-        ``"time"``, ``"progress"``, ``"status"``, ``"picture"``, ``"plots"``); setting a slider's
-        ``value`` from Python updates like dragging it.
-        """
-        import ipywidgets as W
-
-        values = self.values
-        sliders = {}
-        for p in PARAMETERS:
-            v = values[p.name]
-            kind = W.IntSlider if p.name == "steps" else W.FloatSlider
-            extra = {} if p.name == "steps" else {"readout_format": ".3g"}
-            sliders[p.name] = kind(value=v, min=min(p.minimum, v), max=max(p.maximum, v), step=p.step,
-                                   description=p.label, continuous_update=False,
-                                   style={"description_width": "90px"}, **extra)
-        controls = dict(sliders)
-        controls["time"] = W.IntSlider(value=self.step, min=0, max=self.result.steps, description="time step",
-                                       continuous_update=False, style={"description_width": "90px"},
-                                       layout=W.Layout(width="98%"))
-        controls["progress"] = W.IntProgress(value=3, min=0, max=3, description="ready",
-                                             style={"description_width": "70px"})
-        controls["status"] = W.Label(value=self.summary())
-        controls["picture"] = W.Image(format="png")
-        controls["plots"] = W.Image(format="png")
-        self.controls = controls
-        busy = []
-
-        def show() -> None:
-            progress = controls["progress"]
-            progress.value, progress.description = 1, "drawing"
-            controls["picture"].value = png_bytes(self.picture())
-            progress.value = 2
-            controls["plots"].value = png_bytes(self.plots())
-            progress.value, progress.description = 3, "ready"
-            controls["status"].value = self.summary()
-
-        def on_parameter(change) -> None:
-            name = next(k for k, s in sliders.items() if s is change["owner"])
-            progress = controls["progress"]
-            progress.value, progress.description, progress.bar_style = 0, "solving", "info"
-            try:
-                self.set(**{name: change["new"]})
-            except SceneError as err:
-                progress.value, progress.description, progress.bar_style = 3, "ready", "danger"
-                controls["status"].value = str(err)
-                return
-            busy.append(True)
-            controls["time"].max, controls["time"].value = self.result.steps, self.step
-            busy.clear()
-            progress.bar_style = "success" if self.result.completed else "warning"
-            show()
-
-        def on_time(change) -> None:
-            if not busy:
-                self.scrub(change["new"])
-                show()
-
-        for slider in sliders.values():
-            slider.observe(on_parameter, names="value")
-        controls["time"].observe(on_time, names="value")
-        show()
-        names = list(sliders)
-        return W.VBox([
-            W.HBox([W.VBox([sliders[n] for n in names[:3]]), W.VBox([sliders[n] for n in names[3:]])]),
-            controls["time"], W.HBox([controls["progress"], controls["status"]]),
-            controls["picture"], controls["plots"]])
+    def widget(self, folder=None):
+        """The explorer as ipywidgets, saving into ``folder`` (see :func:`ngwear.views.widget.explorer_widget`)."""
+        from .widget import explorer_widget
+        return explorer_widget(self, folder)
 
 
-def _load_size(scene: Scene) -> float:
-    """Largest traction or body-force magnitude of a scene."""
-    vectors = list(scene.loads.traction.values())
-    if scene.loads.body_force is not None:
-        vectors.append(scene.loads.body_force)
-    return max((float(np.linalg.norm(v)) for v in vectors), default=0.0)
+def _short(value) -> str:
+    return f"{value:.3g}" if isinstance(value, float) else str(value)
 
 
 def png_bytes(image: np.ndarray) -> bytes:
