@@ -57,6 +57,7 @@ class Result:
     status: str = "completed"
     warnings: list[str] = field(default_factory=list)
     wall_time: float = 0.0
+    rejected: int = 0
     fields: dict[int, np.ndarray] = field(default_factory=dict)
     discretization: object = field(default=None, repr=False)
     continuation: tuple | None = field(default=None, repr=False)   # (x, λ, next step): to go on from the last step
@@ -195,6 +196,7 @@ class Result:
                if self.plate_displacement.shape[1] and len(self.times) else {}),
             "contact_fraction": float((self.pressure[last] > 0).mean()) if len(self.times) else 0.0,
             "active_fraction": float((self.reaction[last] > 0).mean()) if len(self.times) else 0.0,
+            **({"rejected_steps": self.rejected} if self.scene.time.adaptive else {}),
             "newton_iterations_total": int(sum(its)),
             "newton_iterations_max": int(max(its, default=0)),
             "wall_time_s": round(self.wall_time, 3),
@@ -205,6 +207,7 @@ class Result:
         return {"contact_points": self.contact_points, "weights": self.weights,
                 **{name: getattr(self, name) for name in ARRAYS}, **records_to_arrays(self.newton),
                 "status": np.array(self.status), "wall_time": np.array(self.wall_time),
+                "rejected": np.array(self.rejected),
                 "warnings": np.array(self.warnings, dtype=str)}
 
     def save(self, directory) -> Path:
@@ -244,6 +247,7 @@ def from_arrays(scene: Scene, data, disc) -> Result:
     result = Result(scene, data["contact_points"], data["weights"], *(np.array(data[name]) for name in ARRAYS),
                     newton=records_from_arrays(data), status=str(data["status"]),
                     wall_time=float(data["wall_time"]), warnings=[str(w) for w in data["warnings"]],
+                    rejected=int(data["rejected"]),
                     discretization=disc)
     result._buffers = {name: getattr(result, name) for name in ARRAYS}
     return result

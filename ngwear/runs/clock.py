@@ -28,12 +28,12 @@ GROWTH, SHRINK, SAFETY = 4.0, 0.2, 0.9
 class Clock:
     """Where the next step ends, and whether the step just solved is accurate enough (adaptive)."""
 
-    def __init__(self, scene, largest_alpha: float):
+    def __init__(self, scene, largest_alpha: float, rejected: int = 0):
         t = scene.time
         self.T, self.uniform, self.adaptive = t.T, t.T / t.steps, t.adaptive
         self.steps = t.steps
         self.unmet = False               # a step at min_step missed the tolerance (the run warns once)
-        self.rejected = 0                # steps redone smaller
+        self.rejected = rejected         # steps redone smaller (so far, when a run is resumed)
         if not self.adaptive:
             return
         self.floor, limit = t.min_step, stable_step(scene, largest_alpha)

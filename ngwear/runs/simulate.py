@@ -60,7 +60,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
         if warning:
             log.warning("%s", warning)
             result.warnings.append(warning)
-    clock = Clock(scene, disc.largest_alpha())
+    clock = Clock(scene, disc.largest_alpha(), result.rejected)
     if resume is not None:
         clock.step, result.continuation = saved.step, (saved.x, saved.lam, saved.step)
     stepper = _Stepper(disc)
@@ -89,7 +89,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
     except KeyboardInterrupt:
         result.settle()
         result.interrupt()
-    result.wall_time = before + time.perf_counter() - start
+    result.wall_time, result.rejected = before + time.perf_counter() - start, clock.rejected
     if clock.unmet:
         result.warnings.append(f"time.tolerance: steps at time.min_step = {scene.time.min_step:g} missed the "
                                "tolerance; lower time.min_step")
