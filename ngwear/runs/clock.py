@@ -11,9 +11,9 @@ the contact points give the local error of a step k = t_{j+1} − t_j without a 
 A step is accepted when e ≤ k ε, ε = tolerance · g / T: errors per unit time, so that the steps'
 errors add up to at most tolerance · g at T; otherwise it is redone with a smaller k.  The next step
 is k · min(4, max(0.2, 0.9 (k ε / e)^(1/q))) (q the order), kept within [min_step, max_step] and
-below the wear update's stability limit (:func:`ngwear.numerics.wear.stable_step`), and shortened to
-end exactly on the output times and on the breakpoints of the load and speed tables, so that the
-frames do not depend on the steps.
+below the wear update's stability limit (:func:`ngwear.numerics.wear.stable_step`), and shortened
+(or stretched by up to a fifth, unless it is being redone) to end exactly on the output times and on
+the breakpoints of the load and speed tables, so that the frames do not depend on the steps.
 """
 from __future__ import annotations
 
@@ -34,6 +34,7 @@ class Clock:
         self.steps = t.steps
         self.unmet = False               # a step at min_step missed the tolerance (the run warns once)
         self.rejected = rejected         # steps redone smaller (so far, when a run is resumed)
+        self.retrying = False            # the step about to be redone smaller
         if not self.adaptive:
             return
         self.floor, limit = t.min_step, stable_step(scene, largest_alpha)
@@ -64,7 +65,8 @@ class Clock:
             return (j + 1) * self.uniform
         mark = self.marks[np.searchsorted(self.marks, t, side="right")]
         end = t + self.step
-        return mark if end >= mark - 0.2 * self.step else end
+        stretch = 0.0 if self.retrying else 0.2 * self.step       # a step redone smaller is not stretched back
+        return mark if end >= mark - stretch else end
 
     def judge(self, times: list[float], rates: list[np.ndarray]) -> bool:
         """Accept the step to ``times[-1]`` from the rates at the last (up to three) times; set the next step."""
@@ -84,6 +86,7 @@ class Clock:
         accept = error <= allowed or floored
         self.unmet |= error > allowed and floored
         self.rejected += not accept
+        self.retrying = not accept
         self.step = float(np.clip(k * factor, self.floor, self.ceiling))
         return accept
 
