@@ -150,8 +150,9 @@ class CondensedSystem:
     The plate's rows are multiplied by h / ‖Ψ_k‖∞ (h the largest point compliance H_ii), which turns
     forces into lengths comparable with the rows of s.  A body held by the plate alone (S = 0) with no
     contact stiffness in the Newton matrix moves rigidly to its force balance first
-    (:func:`balance_along`); the Jacobian's S gets a spring 10⁻¹² times the body's contact stiffness,
-    which keeps the tilts regular while few points touch.
+    (:func:`balance_along`).  The Jacobian's S gets, on the tilts only, a spring 10⁻¹² times the body's
+    contact stiffness, which keeps them regular while few points touch (the translation's row stays
+    exact: the force balance holds to round-off).
     """
 
     def __init__(self, H, A, weights, s_load, d0, gap, law: PointLaw, factors: dict | None = None,
@@ -168,7 +169,9 @@ class CondensedSystem:
             reach = np.maximum(np.abs(plate.normal).max(axis=0, initial=0.0), 1e-300)
             self.rows = max(np.diag(H).max(initial=0.0), 1e-300) / reach
             contact_stiffness = (plate.normal ** 2 / np.maximum(np.diag(H), 1e-300)[:, None]).sum(axis=0)
-            self.jacobian_stiffness = plate.stiffness + np.diag(np.maximum(1e-12 * contact_stiffness, 1e-300))
+            spring = np.maximum(1e-12 * contact_stiffness, 1e-300)
+            spring[0] = 0.0
+            self.jacobian_stiffness = plate.stiffness + np.diag(spring)
             self.floating = plate.stiffness[0, 0] <= 1e-9 * contact_stiffness[0]
 
     def gap(self, x):
@@ -233,12 +236,11 @@ class FullSystem:
     For a body held by the plate alone, ``rigid`` is its translation along ν in these coordinates
     (the plate's translation is x's first entry after the free DOFs):
     when no point has contact stiffness (``law.derivative`` = 0), the step is the rigid motion to the
-    force balance along ν, rigidᵀ R = 0 (:func:`balance_along`), and the plate's translation gets a
-    spring 10⁻¹² × the largest diagonal entry in the Jacobian, as in :class:`CondensedSystem`.
+    force balance along ν, rigidᵀ R = 0 (:func:`balance_along`), as in :class:`CondensedSystem`.
     """
 
     def __init__(self, contact_form, basis: sp.csr_matrix, load, N, weights, d0, gap, stiffness,
-                 law: PointLaw, plate_modes: int = 0, rigid: np.ndarray | None = None):
+                 law: PointLaw, rigid: np.ndarray | None = None):
         self.cf, self.T, self.load = contact_form, basis.tocsc(), load
         self.N = (N @ self.T).tocsr()                       # normal evaluation at the points
         self.m, self.d0, self.g = weights, d0, gap
@@ -248,7 +250,7 @@ class FullSystem:
         diagonal = np.asarray(self.T.multiply(stiffness @ self.T).sum(axis=0)).ravel()
         self.c = np.maximum((self.N.multiply(self.N) @ diagonal) / weights, 1e-300)
         self._gscale = max(gap, 1e-300)
-        self.law, self.plate_modes, self.rigid = law, plate_modes, rigid
+        self.law, self.rigid = law, rigid
 
     def _set(self, x):
         self._gf.vec.FV().NumPy()[:] = self.T @ x
@@ -275,9 +277,6 @@ class FullSystem:
         n_all = len(self._gf.vec)
         J = sp.csr_matrix((np.array(vals), np.array(cols), np.array(ptr)), shape=(n_all, n_all))
         J = (self.T.T @ J @ self.T).tocsr()
-        if self.rigid is not None:
-            plate = self.T.shape[1] - self.plate_modes
-            J = J + sp.csr_matrix(([1e-12 * abs(J.diagonal()).max()], ([plate], [plate])), shape=J.shape)
         B = self.N[active]
         rhs_u = -self.residual(x, lam) + self.N.T @ (self.m * lam)
         rhs_g = -self.gap(x)[active]

@@ -288,7 +288,7 @@ def _full_system(disc: Discretization, t: float, load_factor: float, integrator:
     load[len(load) - disc.plate_modes_count:] += disc.plate_force
     floating = disc.plate_modes_count and not disc.scene.geometry.dirichlet
     return FullSystem(cf, disc.full_basis, load_factor * load, disc.N, disc.points.weights, disc.d0,
-                      disc.scene.contact.gap, disc.stiffness, integrator.point_law(), disc.plate_modes_count,
+                      disc.scene.contact.gap, disc.stiffness, integrator.point_law(),
                       disc.rigid_translation if floating else None)
 
 

@@ -1,11 +1,11 @@
 """Stability stress matrix: extreme scenes, each run and checked against the invariants.
 
-Every scene of :data:`CATALOGUE` is a small variation of the paper strip
-(``geometries/paper_strip.toml`` at ``mesh.maxh = 0.1``, 20 steps) or of ``geometries/box3d.toml``
-pushed to an extreme: friction μ far past the smallness bound, k·α·L from 0.01 to 100 with each
-wear integrator, g from 1 down to 1e-6, compliance slope L from 1e-2 to 1e8 (the Signorini
-limit), power-law compliance, lift-off, load reversal, foundation-speed reversal, badly shaped
-meshes, P2 and 3D.  A run must end in one of
+Every scene of :data:`CATALOGUE` (read from ``stress_scenes.toml``) is a small variation of the paper
+strip (``geometries/paper_strip.toml`` at ``mesh.maxh = 0.1``, 20 steps), of ``geometries/box3d.toml``
+or of the shipped brake pad and pin-on-disc (coarse, 20 steps), pushed to an extreme: friction μ far
+past the smallness bound, k·α·L from 0.01 to 100 with each wear integrator, g from 1 down to 1e-6,
+compliance slope L from 1e-2 to 1e8 (the Signorini limit), power-law compliance, lift-off, load
+reversal, foundation-speed reversal, badly shaped meshes, P2, 3D, plates and turning discs.  A run must end in one of
 
 * ``converged``: every step done and every invariant held at every step (see :func:`invariants`);
 * ``stopped``: ``result.completed`` is False and ``result.status`` names the step, the cause and a
@@ -27,6 +27,7 @@ import logging
 import math
 import sys
 import time
+import tomllib
 import traceback
 import warnings
 from dataclasses import dataclass
@@ -40,6 +41,7 @@ from ..model.scene import Scene, SceneError, load_scene
 ROOT = Path(__file__).resolve().parents[2]
 GEOMETRIES = ROOT / "geometries"
 REPORT = ROOT / "docs" / "stress_report.md"
+SCENES = Path(__file__).with_name("stress_scenes.toml")
 
 #: every invariant violation below is dimensionless; an invariant is held when it is ≤ TOL
 TOL = 1e-8
@@ -48,10 +50,11 @@ TOL = 1e-8
 BASES: dict[str, tuple[str, dict[str, Any]]] = {
     "strip": ("paper_strip.toml", {"mesh.maxh": 0.1, "time.steps": 20, "output.every": 1.0}),
     "box": ("box3d.toml", {"output.every": 1.0}),
+    "pad": ("brake_pad.toml", {"mesh.maxh": 0.012, "time.steps": 20, "output.every": 150.0}),
+    "pin": ("pin_on_disc.toml", {"mesh.maxh": 0.003, "mesh.contact_maxh": 0.0006, "time.steps": 20,
+                                 "output.every": 60.0}),
 }
 
-#: a time table that reverses its sign between t = 0.4 and t = 0.6
-REVERSAL = [[0.0, 1.0], [0.4, 1.0], [0.6, -1.0], [1.0, -1.0]]
 
 
 @dataclass(frozen=True)
@@ -79,200 +82,43 @@ class StressScene:
         return load_scene(GEOMETRIES / path).replace(**{**defaults, **self.overrides, "name": self.name})
 
 
-def _s(name, group, overrides, expect="converged", reason="", checks=(), base="strip", quick=False, bug=""):
-    return StressScene(name, group, overrides, expect, reason, tuple(checks), base, quick, bug)
+def _catalogue() -> tuple[StressScene, ...]:
+    """The scenes of ``stress_scenes.toml`` (data, not logic: see its header)."""
+    data = tomllib.loads(SCENES.read_text(encoding="utf-8"))
+    return tuple(StressScene(e["name"], e["group"], e["overrides"],
+                             None if e.get("expect") == "either" else e.get("expect", "converged"),
+                             e.get("reason", ""), tuple(e.get("checks", ())), e.get("base", "strip"),
+                             e.get("quick", False), e.get("bug", "")) for e in data["scene"])
 
 
-
-# explicit wear: k·α·L = (T/steps)·κ·‖v*‖·L; the paper strip has κ = 1.5, ‖v*‖ = 1, L = 10, T = 1
-CATALOGUE: tuple[StressScene, ...] = (
-    # ---- friction μ, from frictionless to far past the smallness bound (H_S: μ < 0.0021 here)
-    _s("mu_0", "friction", {"contact.friction": 0.0}, quick=True, reason="frictionless: symmetric problem"),
-    _s("mu_0.5", "friction", {"contact.friction": 0.5}),
-    _s("mu_1_paper", "friction", {}, quick=True, reason="the paper's scene at 20 steps (kαL = 0.75)"),
-    _s("mu_5", "friction", {"contact.friction": 5.0}),
-    _s("mu_20", "friction", {"contact.friction": 20.0}, quick=True,
-       reason="10⁴ × the (H_S) bound, yet Newton converges in ≤ 4 iterations"),
-    _s("mu_20_implicit", "friction", {"contact.friction": 20.0, "wear.integrator": "implicit"}),
-    # ---- k·α·L with the explicit integrator (monotone ≤ 1, stable < 2) and the others
-    _s("kaL_0.01", "k·α·L", {"contact.wear": 0.02}, reason="kαL = 0.01: far inside the stable range"),
-    _s("kaL_0.01_40_steps", "k·α·L", {"contact.wear": 0.04, "time.steps": 40, "output.every": 1.0}),
-    _s("kaL_0.5", "k·α·L", {"contact.wear": 1.0}),
-    _s("kaL_1.5", "k·α·L", {"time.steps": 10}, checks=("oscillation_warning", "wear_overshoots"),
-       reason="the paper's literal k = 0.1: kαL = 1.5 is warned (oscillates); w overshoots g slightly"),
-    _s("kaL_3", "k·α·L", {"contact.wear": 3.0, "time.steps": 10},
-       checks=("divergence_warning", "wear_overshoots"),
-       reason="kαL = 3 > 2 is warned (diverges); the overshoot is clamped by p(r) = 0 for r ≤ 0: w jumps "
-              "past u_ν − d₀, that point leaves contact, so the run completes with the invariants"),
-    _s("kaL_100_explicit", "k·α·L", {"contact.wear": 100.0, "time.steps": 10}, quick=True,
-       checks=("divergence_warning", "wear_overshoots"),
-       reason="kαL = 100 is warned; nothing blows up numerically (w ≤ kαL·g by the clamp) but w reaches "
-              "8.5 g: the result is meaningless, as the warning says"),
-    _s("kaL_100_one_step", "k·α·L", {"contact.wear": 10.0, "time.steps": 1, "output.every": 1.0},
-       checks=("divergence_warning", "wear_overshoots"), reason="a single step of k = T = 1"),
-    _s("kaL_100_implicit", "k·α·L", {"contact.wear": 100.0, "time.steps": 10, "wear.integrator": "implicit"},
-       checks=("no_warning",),
-       reason="backward Euler is unconditionally stable and monotone: w ≤ u_ν − d₀ ≤ g"),
-    _s("kaL_100_trapezoidal", "k·α·L", {"contact.wear": 100.0, "time.steps": 10,
-                                        "wear.integrator": "trapezoidal"}, checks=("wear_overshoots",),
-       reason="trapezoidal is A-stable but not monotone for kαL > 2 (amplification (1 − kαL/2)/(1 + kαL/2) "
-              "< 0): w overshoots to 4 g, and no warning is emitted for it"),
-    _s("implicit_paper", "k·α·L", {"wear.integrator": "implicit"}, checks=("no_warning",)),
-    _s("trapezoidal_paper", "k·α·L", {"wear.integrator": "trapezoidal"}, quick=True, checks=("no_warning",)),
-    _s("kaL_100_explicit_mu_20", "k·α·L", {"contact.wear": 100.0, "time.steps": 10, "contact.friction": 20.0},
-       checks=("divergence_warning",),
-       reason="two extremes at once: converges, 39 Newton iterations in one step"),
-    # ---- the layer thickness g
-    _s("gap_1", "gap g", {"contact.gap": 1.0}, checks=("no_rigid_contact",),
-       reason="the body never reaches the rigid foundation"),
-    _s("gap_1e-2", "gap g", {"contact.gap": 1e-2}, checks=("rigid_contact",)),
-    _s("gap_1e-4", "gap g", {"contact.gap": 1e-4}, checks=("rigid_contact",)),
-    _s("gap_1e-6", "gap g", {"contact.gap": 1e-6}, quick=True,
-       checks=("rigid_contact",)),
-    _s("gap_1e-6_mu_20", "gap g", {"contact.gap": 1e-6, "contact.friction": 20.0},
-       checks=("rigid_contact",)),
-    _s("gap_1e-6_L_1e8_implicit", "gap g", {"contact.gap": 1e-6,
-                                            "contact.stiffness": 1e8, "wear.integrator": "implicit"},
-       checks=("rigid_contact",)),
-    _s("gap_1e-6_L_1e8_explicit", "gap g", {"contact.gap": 1e-6,
-                                            "contact.stiffness": 1e8},
-       expect=None, checks=("divergence_warning",),
-       reason="kαL = 7.5e6 and μ = 1 at 5e9 × the (H_S) bound: either outcome is acceptable. "
-              "Observed: step 1 stops; it needs 167 Newton iterations (the merit first jumps from 1 "
-              "to 1.7e6, because backtracking accepts any step once θ < 1e-3)"),
-    _s("full_solver_implicit_wear", "solver", {"solver.method": "full", "wear.integrator": "implicit"},
-       expect="rejected", checks=("rejected_names_solver",),
-       reason="the full-system reference path has only the paper's explicit wear: refused up front, naming "
-              "solver.method and the remedy"),
-    # ---- the compliance slope L, up to the Signorini limit
-    _s("L_1e-2", "stiffness L", {"contact.stiffness": 1e-2}, checks=("rigid_contact",),
-       reason="a very soft layer: the body sinks through it onto the rigid foundation"),
-    _s("L_1e2", "stiffness L", {"contact.stiffness": 1e2, "contact.wear": 0.15}),
-    _s("L_1e4_implicit", "stiffness L", {"contact.stiffness": 1e4, "wear.integrator": "implicit"}),
-    _s("L_1e8_signorini", "stiffness L", {"contact.stiffness": 1e8, "contact.wear": 0.0}, quick=True,
-       checks=("signorini",), reason="Signorini limit without wear: u_ν − d₀ ≈ p/L ≈ 1e-9 ≤ g"),
-    _s("L_1e12_signorini", "stiffness L", {"contact.stiffness": 1e12, "contact.wear": 0.0},
-       checks=("signorini",)),
-    _s("L_1e8_implicit_wear", "stiffness L", {"contact.stiffness": 1e8, "wear.integrator": "implicit"},
-       checks=("signorini",),
-       reason="the closed-form effective law p = L (z − a)₊/(1 + cL) keeps the residual free of cancellation"),
-    _s("L_1e9_implicit_wear_mu_0", "stiffness L", {"contact.stiffness": 1e9, "wear.integrator": "implicit",
-                                                   "contact.friction": 0.0},
-       checks=("signorini",),
-       reason="frictionless backward Euler: each step is a monotone problem with a mild effective law, "
-              "so it must converge"),
-    _s("L_1e10_trapezoidal_mu_0", "stiffness L", {"contact.stiffness": 1e10, "wear.integrator": "trapezoidal",
-                                                  "contact.friction": 0.0},
-       checks=("signorini",), reason="the same with the trapezoidal integrator"),
-    _s("L_1e8_explicit_wear", "stiffness L", {"contact.stiffness": 1e8}, expect=None,
-       checks=("divergence_warning",),
-       reason="kαL = 7.5e6 is warned. Observed: step 3 stops with the merit frozen at 1.59e-10 > 1e-10 for "
-              "48 damped iterations. Here the floor is inherent (p = L(z − a)₊ with z ≈ a ≈ 0.1), so the "
-              "absolute tolerance is unreachable; a stopping rule aware of eps·L·|z| would accept it"),
-    # ---- power-law compliance
-    _s("power_e2", "power law", {"contact.law": "power", "contact.exponent": 2.0, "contact.stiffness": 25.0},
-       checks=("no_warning",), reason="p = 25 r₊², slope 10 at r = g: kαL_p = 0.75"),
-    _s("power_e3", "power law", {"contact.law": "power", "contact.exponent": 3.0, "contact.stiffness": 80.0},
-       quick=True, checks=("no_warning",), reason="p = 80 r₊³, slope 9.6 at r = g"),
-    _s("power_e2_stiff_explicit", "power law", {"contact.law": "power", "contact.exponent": 2.0,
-                                                "contact.stiffness": 100.0}, checks=("divergence_warning",),
-       reason="kαL_p = 3 > 2 by the slope at r = g, but w stays ≤ g: the bound is conservative here"),
-    _s("power_e3_implicit", "power law", {"contact.law": "power", "contact.exponent": 3.0,
-                                          "contact.stiffness": 1e3, "wear.integrator": "implicit"}),
-    _s("power_e3_gap_1e-6", "power law", {"contact.law": "power", "contact.exponent": 3.0,
-                                          "contact.gap": 1e-6},
-       checks=("rigid_contact",),
-       reason="p ≤ 10 g³ = 1e-17: essentially rigid contact, no wear"),
-    _s("power_e2_L_1e8_trapezoidal", "power law", {"contact.law": "power", "contact.exponent": 2.0,
-                                                   "contact.stiffness": 1e8,
-                                                   "wear.integrator": "trapezoidal"},
-       checks=("wear_overshoots",), reason="kαL_p = 3e6 > 2: the trapezoidal overshoot again (w = 1.02 g)"),
-    # ---- loads
-    _s("liftoff", "loads", {"loads.traction": {"top": [0.0, 0.1], "right": [0.0, 0.1]}}, quick=True,
-       checks=("liftoff",), reason="upward traction: no contact, no pressure, no wear"),
-    _s("body_force_up", "loads", {"loads.body_force": [0.0, 1.0]}, checks=("liftoff",),
-       reason="an upward body force (total 3, against 0.4 of downward traction) lifts the body off"),
-    _s("load_reversal", "loads", {"loads.time_table": REVERSAL}, checks=("load_reversal",),
-       reason="the load turns upward between t = 0.4 and 0.6: the body lifts off, wear stops"),
-    _s("load_reversal_implicit_mu_5", "loads", {"loads.time_table": REVERSAL, "wear.integrator": "implicit",
-                                                "contact.friction": 5.0}, checks=("load_reversal",)),
-    _s("load_x100", "loads", {"loads.traction": {"top": [0.0, -10.0], "right": [0.0, -10.0]}},
-       checks=("rigid_contact",), reason="a load 100× the paper's drives Γ_C onto the rigid foundation"),
-    # ---- foundation speed
-    _s("speed_reversal", "foundation", {"foundation.speed_table": REVERSAL}, quick=True,
-       checks=("friction_flips",), reason="v* changes sign at t = 0.5: the friction force flips"),
-    _s("speed_reversal_trapezoidal_mu_5", "foundation", {"foundation.speed_table": REVERSAL,
-                                                         "wear.integrator": "trapezoidal",
-                                                         "contact.friction": 5.0},
-       checks=("friction_flips",)),
-    _s("speed_stop", "foundation",
-       {"foundation.speed_table": [[0.0, 1.0], [0.5, 1.0], [0.5, 0.0], [1.0, 0.0]]},
-       checks=("speed_stop",), reason="v* = 0 from t = 0.5: no friction force, wear frozen"),
-    # ---- meshes
-    _s("thin_strip_10x0.1", "mesh", {"geometry.size": [10.0, 0.1], "mesh.maxh": 0.1}, quick=True,
-       reason="aspect ratio 100, one element through the thickness"),
-    _s("thin_strip_10x0.1_mu_5", "mesh", {"geometry.size": [10.0, 0.1], "mesh.maxh": 0.1,
-                                          "contact.friction": 5.0}),
-    _s("coarse_maxh_1", "mesh", {"mesh.maxh": 1.0}, reason="a handful of triangles, 4 contact points"),
-    _s("tall_column_0.2x3_mu_0", "mesh", {"geometry.size": [0.2, 3.0], "mesh.maxh": 0.2,
-                                          "geometry.dirichlet": ["top"], "contact.friction": 0.0,
-                                          "loads.traction": {"right": [0.0, -0.1]}},
-       checks=("rigid_contact",), reason="a hanging column, 2 contact points, frictionless"),
-    _s("tall_column_0.2x3_mu_1", "mesh", {"geometry.size": [0.2, 3.0], "mesh.maxh": 0.2,
-                                          "geometry.dirichlet": ["top"],
-                                          "loads.traction": {"right": [0.0, -0.1]}}, expect=None,
-       reason="μ = 1 is 3000× the (H_S) bound and the friction coupling ν·G·n* is 6× the normal "
-              "compliance (the step matrix has an indefinite symmetric part): either outcome is acceptable. "
-              "Observed: Newton cycles at merit ≈ 1.7 at step 0 although the 2-point step problem has a "
-              "solution (point 0 on the rigid foundation, λ = 10.1; point 1 lifted by 11.8); the cut-back "
-              "cannot help at step 0 (t_prev = t). On this column Newton already fails for μ = 0.3 (and for "
-              "μ = 0.1 at maxh = 0.1)"),
-    _s("p2", "order", {"mesh.order": 2}, quick=True),
-    _s("p2_coarse_mu_5", "order", {"mesh.order": 2, "mesh.maxh": 1.0, "contact.friction": 5.0}),
-    _s("p2_gap_1e-6", "order", {"mesh.order": 2, "contact.gap": 1e-6},
-       checks=("rigid_contact",)),
-    # ---- 3D
-    _s("box3d", "3D", {}, base="box", quick=True, reason="geometries/box3d.toml as shipped"),
-    _s("box3d_liftoff", "3D", {"loads.traction": {"top": [0.0, 0.0, 0.1]}, "time.steps": 10},
-       base="box", checks=("liftoff",)),
-    _s("box3d_mu_5_speed_reversal", "3D", {"contact.friction": 5.0, "foundation.speed_table": REVERSAL,
-                                           "time.steps": 20, "wear.integrator": "trapezoidal"},
-       base="box", expect=None,
-       reason="past the (H_S) bound, either outcome is acceptable. Observed: at the first step after v* "
-              "reverses (t = 0.55) Newton needs 54 iterations (52 damped) from the frictionless warm start "
-              "of t = 0.5, so it stops at 50; the cut-back cannot help (the load is constant and n* jumps); "
-              "the message's remedy solver.max_iterations > 50 works (next scene)"),
-    _s("box3d_mu_5_speed_reversal_maxit_100", "3D", {"contact.friction": 5.0,
-                                                     "foundation.speed_table": REVERSAL, "time.steps": 20,
-                                                     "wear.integrator": "trapezoidal",
-                                                     "solver.max_iterations": 100},
-       base="box", checks=("friction_flips",), reason="the remedy of the previous scene's message"),
-    # ---- the reference path
-    _s("full_mu_5", "solver", {"solver.method": "full", "contact.friction": 5.0, "mesh.maxh": 0.25,
-                               "time.steps": 10}, checks=("oscillation_warning",)),
-)
+CATALOGUE = _catalogue()
 
 
 # ------------------------------------------------------------------------------- invariants
 
 
-def k_alpha_slope(scene: Scene) -> float:
-    """k·α·L_p: α = κ max_t ‖v*(t)‖, L_p the largest slope of p on [0, g] (as explicit_stability)."""
+def k_alpha_slope(scene: Scene, alpha: float | None = None) -> float:
+    """k·α·L_p, L_p the largest slope of p on [0, g] (as explicit_stability).
+
+    ``alpha``: the largest α = κ‖v*‖ over the contact points (``Discretization.largest_alpha``); without
+    it, that of the foundation's translation (a scene that was never discretized).
+    """
     from ..numerics.wear import largest_slope
     c = scene.contact
-    speeds = [abs(f) for _, f in scene.foundation.speed_table] or [1.0]
-    alpha = c.wear * float(np.linalg.norm(scene.foundation.velocity)) * max(speeds)
+    if alpha is None:
+        speeds = [abs(f) for _, f in scene.foundation.speed_table] or [1.0]
+        alpha = c.wear * float(np.linalg.norm(scene.foundation.velocity)) * max(speeds)
     return scene.dt * alpha * largest_slope(c)
 
 
-def wear_bounded_by_gap(scene: Scene) -> bool:
+def wear_bounded_by_gap(scene: Scene, alpha: float | None = None) -> bool:
     """Whether the integrator guarantees w ≤ max_t (u_ν − d₀)₊ ≤ g (monotone update).
 
     Implicit: always; explicit: k α L_p ≤ 1; trapezoidal: k α L_p ≤ 2 (w_j ≤ max(a_j, z_j) and
     a_j ≤ max(w_{j−1}, z_{j−1}) then).  Beyond that the update overshoots and w may exceed g.
     """
     limit = {"implicit": math.inf, "explicit": 1.0, "trapezoidal": 2.0}[scene.wear.integrator]
-    return k_alpha_slope(scene) <= limit
+    return k_alpha_slope(scene, alpha) <= limit
 
 
 def invariants(result) -> dict[str, float]:
@@ -312,14 +158,14 @@ def invariants(result) -> dict[str, float]:
         "complementarity": float(np.abs(lam * (z - g)).max()) / (P * gs),
         "pressure_law": _pressure_law_violation(law, s, result.d0[None, :], w, p),
     }
-    if wear_bounded_by_gap(sc):
-        out["wear_le_g"] = float(np.maximum(w - g, 0).max()) / gs
     disc = result.discretization
+    if wear_bounded_by_gap(sc, disc.largest_alpha() if disc is not None else None):
+        out["wear_le_g"] = float(np.maximum(w - g, 0).max()) / gs
     if disc is not None and len(result.times) > 1:
         th_old, th_new = INTEGRATORS[sc.wear.integrator]
         alpha = np.array([disc.alpha(t) for t in result.times])
         rate = alpha * p
-        update = sc.dt * (th_old * rate[:-1] + th_new * rate[1:])
+        update = np.diff(result.times)[:, None] * (th_old * rate[:-1] + th_new * rate[1:])
         out["archard"] = float(np.abs(np.diff(w, axis=0) - update).max()) / gs
     return out
 
@@ -442,6 +288,20 @@ def _check_no_rigid_contact(row, r):
     return [] if r.reaction.max() == 0 else [f"λ = {r.reaction.max():.3g} should be 0 (g = 1 is not reached)"]
 
 
+def _check_plate_balance(row, r):
+    """A body held by its plate alone: the contact carries the plate force (and the body force) at every step."""
+    from ..model.laws import piecewise_linear
+    nu = np.asarray(r.scene.contact.direction)
+    loads = r.scene.loads
+    pushed = float(np.dot(loads.plate.force, nu))
+    if loads.body_force is not None:
+        import ngsolve as ngs
+        pushed += float(np.dot(loads.body_force, nu)) * ngs.Integrate(ngs.CF(1.0), r.discretization.mesh)
+    carried = pushed * np.array([piecewise_linear(loads.time_table, t) for t in r.times])
+    off = np.abs(r.normal_force - carried).max() / max(abs(pushed), 1e-300)
+    return [] if off <= 1e-9 else [f"the contact carries the plate force only to {off:.2e}"]
+
+
 def _check_wear_overshoots(row, r):
     g = r.scene.contact.gap
     return [] if r.wear.max() > g * (1 + 1e-6) else [
@@ -464,6 +324,7 @@ CHECKS: dict[str, Callable] = {
     "rigid_contact": _check_rigid_contact,
     "no_rigid_contact": _check_no_rigid_contact,
     "wear_overshoots": _check_wear_overshoots,
+    "plate_balance": _check_plate_balance,
     "no_warning": lambda row, r: [f"unexpected warning: {w}" for w in row["warnings"]],
     "oscillation_warning": lambda row, r: _has_warning(row, "oscillates"),
     "divergence_warning": lambda row, r: _has_warning(row, "diverges"),
@@ -520,6 +381,7 @@ def run_scene(spec: StressScene, *, keep_result: bool = False) -> dict[str, Any]
             scene = spec.scene()
             row["of"], row["gap"], row["kaL"] = scene.time.steps, scene.contact.gap, k_alpha_slope(scene)
             result = simulate(scene, progress=False)
+            row["kaL"] = k_alpha_slope(scene, result.discretization.largest_alpha())
     except SceneError as err:
         row["outcome"], row["message"] = "rejected", str(err)
     except Exception as err:  # noqa: BLE001 — a crash is exactly what the matrix looks for
