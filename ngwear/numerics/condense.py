@@ -23,8 +23,7 @@ DENSE_LIMIT = 12_000
 class ElasticOperator:
     """K⁻¹ on the free DOFs (full numbering); with ``schur``, also S⁻¹ on the free contact DOFs.
 
-    ``contact_dofs`` are the free DOFs among the given ones, sorted; ``schur_complement`` is S in
-    that order (None without ``schur``).
+    ``contact_dofs`` are the free DOFs among the given ones, sorted; S is kept as its Cholesky factor.
     """
 
     def __init__(self, K: sp.csr_matrix, free: np.ndarray, contact_dofs: np.ndarray, schur: bool = True):
@@ -35,9 +34,19 @@ class ElasticOperator:
         self.contact_dofs = np.unique([d for d in contact_dofs if free[d]]).astype(int)
         c = local[self.contact_dofs]
         self._factor = Pardiso(K[self.free][:, self.free], c if schur and len(c) else None)
-        self.schur_complement = self._factor.schur_complement
-        if self.schur_complement is not None:
-            self._cholesky = sla.cho_factor(self._factor.schur_complement, lower=True, check_finite=False)
+        self._cholesky = None
+        if self._factor.schur_complement is not None:
+            self._cholesky = sla.cho_factor(self._factor.schur_complement, lower=True, overwrite_a=True,
+                                            check_finite=False)
+            self._factor.schur_complement = None
+
+    @property
+    def schur_complement(self) -> np.ndarray | None:
+        """S = L Lᵀ from its Cholesky factor (None without ``schur``)."""
+        if self._cholesky is None:
+            return None
+        L = np.tril(self._cholesky[0])
+        return L @ L.T
 
     @property
     def factor_nonzeros(self) -> int:
@@ -54,6 +63,6 @@ class ElasticOperator:
         """U = K⁻¹ rhs on the free DOFs, 0 on the others (rhs in full numbering, 1D or 2D)."""
         rhs = np.asarray(rhs)
         out = np.zeros(rhs.shape)
-        schur = self._schur_solve if self.schur_complement is not None else None
+        schur = self._schur_solve if self._cholesky is not None else None
         out[self.free] = self._factor.solve(rhs[self.free], schur)
         return out
