@@ -177,8 +177,9 @@ class CondensedSystem:
             self.floating = plate.stiffness[0, 0] <= 1e-9 * contact_stiffness[0]
 
     def response(self, directed, normal):
-        """A directed + H normal: normal displacements under point forces along b_i and along ν."""
-        return self.A @ directed + self.H @ normal
+        """A directed + H normal: normal displacements under point forces along b_i and along ν (zeros skipped)."""
+        out = self.A @ directed if directed.any() else np.zeros(self.n)
+        return out + self.H @ normal if normal.any() else out
 
     def gap(self, x):
         return x[:self.n] - self.d0 - self.g
