@@ -14,8 +14,9 @@ process's own (``ru_maxrss``, C allocations included):
 * ``elastic``: one NGSolve linear-elastic solve on the same mesh (assemble + ``sparsecholesky`` + solve),
   sequential and inside ``TaskManager``, in its own subprocess: the denominator of the box target.
 
-``--modes dense,krylov`` runs both contact solves on the same meshes (the crossover); the default is
-``auto``.  P2 is 2D-only in ngwear (``mesh.order = 2`` is refused in 3D), so 3D is P1 only.
+``--modes dense,krylov`` runs both contact solves on the same meshes (the crossover, written to
+``results/scale3d_crossover.*``); the default is ``auto``.  P2 is 2D-only in ngwear (``mesh.order = 2``
+is refused in 3D), so 3D is P1 only.
 Targets: the 166k box (maxh 0.018) ≤ 2× the elastic solve with ≤ 3 GB; the ≥ 500k-DOF pad in ≤ 15 min
 from its mesh (meshing reported apart: it is cached after the first run).  NGSolve's reference is skipped
 for the two largest pads unless they are named in ``--cases``.
@@ -199,7 +200,8 @@ def main():
     for ax in (ax_t, ax_m):
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
-    C.finish("scale3d", "3D at scale (issue 10)", header, rows, columns, fig, args.quick)
+    name = "scale3d_crossover" if len(modes) > 1 else "scale3d"
+    C.finish(name, "3D at scale (issue 10)", header, rows, columns, fig, args.quick and name == "scale3d")
 
 
 def verdict_of(row) -> str:
