@@ -37,6 +37,8 @@ def _library() -> ctypes.CDLL:
             lib = ctypes.CDLL(path)
         except OSError:
             continue
+        lib.MKL_Set_Num_Threads_Local.restype = ctypes.c_int
+        lib.MKL_Set_Num_Threads_Local.argtypes = [ctypes.c_int]
         lib.pardiso.restype = None
         lib.pardiso.argtypes = [ctypes.POINTER(ctypes.c_int64), _INT, _INT, _INT, _INT, _INT, ctypes.c_void_p,
                                 _INT, _INT, _INT, _INT, _INT, _INT, ctypes.c_void_p, ctypes.c_void_p, _INT]
@@ -91,21 +93,26 @@ class Pardiso:
             raise RuntimeError(f"MKL PARDISO phase {phase} failed with error {err.value}")
 
     def solve(self, rhs: np.ndarray, schur_solve=None) -> np.ndarray:
-        """K⁻¹ rhs (1D or columns); with Schur rows, ``schur_solve`` applies S⁻¹ between the substitutions."""
+        """K⁻¹ rhs (1D or columns); with Schur rows, ``schur_solve`` applies S⁻¹ between the substitutions.
+
+        The substitutions run on one thread: they are memory-bound, and a team of OpenMP threads that
+        must meet at every supernode only waits for a busy core (1 thread measured 1.1–2× faster on 2 cores).
+        """
         b = np.asfortranarray(rhs, dtype=np.float64)
         x = np.zeros_like(b)
-        if not len(self.schur):
-            self._call(33, b, x)
-            return np.ascontiguousarray(x)
-        self.iparm[5] = 0
-        self._call(331, b, x)
-        x[self.schur] = schur_solve(x[self.schur])
-        self.iparm[5] = 1                          # backward substitution in place
+        threads = _MKL.MKL_Set_Num_Threads_Local(1)
         try:
+            if not len(self.schur):
+                self._call(33, b, x)
+                return np.ascontiguousarray(x)
+            self._call(331, b, x)
+            x[self.schur] = schur_solve(x[self.schur])
+            self.iparm[5] = 1                      # backward substitution in place
             self._call(333, x, np.zeros_like(b))
+            return np.ascontiguousarray(x)
         finally:
             self.iparm[5] = 0
-        return np.ascontiguousarray(x)
+            _MKL.MKL_Set_Num_Threads_Local(threads)
 
     @property
     def factor_nonzeros(self) -> int:
