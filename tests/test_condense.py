@@ -86,6 +86,16 @@ def test_auto_is_dense_below_the_limit_and_matrix_free_above(paper_scene, monkey
     assert large.with_scene(scene.replace(**{"contact.friction": 0.2})).matrix_free
 
 
+def test_auto_is_matrix_free_for_a_soft_layer_only(monkeypatch):
+    """From SOFT_LIMIT contact DOFs a layer soft against the body (ρ = p' t / E < 1) goes matrix-free."""
+    pad = Discretization(ngwear.load_scene(ROOT / "geometries" / "brake_pad.toml").replace(**{"mesh.maxh": 0.012}))
+    box = Discretization(ngwear.load_scene(ROOT / "geometries" / "box3d.toml").replace(**{"mesh.maxh": 0.25}))
+    assert pad.layer_ratio == pytest.approx(1e10 * 0.012 / 1e9) and box.layer_ratio == pytest.approx(10 * 0.5 / 2.5)
+    assert not pad.matrix_free and not box.matrix_free
+    monkeypatch.setattr(discrete, "SOFT_LIMIT", min(len(pad.contact_dofs), len(box.contact_dofs)) - 1)
+    assert pad.matrix_free and not box.matrix_free
+
+
 def test_contact_solve_is_checked(paper_scene):
     with pytest.raises(ValueError, match="contact_solve"):
         Discretization(paper_scene, contact_solve="cg")

@@ -6,7 +6,9 @@ S = K_cc − K_ci K_ii⁻¹ K_ic comes out of the one factorisation, and (K⁻¹
 through the Cholesky factor of S, never formed.  Beyond ``DENSE_LIMIT`` contact DOFs S does not
 pay (its n_c² memory and n_c³ factorisation outgrow the per-step work it saves) and the operator
 keeps the plain factorisation: the contact problem is then solved matrix-free
-(:class:`~ngwear.numerics.solver.KrylovSystem`).
+(:class:`~ngwear.numerics.solver.KrylovSystem`).  So it is from ``SOFT_LIMIT`` contact DOFs when the
+layer is soft against the body (:attr:`Discretization.layer_ratio` < 1): GMRES then needs only a few
+products per step.
 """
 from __future__ import annotations
 
@@ -18,6 +20,8 @@ from .pardiso import Pardiso
 
 DENSE_LIMIT = 12_000
 """Largest number of contact DOFs condensed densely by default (measured crossover: benchmarks/scale3d.py)."""
+SOFT_LIMIT = 1_000
+"""Largest number of contact DOFs condensed densely when the layer is soft (same benchmark)."""
 
 
 class ElasticOperator:
