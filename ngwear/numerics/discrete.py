@@ -105,7 +105,7 @@ class Discretization:
             return size > DENSE_LIMIT or (size > SOFT_LIMIT and self.layer_ratio < 1.0)
         return self.contact_solve == "krylov"
 
-    @property
+    @cached_property
     def layer_ratio(self) -> float:
         """ρ = p'(g) t / E: the layer's stiffness against the body's (t its extent along ν, E Young's modulus).
 
@@ -117,7 +117,7 @@ class Discretization:
         young = eta * (3 * lam + 2 * eta) / (lam + eta)
         contact = self.scene.contact
         e = contact.exponent if contact.law == "power" else 1.0
-        heights = np.array([v.point for v in self.mesh.vertices]) @ self.nu
+        heights = self.mesh.ngmesh.Coordinates() @ self.nu
         return contact.stiffness * e * contact.gap ** (e - 1) * np.ptp(heights) / young
 
     @cached_property
