@@ -1,75 +1,72 @@
 """The elastic operator, factorised once, and its condensation onto the contact DOFs.
 
-K is symmetric positive definite on the free DOFs.  Ordering the contact DOFs c last (after a
-nested-dissection ordering of the interior, METIS) makes the trailing block of the LU factors the
-Schur complement S = K_cc − K_ci K_ii⁻¹ K_ic, so the contact compliance (K⁻¹)_cc = S⁻¹ comes out of
-the single factorisation instead of one back-substitution per contact DOF.
+K is symmetric positive definite on the free DOFs.  MKL PARDISO (:mod:`ngwear.numerics.pardiso`)
+factorises it with the contact DOFs c ordered last and stops there: the dense Schur complement
+S = K_cc − K_ci K_ii⁻¹ K_ic comes out of the one factorisation, and (K⁻¹)_cc = S⁻¹ is applied
+through the Cholesky factor of S, never formed.  Beyond ``DENSE_LIMIT`` contact DOFs S does not
+pay (its n_c² memory and n_c³ factorisation outgrow the per-step work it saves) and the operator
+keeps the plain factorisation: the contact problem is then solved matrix-free
+(:class:`~ngwear.numerics.solver.KrylovSystem`).  So it is from ``SOFT_LIMIT`` contact DOFs when the
+layer is soft against the body (:attr:`Discretization.layer_ratio` < 1): GMRES then needs only a few
+products per step.
 """
 from __future__ import annotations
 
 import numpy as np
-import pymetis
 import scipy.linalg as sla
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
+from .pardiso import Pardiso
 
-def nested_dissection(K: sp.csr_matrix, nodes: np.ndarray) -> np.ndarray:
-    """Fill-reducing ordering of a symmetric matrix: METIS nested dissection of its node graph.
-
-    ``nodes[i]`` is the mesh node of unknown i; the d components of a node stay together, which
-    halves (2D) or thirds (3D) the graph METIS orders at no cost in fill.
-    """
-    if K.shape[0] < 3:
-        return np.arange(K.shape[0])
-    ids, node = np.unique(nodes, return_inverse=True)
-    B = sp.csr_matrix((np.ones(len(node)), (np.arange(len(node)), node)), shape=(len(node), len(ids)))
-    graph = (B.T @ abs(K) @ B).tocsr()
-    graph.setdiag(0)
-    graph.eliminate_zeros()
-    adjacency = pymetis.CSRAdjacency(graph.indptr.astype(np.int32), graph.indices.astype(np.int32))
-    perm, _ = pymetis.nested_dissection(adjacency)
-    rank = np.empty(len(ids), dtype=int)
-    rank[np.asarray(perm)] = np.arange(len(ids))
-    return np.argsort(rank[node], kind="stable")
+DENSE_LIMIT = 12_000
+"""Largest number of contact DOFs condensed densely by default (measured crossover: benchmarks/scale3d.py)."""
+SOFT_LIMIT = 1_000
+"""Largest number of contact DOFs condensed densely when the layer is soft (same benchmark)."""
 
 
 class ElasticOperator:
-    """K⁻¹ on the free DOFs, with (K⁻¹)_cc for the given contact DOFs (full numbering).
+    """K⁻¹ on the free DOFs (full numbering); with ``schur``, also S⁻¹ on the free contact DOFs.
 
-    ``nodes`` maps every DOF to its mesh node (for the ordering).
+    ``contact_dofs`` are the free DOFs among the given ones, sorted; S is kept as its Cholesky factor.
     """
 
-    def __init__(self, K: sp.csr_matrix, free: np.ndarray, contact_dofs: np.ndarray, nodes: np.ndarray):
+    def __init__(self, K: sp.csr_matrix, free: np.ndarray, contact_dofs: np.ndarray, schur: bool = True):
         self.ndof = K.shape[0]
         self.free = np.flatnonzero(free)
         local = np.full(self.ndof, -1)
         local[self.free] = np.arange(len(self.free))
-        self.contact_dofs = np.asarray([d for d in contact_dofs if free[d]], dtype=int)
+        self.contact_dofs = np.unique([d for d in contact_dofs if free[d]]).astype(int)
         c = local[self.contact_dofs]
-        Kf = K[self.free][:, self.free].tocsr()
-        interior = np.setdiff1d(np.arange(len(self.free)), c)
-        inner = nested_dissection(Kf[interior][:, interior], nodes[self.free[interior]])
-        order = np.concatenate([interior[inner], c]).astype(int)
-        self._order = order
-        self._lu = spla.splu(Kf[order][:, order].tocsc(), permc_spec="NATURAL",
-                             diag_pivot_thresh=0.0, options={"SymmetricMode": True})
-        n, nc = len(order), len(c)
-        if nc:
-            L = self._lu.L[:, n - nc:][n - nc:].toarray()
-            U = self._lu.U[:, n - nc:][n - nc:].toarray()
-            self.contact_inverse = sla.inv(L @ U)
-            self.contact_inverse = 0.5 * (self.contact_inverse + self.contact_inverse.T)
-        else:
-            self.contact_inverse = np.zeros((0, 0))
+        self._factor = Pardiso(K[self.free][:, self.free], c if schur and len(c) else None)
+        self._cholesky = None
+        if self._factor.schur_complement is not None:
+            self._cholesky = sla.cho_factor(self._factor.schur_complement, lower=True, overwrite_a=True,
+                                            check_finite=False)
+            self._factor.schur_complement = None
+
+    @property
+    def schur_complement(self) -> np.ndarray | None:
+        """S = L Lᵀ from its Cholesky factor (None without ``schur``)."""
+        if self._cholesky is None:
+            return None
+        L = np.tril(self._cholesky[0])
+        return L @ L.T
+
+    @property
+    def factor_nonzeros(self) -> int:
+        return self._factor.factor_nonzeros
+
+    def _schur_solve(self, y: np.ndarray) -> np.ndarray:
+        return sla.cho_solve(self._cholesky, y, check_finite=False)
+
+    def contact_solve(self, rhs: np.ndarray) -> np.ndarray:
+        """S⁻¹ rhs = (K⁻¹)_cc rhs for rhs on the contact DOFs (1D or columns)."""
+        return self._schur_solve(np.asarray(rhs))
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         """U = K⁻¹ rhs on the free DOFs, 0 on the others (rhs in full numbering, 1D or 2D)."""
         rhs = np.asarray(rhs)
         out = np.zeros(rhs.shape)
-        sub = rhs[self.free][self._order]
-        x = self._lu.solve(sub)
-        full = np.empty_like(x)
-        full[self._order] = x
-        out[self.free] = full
+        schur = self._schur_solve if self._cholesky is not None else None
+        out[self.free] = self._factor.solve(rhs[self.free], schur)
         return out

@@ -17,16 +17,25 @@ from ..model.geometry import build_mesh
 from ..model.kinematics import Slip
 from ..model.laws import compliance_from, piecewise_linear
 from ..model.scene import Scene
-from .condense import ElasticOperator
+from .condense import DENSE_LIMIT, SOFT_LIMIT, ElasticOperator
 from .forms import contact_form, contact_points, displacement_space, elastic_form, initial_distance, load_form
 from .plate import PlateCoupling, plate_modes
 
 
 class Discretization:
-    """Assembled, factorised pieces of a scene, built lazily and reused across steps and runs."""
+    """Assembled, factorised pieces of a scene, built lazily and reused across steps and runs.
 
-    def __init__(self, scene: Scene, mesh: ngs.Mesh | None = None):
+    ``contact_solve`` chooses how the contact problem is condensed: ``dense`` (the rows ν·G of the
+    point compliance, then dense Newton algebra), ``krylov`` (matrix-free: every product with the
+    compliance is one back-substitution) or ``auto``: dense up to ``condense.DENSE_LIMIT`` contact DOFs,
+    or up to ``condense.SOFT_LIMIT`` when the layer is soft against the body (``layer_ratio`` < 1).
+    """
+
+    def __init__(self, scene: Scene, mesh: ngs.Mesh | None = None, contact_solve: str = "auto"):
+        if contact_solve not in ("auto", "dense", "krylov"):
+            raise ValueError(f"contact_solve: must be auto, dense or krylov (got {contact_solve!r})")
         self.scene = scene
+        self.contact_solve = contact_solve
         self.mesh = mesh if mesh is not None else build_mesh(scene)
         self.fes = displacement_space(self.mesh, scene)
         self.free = np.array(list(self.fes.FreeDofs()), dtype=bool)
@@ -52,15 +61,17 @@ class Discretization:
         body = lambda s: (s.geometry.kind, s.geometry.size, s.geometry.dirichlet, s.mesh,  # noqa: E731
                           s.loads.plate and (s.loads.plate.boundary, s.loads.plate.tilt))
         if body(old) != body(scene):
-            return Discretization(scene)
+            return Discretization(scene, contact_solve=self.contact_solve)
         new = object.__new__(Discretization)
         new.__dict__.update({k: v for k, v in self.__dict__.items() if k in _MESH_PARTS})
-        new.scene, new.law = scene, compliance_from(scene.contact)
+        new.scene, new.law, new.contact_solve = scene, compliance_from(scene.contact), self.contact_solve
         new._orient(scene)
         if old.material == scene.material:
             new.__dict__.update({k: v for k, v in self.__dict__.items() if k in _MATERIAL_PARTS})
-            if old.loads == scene.loads and old.contact.direction == scene.contact.direction:
-                new.__dict__.update({k: v for k, v in self.__dict__.items() if k in _LOAD_PARTS})
+            if old.contact.direction == scene.contact.direction:
+                new.__dict__.update({k: v for k, v in self.__dict__.items() if k in _DIRECTION_PARTS})
+                if old.loads == scene.loads:
+                    new.__dict__.update({k: v for k, v in self.__dict__.items() if k in _LOAD_PARTS})
         return new
 
     # ---- elastic part (mesh + material) ------------------------------------------------
@@ -81,10 +92,38 @@ class Discretization:
         return f.vec.FV().NumPy().copy()
 
     @cached_property
+    def contact_dofs(self) -> np.ndarray:
+        """The free DOFs the contact points see (sorted)."""
+        dofs = np.unique(self.points.P.indices)
+        return dofs[self.free[dofs]]
+
+    @property
+    def matrix_free(self) -> bool:
+        """Whether the contact problem is solved matrix-free (see the class docstring)."""
+        if self.contact_solve == "auto":
+            size = len(self.contact_dofs)
+            return size > DENSE_LIMIT or (size > SOFT_LIMIT and self.layer_ratio < 1.0)
+        return self.contact_solve == "krylov"
+
+    @cached_property
+    def layer_ratio(self) -> float:
+        """ρ = p'(g) t / E: the layer's stiffness against the body's (t its extent along ν, E Young's modulus).
+
+        The Newton matrix of the contact problem is I + A diag(m p') on the points in contact, and the
+        largest eigenvalue of A diag(m p') is of the order of ρ: for ρ < 1 GMRES converges in a few
+        products (the brake pad: ρ = 0.12, about 11 back-substitutions per step; box3d: ρ = 2, about 35).
+        """
+        lam, eta = self.scene.material.lame
+        young = eta * (3 * lam + 2 * eta) / (lam + eta)
+        contact = self.scene.contact
+        e = contact.exponent if contact.law == "power" else 1.0
+        heights = self.mesh.ngmesh.Coordinates() @ self.nu
+        return contact.stiffness * e * contact.gap ** (e - 1) * np.ptp(heights) / young
+
+    @cached_property
     def operator(self) -> ElasticOperator:
-        contact_dofs = np.unique(self.points.P.indices)
-        nodes = np.arange(self.fes.ndof) % (self.fes.ndof // self.scene.dim)  # VectorH1: component blocks
-        return ElasticOperator(self.stiffness, self.free, contact_dofs, nodes)
+        """K's factorisation; for the dense contact solve with the Schur complement on the contact DOFs."""
+        return ElasticOperator(self.stiffness, self.free, self.contact_dofs, schur=not self.matrix_free)
 
     @cached_property
     def u_load(self) -> np.ndarray:
@@ -144,22 +183,39 @@ class Discretization:
                          format="csc")
 
     @cached_property
-    def point_compliance(self) -> np.ndarray:
-        """G = P K⁻¹ Pᵀ, shape (n, d, n, d): displacement at x_i per unit force at x_j."""
+    def normal_rows(self) -> np.ndarray:
+        """R_ijb = ν·G_ij·e_b, shape (n, n, d): the ν rows of the point compliance G = P K⁻¹ Pᵀ.
+
+        Only these enter the contact law, so G (n d × n d) is never formed: R = (P_c S⁻¹ N_cᵀ)ᵀ, one
+        solve with the Schur complement's Cholesky factor for the n columns N_cᵀ (n_c² n flops).
+        """
         op, P = self.operator, self.points.P
-        Pc = P[:, op.contact_dofs].toarray()
-        G = Pc @ op.contact_inverse @ Pc.T
+        columns = op.contact_solve(self.N[:, op.contact_dofs].T.toarray())
         n, d = self.points.n, self.scene.dim
-        return G.reshape(n, d, n, d)
+        return np.ascontiguousarray((P[:, op.contact_dofs] @ columns).T).reshape(n, n, d)
 
     @cached_property
     def normal_compliance(self) -> np.ndarray:
         """H = ν·G·ν."""
-        return np.einsum("a,iajb,b->ij", self.nu, self.point_compliance, self.nu)
+        return self.normal_rows @ self.nu
 
     def friction_compliance(self, n_star: np.ndarray) -> np.ndarray:
         """F_ij = ν·G_ij·n*_j: normal displacement at x_i per unit tangential force along n*_j at x_j."""
-        return np.einsum("a,iajb,jb->ij", self.nu, self.point_compliance, n_star)
+        return np.einsum("ijb,jb->ij", self.normal_rows, n_star)
+
+    def normal_response(self, normal: np.ndarray, directed: np.ndarray, directions: np.ndarray) -> np.ndarray:
+        """ν·u(x_i) under the point forces f_j = normal_j ν + directed_j b_j: H normal + A directed, matrix-free.
+
+        One back-substitution, u = K⁻¹ Pᵀ f; with b_j = ν + μ n*_j it is the product with A = H + μ F.
+        """
+        forces = normal[:, None] * self.nu[None, :] + directed[:, None] * directions
+        return self.N @ self.operator.solve(self.points.P.T @ forces.ravel())
+
+    @cached_property
+    def compliance_estimate(self) -> np.ndarray:
+        """h_i = 1/(ν·K_ii·ν) ≤ H_ii, the point's compliance with its neighbours held (no solve needed)."""
+        stiffness = self.N.multiply(self.N) @ np.where(self.free, self.stiffness.diagonal(), 0.0)
+        return np.divide(1.0, stiffness, out=np.zeros_like(stiffness), where=stiffness > 0)
 
     # ---- time-dependent data -----------------------------------------------------------
     def load_factor(self, t: float) -> float:
@@ -231,9 +287,10 @@ class Discretization:
         gf.vec.FV().NumPy()[:] = self.points.Q @ values
 
 
-_MESH_PARTS = ("mesh", "fes", "free", "points", "_in_body", "plate_modes", "full_basis")
-_MATERIAL_PARTS = ("stiffness", "operator", "point_compliance", "plate")
-_LOAD_PARTS = ("load", "u_load", "s_load", "normal_compliance", "plate_load")
+_MESH_PARTS = ("mesh", "fes", "free", "points", "contact_dofs", "_in_body", "plate_modes", "full_basis")
+_MATERIAL_PARTS = ("stiffness", "operator", "plate")
+_DIRECTION_PARTS = ("normal_rows", "normal_compliance", "compliance_estimate")
+_LOAD_PARTS = ("load", "u_load", "s_load", "plate_load")
 
 
 def _complete_symmetric(K: sp.csr_matrix) -> sp.csr_matrix:

@@ -14,6 +14,8 @@ max(|R|, |min(λ/c, g + d₀ − s)|).  Two systems implement the same protocol:
   H = ν·G·ν, A_ij = H_ij + μ ν·G_ij·n*_j, G = P K⁻¹ Pᵀ the point compliance (dense, small).  A rigid
   plate (:mod:`ngwear.numerics.plate`) borders it with its r unknowns δ: R_s gains −Ψ δ and the rows
   R_δ = S δ + Φ_bᵀ (m∘p) + Ψᵀ (m∘λ) − s_F (f_B + F_B) join, scaled to lengths.
+* :class:`KrylovSystem`: the same, matrix-free (each product with H or A one back-substitution,
+  GMRES for the Newton steps), for contact surfaces too large for dense n × n matrices.
 * :class:`FullSystem`: unknown x = the free DOFs (and δ, in the basis u = T x); R = Tᵀ(K u + R_c(u) +
   (N P)ᵀ(m∘λ) − F) assembled by NGSolve (``Apply`` / ``AssembleLinearization``) and solved as a sparse
   saddle-point system.
@@ -157,29 +159,37 @@ class CondensedSystem:
 
     def __init__(self, H, A, weights, s_load, d0, gap, law: PointLaw, factors: dict | None = None,
                  plate: PlateRows | None = None):
-        self.H, self.A, self.m = H, A, weights
-        self.s_load, self.d0, self.g, self.law = s_load, d0, gap, law
-        self.n = len(weights)
-        diag = np.maximum(np.diag(H) * weights, 1e-300)
-        self.c = 1.0 / diag
-        self.scale = max(np.abs(s_load).max(initial=0.0), gap)
+        self.H, self.A = H, A
         self.factors = {} if factors is None else factors
+        self._setup(np.diag(H), weights, s_load, d0, gap, law, plate)
+
+    def _setup(self, compliance, weights, s_load, d0, gap, law, plate):
+        """Scalings from the point compliances ``compliance`` (H_ii, or an estimate of it)."""
+        self.m, self.s_load, self.d0, self.g, self.law = weights, s_load, d0, gap, law
+        self.n = len(weights)
+        self.c = 1.0 / np.maximum(compliance * weights, 1e-300)
+        self.scale = max(np.abs(s_load).max(initial=0.0), gap)
         self.plate = plate
         if plate is not None:
             reach = np.maximum(np.abs(plate.normal).max(axis=0, initial=0.0), 1e-300)
-            self.rows = max(np.diag(H).max(initial=0.0), 1e-300) / reach
-            contact_stiffness = (plate.normal ** 2 / np.maximum(np.diag(H), 1e-300)[:, None]).sum(axis=0)
+            self.rows = max(compliance.max(initial=0.0), 1e-300) / reach
+            contact_stiffness = (plate.normal ** 2 / np.maximum(compliance, 1e-300)[:, None]).sum(axis=0)
             spring = np.maximum(1e-12 * contact_stiffness, 1e-300)
             spring[0] = 0.0
             self.jacobian_stiffness = plate.stiffness + np.diag(spring)
             self.floating = plate.stiffness[0, 0] <= 1e-9 * contact_stiffness[0]
+
+    def response(self, directed, normal):
+        """A directed + H normal: normal displacements under point forces along b_i and along ν (zeros skipped)."""
+        out = self.A @ directed if directed.any() else np.zeros(self.n)
+        return out + self.H @ normal if normal.any() else out
 
     def gap(self, x):
         return x[:self.n] - self.d0 - self.g
 
     def residual(self, x, lam):
         s, p = x[:self.n], self.law.pressure(x[:self.n] - self.d0)
-        r_s = s - self.s_load + self.A @ (self.m * p) + self.H @ (self.m * lam)
+        r_s = s - self.s_load + self.response(self.m * p, self.m * lam)
         if self.plate is None:
             return r_s
         plate, delta = self.plate, x[self.n:]
@@ -217,15 +227,76 @@ class CondensedSystem:
         ds = np.zeros(n)
         ds[active] = -self.gap(x)[active]
         known = np.zeros(len(x))
-        known[:n] = self.H @ (self.m * lam) - ds - self.A @ (self.m * dp * ds)
+        known[:n] = self.response(-self.m * dp * ds, self.m * lam) - ds
         if self.plate is not None:
             plate = self.plate
             known[n:] = self.rows * (plate.normal.T @ (self.m * lam) - plate.directed.T @ (self.m * dp * ds))
-        sol = sla.lu_solve(self._factor(active, dp), -self.residual(x, lam) + known, check_finite=False)
+        sol = self._solve(active, dp, -self.residual(x, lam) + known, lam)
         lam_new = np.where(active, sol[:n], 0.0)
         dx = sol.copy()
         dx[:n] = np.where(active, ds, sol[:n])
         return dx, lam_new
+
+    def _solve(self, active, dp, rhs, lam):
+        return sla.lu_solve(self._factor(active, dp), rhs, check_finite=False)
+
+
+class KrylovSystem(CondensedSystem):
+    """The condensed step problem, matrix-free: for contact surfaces too large for dense algebra.
+
+    Each product with H and A = H + μ F is one back-substitution with K's factorisation
+    (``respond(directed, normal)``, :meth:`Discretization.normal_response`); the Newton matrix M of
+    :class:`CondensedSystem` is applied, never formed, and its systems are solved by GMRES, started
+    from the previous reactions, with the columns of active points scaled by their estimated stiffness
+    1/(m_i h_i), h_i ≤ H_ii (``compliance``), to an absolute residual of ``tolerance``/100 of the
+    problem's length scale, so that Newton's merit test sees exact steps.
+    """
+
+    RESTART = 200
+
+    def __init__(self, respond, compliance, weights, s_load, d0, gap, law: PointLaw, tolerance: float,
+                 plate: PlateRows | None = None):
+        self._respond = respond
+        self._setup(compliance, weights, s_load, d0, gap, law, plate)
+        self.atol = 1e-2 * tolerance * self.scale
+        self.products = 0
+
+    def response(self, directed, normal):
+        if not directed.any() and not normal.any():
+            return np.zeros(self.n)
+        self.products += 1
+        return self._respond(directed, normal)
+
+    def residual(self, x, lam):
+        """As :meth:`CondensedSystem.residual`, remembered for the last (x, λ): Newton asks twice per iterate."""
+        key = x.tobytes() + lam.tobytes()
+        if getattr(self, "_last", (None,))[0] != key:
+            self._last = key, super().residual(x, lam)
+        return self._last[1]
+
+    def _solve(self, active, dp, rhs, lam):
+        n, m, inactive = self.n, self.m, ~active
+        scaling = np.ones(len(rhs))
+        scaling[:n][active] = self.c[active]
+        below = None
+        if self.plate is not None:
+            below = (self.plate.directed * (m * dp * inactive)[:, None] + self.plate.normal * (m * active)[:, None]).T
+
+        def matvec(z):
+            y = scaling * np.ravel(z)
+            out = np.empty_like(y)
+            out[:n] = inactive * y[:n] + self.response(m * dp * inactive * y[:n], m * active * y[:n])
+            if self.plate is not None:
+                out[:n] -= self.plate.normal @ y[n:]
+                out[n:] = self.rows * (below @ y[:n] + self.jacobian_stiffness @ y[n:])
+            return out
+
+        start = np.zeros(len(rhs))
+        start[:n][active] = lam[active] / scaling[:n][active]
+        operator = spla.LinearOperator((len(rhs),) * 2, matvec=matvec, dtype=float)
+        z, _ = spla.gmres(operator, rhs, x0=start, rtol=0.0, atol=self.atol, restart=self.RESTART,
+                          maxiter=10)
+        return scaling * z
 
 
 class FullSystem:

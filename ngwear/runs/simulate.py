@@ -20,7 +20,7 @@ import numpy as np
 
 from ..model.scene import Scene
 from ..numerics.discrete import Discretization
-from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, PlateRows, semismooth_newton
+from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, KrylovSystem, PlateRows, semismooth_newton
 from ..numerics.wear import WearIntegrator, explicit_stability
 from ..results.checkpoint import Checkpoint, write_checkpoint
 from ..results.result import Result
@@ -249,6 +249,8 @@ class _Stepper:
         if self._full:
             return _full_system(disc, t, load_factor, integrator)
         n_star, mu = disc.n_star(t), self.scene.contact.friction
+        if disc.matrix_free:
+            return _krylov_system(disc, n_star, load_factor, law)
         key = n_star.tobytes()
         if key not in self._matrices:
             H = disc.normal_compliance
@@ -275,6 +277,16 @@ def _remedy(scene: Scene, record) -> str:
         tips.append(f"a smaller contact.friction (μ = {scene.contact.friction:g} may exceed the smallness "
                     f"bound (H_S): see `ngwear verify`)")
     return "try " + ", ".join(tips)
+
+
+def _krylov_system(disc: Discretization, n_star, load_factor: float, law) -> KrylovSystem:
+    """The condensed system applied matrix-free (large contact surfaces, see :class:`Discretization`)."""
+    directions = disc.nu[None, :] + disc.scene.contact.friction * n_star
+    plate = None if disc.plate is None else PlateRows(disc.plate.normal, disc.plate.directed(directions),
+                                                      disc.plate.stiffness, load_factor * disc.plate_load)
+    respond = lambda directed, normal: disc.normal_response(normal, directed, directions)  # noqa: E731
+    return KrylovSystem(respond, disc.compliance_estimate, disc.points.weights, load_factor * disc.s_load, disc.d0,
+                        disc.scene.contact.gap, law, disc.scene.solver.tolerance, plate)
 
 
 def _full_system(disc: Discretization, t: float, load_factor: float, integrator: WearIntegrator) -> FullSystem:

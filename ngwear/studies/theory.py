@@ -53,7 +53,7 @@ def trace_constant(disc: Discretization) -> float:
     M = sp.csr_matrix((np.array(vals), np.array(cols), np.array(ptr)), shape=(disc.fes.ndof,) * 2)
     c = op.contact_dofs
     Mcc = M[c][:, c].toarray()
-    schur = np.linalg.inv(op.contact_inverse)
+    schur = op.schur_complement
     top = sla.eigh(Mcc, 0.5 * (schur + schur.T), eigvals_only=True, subset_by_index=[len(c) - 1, len(c) - 1])
     return float(np.sqrt(top[0]))
 

@@ -1,0 +1,221 @@
+"""3D at scale (issue 10): time and peak memory against DOFs and contact points, P1.
+
+Two series: ``geometries/box3d.toml`` at maxh 0.04, 0.025, 0.018 (the issue's meshes) and the
+brake pad ``geometries/brake_pad.toml`` (held by its rigid back plate only, on a disc turning about
+z) at maxh 0.002, 0.0011, 0.00078, 0.0007 (the last ≥ 500k DOFs and ≥ 10k contact points); 100 steps
+each (the pad with k = 1 s).  Every case runs in a fresh subprocess, so its peak memory is the
+process's own (``ru_maxrss``, C allocations included):
+
+* ``mesh``: Netgen meshing, or the cache's load when the mesh is cached (first-run cost: the
+  ``mesh_first_s`` column, measured with ``--remesh``, or the build time when the cache was empty);
+* ``ngwear``: ``Discretization(scene, mesh)`` + ``simulate`` (100 steps), split into assembly,
+  factorisation (PARDISO, with the Schur complement on the contact DOFs for the dense path), the ν rows
+  of the point compliance, loads/plate, and the time loop (matrix-free products counted);
+* ``elastic``: one NGSolve linear-elastic solve on the same mesh (assemble + ``sparsecholesky`` + solve),
+  sequential and inside ``TaskManager``, in its own subprocess: the denominator of the box target.
+
+``--modes dense,krylov`` runs both contact solves on the same meshes (the crossover, written to
+``results/scale3d_crossover.*``); the default is ``auto``.  P2 is 2D-only in ngwear (``mesh.order = 2``
+is refused in 3D), so 3D is P1 only.
+Targets: the 166k box (maxh 0.018) ≤ 2× the elastic solve with ≤ 3 GB; the ≥ 500k-DOF pad in ≤ 15 min
+from its mesh (meshing reported apart: it is cached after the first run).  NGSolve's reference is skipped
+for the two largest pads unless they are named in ``--cases``.
+
+    .venv/bin/python benchmarks/scale3d.py [--quick] [--cases box:0.04,pad:0.002] [--modes auto]
+"""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import common as C
+import numpy as np
+
+SCENES = {"box": C.ROOT / "geometries" / "box3d.toml", "pad": C.ROOT / "geometries" / "brake_pad.toml"}
+CASES = ("box:0.04", "box:0.025", "box:0.018", "pad:0.002", "pad:0.0011", "pad:0.00078", "pad:0.0007")
+QUICK_CASES = ("box:0.04", "pad:0.004")
+STEPS = 100
+NO_ELASTIC = ("pad:0.00078", "pad:0.0007")   # NGSolve's reference skipped by default: minutes, and no target
+BOX_TARGET = ("box", 0.018)
+BOX_RATIO, BOX_MEMORY_GB, PAD_MINUTES = 2.0, 3.0, 15.0
+
+
+def scene_of(kind: str, maxh: float):
+    """The case's scene: 100 steps (the pad keeps its k = 1 s)."""
+    import ngwear
+    settings = {"mesh.maxh": maxh, "time.steps": STEPS}
+    if kind == "pad":
+        settings["time.T"] = float(STEPS)
+    return ngwear.load_scene(SCENES[kind]).replace(**settings)
+
+
+# ---- one case, in its own process -------------------------------------------------------------------
+def run_ngwear(kind: str, maxh: float, mode: str, remesh: bool) -> dict:
+    import resource
+
+    import ngwear
+    from ngwear.model.geometry import build_mesh, cache_dir, mesh_key
+    from ngwear.numerics import solver
+    from ngwear.numerics.discrete import Discretization
+
+    scene = scene_of(kind, maxh)
+    cached = (cache_dir() / "meshes" / f"{mesh_key(scene)}.vol").is_file()
+    t0 = C.perf()
+    mesh = build_mesh(scene, use_cache=not remesh)
+    t1 = C.perf()
+    products = []
+    respond = solver.KrylovSystem.response
+    solver.KrylovSystem.response = lambda self, d, n: (products.append(1), respond(self, d, n))[1]
+    disc = Discretization(scene, mesh, contact_solve=mode)
+    t2 = C.perf()
+    disc.stiffness  # noqa: B018 - timed stages, in dependency order
+    t3 = C.perf()
+    disc.operator  # noqa: B018
+    t4 = C.perf()
+    if not disc.matrix_free:
+        disc.normal_compliance  # noqa: B018
+    t5 = C.perf()
+    disc.u_load, disc.s_load, disc.plate, disc.plate_load  # noqa: B018
+    t6 = C.perf()
+    result = ngwear.simulate(scene, discretization=disc, progress=False)
+    t7 = C.perf()
+    loop_solves = None
+    if disc.matrix_free:   # the loop's back-substitutions, timed apart on the same operator
+        rhs = np.random.default_rng(0).standard_normal(disc.fes.ndof)
+        times = [C.timed(disc.operator.solve, rhs)[0] for _ in range(5)]
+        loop_solves = len(products) * C.median(times)
+    return {
+        "case": f"{kind}:{maxh:g}", "kind": kind, "maxh": maxh, "mode": "krylov" if disc.matrix_free else "dense",
+        "ndof": disc.fes.ndof, "free_dofs": C.free_dofs(disc), "contact_points": disc.points.n,
+        "contact_dofs": len(disc.contact_dofs), "factor_nnz": disc.operator.factor_nonzeros,
+        "mesh_cached": cached and not remesh, "mesh_s": t1 - t0,
+        "mesh_first_s": None if cached and not remesh else t1 - t0,
+        "init_s": t2 - t1, "assemble_s": t3 - t2, "factorise_s": t4 - t3, "rows_s": t5 - t4, "loads_s": t6 - t5,
+        "loop_s": t7 - t6, "products": len(products), "loop_solves_s": loop_solves,
+        "ngwear_s": t7 - t1, "status": result.status, "newton_its": C.newton_iterations(result),
+        "max_wear": float(result.wear.max()), "peak_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6,
+    }
+
+
+def run_elastic(kind: str, maxh: float) -> dict:
+    import resource
+    scene = scene_of(kind, maxh)
+    mesh = C.mesh_for(scene)
+    el = C.elastic_reference(scene, mesh)
+    row = {"elastic_s": el["total"], "elastic_assemble_s": el["assemble"], "elastic_factorise_s": el["factorise"],
+           "elastic_solve_s": el["solve"], "elastic_peak_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6}
+    row["elastic_tm_s"] = C.elastic_reference(scene, mesh, taskmanager=True)["total"]
+    return row
+
+
+def in_subprocess(job: dict, blas_threads: int | None) -> dict:
+    """Run ``job`` ({"fn": ..., args}) in a fresh interpreter; its JSON result."""
+    cmd = [sys.executable, __file__, "--job", json.dumps(job)]
+    if blas_threads:
+        cmd += ["--blas-threads", str(blas_threads)]
+    out = subprocess.run(cmd, capture_output=True, text=True, cwd=C.HERE)
+    lines = [line for line in out.stdout.splitlines() if line.startswith("{")]
+    if out.returncode or not lines:
+        raise RuntimeError(f"{job}: failed\n{out.stderr[-3000:]}")
+    return json.loads(lines[-1])
+
+
+# ---- the table ----------------------------------------------------------------------------------------
+def fit(rows, x, y):
+    """Least-squares slope of log y against log x over ``rows`` (None with fewer than 2 points)."""
+    pts = [(r[x], r[y]) for r in rows if r.get(y)]
+    if len(pts) < 2:
+        return None
+    return float(np.polyfit(*np.log(np.array(pts)).T, 1)[0])
+
+
+def main():
+    p = C.parser(__doc__.splitlines()[0])
+    p.add_argument("--cases", default=None, help="comma-separated kind:maxh (kind box or pad)")
+    p.add_argument("--modes", default="auto", help="contact solve(s): auto, dense, krylov (comma-separated)")
+    p.add_argument("--remesh", action="store_true", help="mesh every case anew (the first run's cost)")
+    p.add_argument("--no-elastic", action="store_true", help="skip the NGSolve reference")
+    p.add_argument("--job", default=None, help=argparse_suppress())
+    p.set_defaults(blas_threads=None)
+    args = p.parse_args()
+    if args.job:
+        job = json.loads(args.job)
+        with C.blas_limit(args.blas_threads):
+            fn = run_ngwear if job.pop("fn") == "ngwear" else run_elastic
+            print(json.dumps(fn(**job)))
+        return
+    cases = args.cases.split(",") if args.cases else list(QUICK_CASES if args.quick else CASES)
+    modes = args.modes.split(",")
+    header = C.machine_lines(args) + [
+        f"{STEPS} steps per case (pad: k = 1 s); every case in a fresh process (peak memory = its ru_maxrss); "
+        "elastic = NGSolve assemble + sparsecholesky + 1 solve (own process; sequential, and tm = in TaskManager); "
+        "ngwear with the default threads (PARDISO and BLAS on both cores)",
+        f"targets: box maxh 0.018 <= {BOX_RATIO:g}x elastic and <= {BOX_MEMORY_GB:g} GB; "
+        f"pad >= 500k DOFs and >= 10k contact points in <= {PAD_MINUTES:g} min"]
+    rows = []
+    for case in cases:
+        kind, maxh = case.split(":")
+        skip = args.no_elastic or (case in NO_ELASTIC and not args.cases)
+        elastic = {} if skip else in_subprocess({"fn": "elastic", "kind": kind, "maxh": float(maxh)}, args.blas_threads)
+        for mode in modes:
+            row = in_subprocess({"fn": "ngwear", "kind": kind, "maxh": float(maxh), "mode": mode,
+                                 "remesh": args.remesh}, args.blas_threads)
+            row.update(elastic)
+            if elastic:
+                row["ratio"] = row["ngwear_s"] / row["elastic_s"]
+                row["ratio_tm"] = row["ngwear_s"] / row["elastic_tm_s"]
+            row["target"] = verdict_of(row)
+            rows.append(row)
+            print(f"  {row['case']} {row['mode']}: {row['ndof']} DOFs, {row['contact_points']} points, "
+                  f"ngwear {row['ngwear_s']:.1f}s (loop {row['loop_s']:.1f}s), elastic {row.get('elastic_s', 0):.1f}s, "
+                  f"peak {row['peak_gb']:.2f} GB", flush=True)
+    for kind in ("box", "pad"):
+        series = [r for r in rows if r["kind"] == kind and r["mode"] in ("dense", "krylov")]
+        for mode in ("dense", "krylov"):
+            same = [r for r in series if r["mode"] == mode]
+            if len(same) >= 2:
+                header.append(f"fitted growth, {kind} {mode}: time ~ DOFs^{fit(same, 'ndof', 'ngwear_s'):.2f}, "
+                              f"~ points^{fit(same, 'contact_points', 'ngwear_s'):.2f}; memory ~ DOFs^"
+                              f"{fit(same, 'ndof', 'peak_gb'):.2f}, ~ points^{fit(same, 'contact_points', 'peak_gb'):.2f}")
+    columns = [("case", "case", None), ("mode", "solve", None), ("ndof", "DOFs", "d"),
+               ("contact_points", "points", "d"), ("mesh_s", "mesh s", ".1f"), ("mesh_cached", "cached", None),
+               ("assemble_s", "assemble", ".1f"), ("factorise_s", "factorise", ".1f"), ("rows_s", "ν rows", ".1f"),
+               ("loop_s", "100 steps", ".1f"), ("products", "solves", "d"), ("ngwear_s", "ngwear s", ".1f"),
+               ("elastic_s", "elastic s", ".1f"), ("ratio", "ratio", ".2f"), ("elastic_tm_s", "elastic tm", ".1f"),
+               ("ratio_tm", "ratio tm", ".2f"), ("peak_gb", "peak GB", ".2f"),
+               ("newton_its", "Newton", "d"), ("target", "target", None)]
+    fig, (ax_t, ax_m) = C.new_figure(2)
+    for (kind, mode), marker in zip([(k, m) for k in ("box", "pad") for m in ("dense", "krylov")], "osD^"):
+        same = [r for r in rows if r["kind"] == kind and r["mode"] == mode]
+        if same:
+            ax_t.loglog([r["ndof"] for r in same], [r["ngwear_s"] for r in same], marker + "-", label=f"{kind}, {mode}")
+            ax_m.loglog([r["ndof"] for r in same], [r["peak_gb"] for r in same], marker + "-", label=f"{kind}, {mode}")
+    with_elastic = [r for r in rows if r.get("elastic_s")]
+    if with_elastic:
+        ax_t.loglog([r["ndof"] for r in with_elastic], [r["elastic_s"] for r in with_elastic], "k+",
+                    label="one NGSolve elastic solve")
+    ax_t.set(xlabel="DOFs", ylabel="seconds (ngwear: 100 steps from the mesh)")
+    ax_m.set(xlabel="DOFs", ylabel="peak memory, GB")
+    for ax in (ax_t, ax_m):
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    name = "scale3d_crossover" if len(modes) > 1 else "scale3d"
+    C.finish(name, "3D at scale (issue 10)", header, rows, columns, fig, args.quick and name == "scale3d")
+
+
+def verdict_of(row) -> str:
+    if (row["kind"], row["maxh"]) == BOX_TARGET and row.get("ratio"):
+        return C.verdict(row["ratio"] <= BOX_RATIO and row["peak_gb"] <= BOX_MEMORY_GB)
+    if row["kind"] == "pad" and row["ndof"] >= 500_000 and row["contact_points"] >= 10_000:
+        return C.verdict(row["ngwear_s"] <= PAD_MINUTES * 60)
+    return "-"
+
+
+def argparse_suppress():
+    import argparse
+    return argparse.SUPPRESS
+
+
+if __name__ == "__main__":
+    main()
