@@ -9,8 +9,8 @@ against its x coordinate.
 from __future__ import annotations
 
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
+
+from .plots import Panels, positive
 
 
 def nearest_step(result, t: float) -> int:
@@ -18,21 +18,10 @@ def nearest_step(result, t: float) -> int:
     return int(np.abs(result.times - t).argmin())
 
 
-class Comparison:
-    """The A/B panels, redrawn in place.
+class Comparison(Panels):
+    """The A/B panels (see the module's text), redrawn in place."""
 
-    Parameters
-    ----------
-    size : (float, float)
-        Figure width and height in inches.
-    dpi : int
-        Pixels per inch of the image.
-    """
-
-    def __init__(self, size=(10.0, 2.6), dpi: int = 80):
-        self.figure = Figure(figsize=size, dpi=dpi)
-        self._canvas = FigureCanvasAgg(self.figure)
-        self._pair, self._lines, self._dim = None, {}, None
+    _pair = None
 
     def image(self, a, b, step: int) -> np.ndarray:
         """RGB image (height, width, 3) of the panels for ``step`` of ``b`` against ``a``."""
@@ -54,8 +43,7 @@ class Comparison:
         lines["now"].set_xdata([t, t])
         at_a = "" if np.isclose(a.times[step_a], t) else f", A at t = {a.times[step_a]:.2f}"
         lines["title"].set_text(f"A/B at t = {t:.2f}{at_a}: B (current) solid, A (pinned) dashed")
-        self._canvas.draw()
-        return np.asarray(self._canvas.buffer_rgba())[..., :3].copy()
+        return self._pixels()
 
     def _build(self, dim: int) -> None:
         self.figure.clear()
@@ -103,13 +91,9 @@ class Comparison:
         gap = np.abs(b.wear - a.wear[steps_a]).max(initial=0.0)
         p_top = max(b.pressure.max(initial=0.0), a.pressure.max(initial=0.0))
         wear.set(xlim=span, ylim=(0, top))
-        diff.set(xlim=span, ylim=(-1.1 * _positive(gap), 1.1 * _positive(gap)))
-        pressure.set(xlim=span, ylim=(0, 1.1 * _positive(p_top)))
+        diff.set(xlim=span, ylim=(-1.1 * positive(gap), 1.1 * positive(gap)))
+        pressure.set(xlim=span, ylim=(0, 1.1 * positive(p_top)))
         t_end = max(a.times[-1], b.times[-1])
         history.set(xlim=(0, t_end if t_end > 0 else 1.0), ylim=(0, top))
         self._pair = (a, b)
 
-
-def _positive(value: float) -> float:
-    """An axis end that is never zero."""
-    return float(value) if value > 0 else 1.0

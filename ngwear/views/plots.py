@@ -67,13 +67,8 @@ def _save(fig: Figure, path) -> Path:
     return path
 
 
-class Dashboard:
-    """Three small panels at one step of a run, redrawn in place (the explorer's plots).
-
-    Left: the wear w along Γ_C at the step, at the end of the run (thin grey) and g (dashed).
-    Middle: the pressure p and the rigid reaction λ along Γ_C at the step.
-    Right: max w and max u_ν − d₀ over the run, g dashed, the step's time as a vertical line.
-    Axis ranges are fixed per result over the whole run, so that scrubbing through it compares.
+class Panels:
+    """Small matplotlib panels drawn into an RGB array and redrawn in place (no pyplot, any thread).
 
     Parameters
     ----------
@@ -88,7 +83,24 @@ class Dashboard:
 
         self.figure = Figure(figsize=size, dpi=dpi)
         self._canvas = FigureCanvasAgg(self.figure)
-        self._result, self._lines, self._dim = None, {}, None
+        self._lines, self._dim = {}, None
+
+    def _pixels(self) -> np.ndarray:
+        """The figure as it stands, RGB (height, width, 3)."""
+        self._canvas.draw()
+        return np.asarray(self._canvas.buffer_rgba())[..., :3].copy()
+
+
+class Dashboard(Panels):
+    """Three small panels at one step of a run (the explorer's plots).
+
+    Left: the wear w along Γ_C at the step, at the end of the run (thin grey) and g (dashed).
+    Middle: the pressure p and the rigid reaction λ along Γ_C at the step.
+    Right: max w and max u_ν − d₀ over the run, g dashed, the step's time as a vertical line.
+    Axis ranges are fixed per result over the whole run, so that scrubbing through it compares.
+    """
+
+    _result = None
 
     def image(self, result, step: int) -> np.ndarray:
         """RGB image (height, width, 3) of the panels for ``step`` of ``result``."""
@@ -102,8 +114,7 @@ class Dashboard:
             self._lines[name].set_data(x, getattr(result, name)[step, self._order])
         self._lines["now"].set_xdata([result.times[step]] * 2)
         self._lines["title"].set_text(f"t = {result.times[step]:.2f}")
-        self._canvas.draw()
-        return np.asarray(self._canvas.buffer_rgba())[..., :3].copy()
+        return self._pixels()
 
     def _build(self, dim: int) -> None:
         """Axes, labels and (empty) lines; contact points are joined in 2D and marked in 3D."""
@@ -150,12 +161,12 @@ class Dashboard:
         top = 1.1 * max(g, result.wear.max(initial=0.0), lines["max_pen"].get_ydata().max(initial=0.0))
         traction_top = max(result.pressure.max(initial=0.0), result.reaction.max(initial=0.0))
         wear.set(xlim=span, ylim=(0, top))
-        traction.set(xlim=span, ylim=(0, 1.1 * _positive(traction_top)))
+        traction.set(xlim=span, ylim=(0, 1.1 * positive(traction_top)))
         history.set(xlim=(t[0], max(t[-1], t[0] + 1e-12)), ylim=(0, top))
         self._result = result
 
 
-def _positive(value: float) -> float:
+def positive(value: float) -> float:
     """An axis end that is never zero."""
     return float(value) if value > 0 else 1.0
 
