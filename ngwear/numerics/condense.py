@@ -56,17 +56,14 @@ class ElasticOperator:
     def factor_nonzeros(self) -> int:
         return self._factor.factor_nonzeros
 
-    def _schur_solve(self, y: np.ndarray) -> np.ndarray:
-        return sla.cho_solve(self._cholesky, y, check_finite=False)
-
     def contact_solve(self, rhs: np.ndarray) -> np.ndarray:
         """S⁻¹ rhs = (K⁻¹)_cc rhs for rhs on the contact DOFs (1D or columns)."""
-        return self._schur_solve(np.asarray(rhs))
+        return sla.cho_solve(self._cholesky, np.asarray(rhs), check_finite=False)
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         """U = K⁻¹ rhs on the free DOFs, 0 on the others (rhs in full numbering, 1D or 2D)."""
         rhs = np.asarray(rhs)
         out = np.zeros(rhs.shape)
-        schur = self._schur_solve if self._cholesky is not None else None
+        schur = self.contact_solve if self._cholesky is not None else None
         out[self.free] = self._factor.solve(rhs[self.free], schur)
         return out

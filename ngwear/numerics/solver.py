@@ -260,6 +260,7 @@ class KrylovSystem(CondensedSystem):
         self._setup(compliance, weights, s_load, d0, gap, law, plate)
         self.atol = 1e-2 * tolerance * self.scale
         self.products = 0
+        self._last = (None, None)
 
     def response(self, directed, normal):
         if not directed.any() and not normal.any():
@@ -270,7 +271,7 @@ class KrylovSystem(CondensedSystem):
     def residual(self, x, lam):
         """As :meth:`CondensedSystem.residual`, remembered for the last (x, λ): Newton asks twice per iterate."""
         key = x.tobytes() + lam.tobytes()
-        if getattr(self, "_last", (None,))[0] != key:
+        if self._last[0] != key:
             self._last = key, super().residual(x, lam)
         return self._last[1]
 
