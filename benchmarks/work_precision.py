@@ -2,9 +2,10 @@
 
 Every run is measured against ONE fine reference: P1, maxh = 0.025, 1600 trapezoidal steps (a
 finer one, maxh 0.0125 with 3200 steps, makes every error evaluation 4× dearer: each step of each
-run is interpolated onto the reference mesh, and the study would take hours on this machine).  Errors in the paper's norms (:func:`ngwear.studies.verify.errors`):
-the displacement in ‖ε(u)‖ and the wear in L²(Γ_C), at T and summed over time; the table gives them
-relative to the reference's own norms at T.  Families of runs:
+run is interpolated onto the reference mesh, and the study would take hours on this machine).
+Errors in the paper's norms (:func:`ngwear.studies.verify.errors`): the displacement in ‖ε(u)‖
+and the wear in L²(Γ_C), at T and summed over time; the table gives them relative to the reference's
+own norms at T.  Families of runs:
 
 * space: P1 at maxh 0.2 … 0.05 and P2 at 0.4 … 0.1, 400 trapezoidal steps (time error negligible);
 * time: the three wear integrators at 25 … 800 uniform steps on the paper's mesh (maxh 0.05, P1);
