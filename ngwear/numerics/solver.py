@@ -244,29 +244,24 @@ class CondensedSystem:
 class KrylovSystem(CondensedSystem):
     """The condensed step problem, matrix-free: for contact surfaces too large for dense algebra.
 
-    Each product with H and A = H + μ F is one back-substitution with K's factorisation
-    (``respond(directed, normal)``, :meth:`Discretization.normal_response`); the Newton matrix M of
-    :class:`CondensedSystem` is applied, never formed, and its systems are solved by GMRES, started
-    from the previous reactions, with the columns of active points scaled by their estimated stiffness
-    1/(m_i h_i), h_i ≤ H_ii (``compliance``), to an absolute residual of ``tolerance``/100 of the
-    problem's length scale, so that Newton's merit test sees exact steps.
+    Products with H and A = H + μ F go through ``recycler.memory``
+    (:class:`~ngwear.numerics.recycle.ComplianceMemory`: one back-substitution with K's factorisation
+    for each input direction not seen before in the run); the Newton matrix M of
+    :class:`CondensedSystem` is applied, never formed, and its systems are solved by GCR with
+    recycling (:class:`~ngwear.numerics.recycle.Recycler`), the columns of active points scaled by
+    their estimated stiffness 1/(m_i h_i), h_i ≤ H_ii (``compliance``), to an absolute residual of
+    ``tolerance``/100 of the problem's length scale, so that Newton's merit test sees exact steps.
     """
 
-    RESTART = 200
-
-    def __init__(self, respond, compliance, weights, s_load, d0, gap, law: PointLaw, tolerance: float,
+    def __init__(self, recycler, compliance, weights, s_load, d0, gap, law: PointLaw, tolerance: float,
                  plate: PlateRows | None = None):
-        self._respond = respond
+        self.recycler = recycler
         self._setup(compliance, weights, s_load, d0, gap, law, plate)
         self.atol = 1e-2 * tolerance * self.scale
-        self.products = 0
         self._last = (None, None)
 
     def response(self, directed, normal):
-        if not directed.any() and not normal.any():
-            return np.zeros(self.n)
-        self.products += 1
-        return self._respond(directed, normal)
+        return self.recycler.memory(directed, normal)
 
     def residual(self, x, lam):
         """As :meth:`CondensedSystem.residual`, remembered for the last (x, λ): Newton asks twice per iterate."""
@@ -283,21 +278,17 @@ class KrylovSystem(CondensedSystem):
         if self.plate is not None:
             below = (self.plate.directed * (m * dp * inactive)[:, None] + self.plate.normal * (m * active)[:, None]).T
 
-        def matvec(z):
-            y = scaling * np.ravel(z)
-            out = np.empty_like(y)
-            out[:n] = inactive * y[:n] + self.response(m * dp * inactive * y[:n], m * active * y[:n])
+        def image(u, response):
+            """M u, given the response R(m p' u, m u) of its contact part (inactive, active points)."""
+            out = np.empty_like(u)
+            out[:n] = inactive * u[:n] + response
             if self.plate is not None:
-                out[:n] -= self.plate.normal @ y[n:]
-                out[n:] = self.rows * (below @ y[:n] + self.jacobian_stiffness @ y[n:])
+                out[:n] -= self.plate.normal @ u[n:]
+                out[n:] = self.rows * (below @ u[:n] + self.jacobian_stiffness @ u[n:])
             return out
 
-        start = np.zeros(len(rhs))
-        start[:n][active] = lam[active] / scaling[:n][active]
-        operator = spla.LinearOperator((len(rhs),) * 2, matvec=matvec, dtype=float)
-        z, _ = spla.gmres(operator, rhs, x0=start, rtol=0.0, atol=self.atol, restart=self.RESTART,
-                          maxiter=10)
-        return scaling * z
+        weights = (m * dp * inactive, m * active.astype(float))
+        return self.recycler.solve(active.tobytes() + dp.tobytes(), weights, image, scaling, rhs, self.atol)
 
 
 class FullSystem:

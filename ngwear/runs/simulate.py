@@ -20,6 +20,7 @@ import numpy as np
 
 from ..model.scene import Scene
 from ..numerics.discrete import Discretization
+from ..numerics.recycle import ComplianceMemory, Recycler
 from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, KrylovSystem, PlateRows, semismooth_newton
 from ..numerics.wear import WearIntegrator, explicit_stability
 from ..results.checkpoint import Checkpoint, write_checkpoint
@@ -250,7 +251,10 @@ class _Stepper:
             return _full_system(disc, t, load_factor, integrator)
         n_star, mu = disc.n_star(t), self.scene.contact.friction
         if disc.matrix_free:
-            return _krylov_system(disc, n_star, load_factor, law)
+            key = ("krylov", n_star.tobytes())
+            if key not in self._matrices:
+                self._matrices = {key: _recycler(disc, n_star)}
+            return _krylov_system(disc, self._matrices[key], n_star, load_factor, law)
         key = n_star.tobytes()
         if key not in self._matrices:
             H = disc.normal_compliance
@@ -279,13 +283,19 @@ def _remedy(scene: Scene, record) -> str:
     return "try " + ", ".join(tips)
 
 
-def _krylov_system(disc: Discretization, n_star, load_factor: float, law) -> KrylovSystem:
+def _recycler(disc: Discretization, n_star) -> Recycler:
+    """The products with A = H + μF (this n*) and H remembered for the run, and the Newton basis built on them."""
+    directions = disc.nu[None, :] + disc.scene.contact.friction * n_star
+    respond = lambda directed, normal: disc.normal_response(normal, directed, directions)  # noqa: E731
+    return Recycler(ComplianceMemory(respond, disc.points.n))
+
+
+def _krylov_system(disc: Discretization, recycler: Recycler, n_star, load_factor: float, law) -> KrylovSystem:
     """The condensed system applied matrix-free (large contact surfaces, see :class:`Discretization`)."""
     directions = disc.nu[None, :] + disc.scene.contact.friction * n_star
     plate = None if disc.plate is None else PlateRows(disc.plate.normal, disc.plate.directed(directions),
                                                       disc.plate.stiffness, load_factor * disc.plate_load)
-    respond = lambda directed, normal: disc.normal_response(normal, directed, directions)  # noqa: E731
-    return KrylovSystem(respond, disc.compliance_estimate, disc.points.weights, load_factor * disc.s_load, disc.d0,
+    return KrylovSystem(recycler, disc.compliance_estimate, disc.points.weights, load_factor * disc.s_load, disc.d0,
                         disc.scene.contact.gap, law, disc.scene.solver.tolerance, plate)
 
 
