@@ -8,7 +8,8 @@ y = H is clamped, a body force (0, −b) presses the bottom Γ_C onto the layer,
     explicit wear:  w_{j+1} = w_j + k α L (u_ν,j − w_j)  ⇒  w_j = w∞ (1 − (1 − k α L (1 − c₂))^j), w∞ = c₁/(1 − c₂),
     once u_ν = g:   P = (b H²/2 − 2η g)/H,  λ = P − L (g − w).
 
-P2 elements represent the quadratic u_y exactly, so the FE values match to round-off.
+P2 elements (triangles and tetrahedra) represent the quadratic u_y exactly, so the FE values match to
+round-off.
 """
 import ngsolve as ngs
 import numpy as np
@@ -52,9 +53,10 @@ def closed_form(scene, b):
     return np.array(w[:-1]), np.array(s), np.array(p), np.array(lam)
 
 
+@pytest.mark.parametrize("dim", [2, 3], ids=["2D", "3D"])
 @pytest.mark.parametrize("b", [0.2, 1.2], ids=["compliant", "worn-through"])
-def test_column_2d_p2_is_exact(b):
-    scene = column(2, b, order=2)
+def test_column_p2_is_exact(b, dim):
+    scene = column(dim, b, order=2)
     r = ngwear.simulate(scene, progress=False)
     w, s, p, lam = closed_form(scene, b)
     assert r.completed

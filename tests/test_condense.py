@@ -64,10 +64,11 @@ def test_matrix_free_equals_dense_where_the_layer_wears_through(paper_scene):
     assert dense.reaction.max() > 0
 
 
-def test_matrix_free_equals_dense_for_a_pad_on_a_disc():
+@pytest.mark.parametrize("order", [1, 2], ids=["P1", "P2"])
+def test_matrix_free_equals_dense_for_a_pad_on_a_disc(order):
     """3D brake pad held by a tilting plate alone, on a turning disc: friction along n*_i, plate rows."""
     scene = ngwear.load_scene(ROOT / "geometries" / "brake_pad.toml").replace(**{
-        "mesh.maxh": 0.012, "time.steps": 5, "time.T": 5.0, "output.every": 5.0,
+        "mesh.maxh": 0.012, "mesh.order": order, "time.steps": 5, "time.T": 5.0, "output.every": 5.0,
         "loads.plate.tilt": True})
     dense, krylov = compare(scene, ("normal_displacement", "wear", "pressure", "torque"))
     assert np.abs(dense.plate_displacement - krylov.plate_displacement).max() < 1e-9 * np.abs(

@@ -1,4 +1,6 @@
 """The NGSolve contact form: Taylor test of its linearisation, and agreement with the condensed path."""
+from pathlib import Path
+
 import ngsolve as ngs
 import numpy as np
 import pytest
@@ -6,6 +8,8 @@ import pytest
 import ngwear
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.forms import contact_form
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
@@ -75,3 +79,32 @@ def test_full_and_condensed_paths_agree(paper_scene, order):
     assert np.abs(fast.reaction - full.reaction).max() < 1e-8 * max(1, fast.reaction.max())
     pts = [[3.0, 1.0], [1.0, 0.0]]
     assert np.allclose(fast.displacement_at(pts, -1), full.displacement_at(pts, -1), atol=1e-9)
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_nodal_rule_on_triangles_integrates_the_elements_shape_functions(order):
+    """3D contact points: the vertex rule (P1) and, for P2, the edge midpoints alone (exact for quadratics).
+
+    Σ m_i f(x_i) = ∫_ΓC f for every f of the element's degree; the weights are positive; the values at
+    the Γ_C vertices (for pictures) and the scalar function Q w (for NGSolve) reproduce a linear w.
+    """
+    box = ngwear.load_scene(ROOT / "geometries" / "box3d.toml").replace(**{"mesh.maxh": 0.2, "mesh.order": order})
+    points = Discretization(box).points
+    x, y, _ = points.coords.T
+    assert points.weights.min() > 0 and np.isclose(points.weights.sum(), 0.5)
+    assert (points.vertices >= 0).all() if order == 1 else (points.edges >= 0).all()
+    exact = {"1": 0.5, "x": 0.25, "y": 0.125, "x*y": 0.0625, "x*x": 1 / 6, "y*y": 1 / 24}  # ∫ over [0,1]×[0,0.5]
+    for f, value in exact.items():
+        if order == 1 and "*" in f:
+            continue
+        values = eval(f, {"x": x, "y": y}) * np.ones_like(x)
+        assert points.weights @ values == pytest.approx(value, rel=1e-12), f
+    linear = 1 + 2 * x - 3 * y
+    at = points.at_vertices
+    touched = np.flatnonzero(at.getnnz(axis=1))
+    corners = Discretization(box).mesh.ngmesh.Coordinates()[touched]
+    assert np.allclose((at @ linear)[touched], 1 + 2 * corners[:, 0] - 3 * corners[:, 1], atol=1e-12)
+    disc = Discretization(box)
+    gf = ngs.GridFunction(ngs.H1(disc.mesh, order=order, definedon="body"))
+    disc.set_nodal(gf, linear)
+    assert np.allclose([gf(disc.mesh(*p)) for p in points.coords], linear, atol=1e-12)

@@ -207,8 +207,12 @@ def test_part_on_a_disc_sector_with_an_arc_arrow(pad):
         assert "|u − δν|" in drawn.body.__doc__
 
 
-def test_part_plots(pad, tmp_path):
+@pytest.mark.parametrize("order", [1, 2], ids=["P1", "P2"])
+def test_part_plots(pad, tmp_path, order):
     from ngwear.views import part_plots
+    if order == 2:
+        pad = ngwear.simulate(pad.scene.replace(**{"mesh.order": 2}), progress=False)
+        assert render.frame(pad, -1, window_size=(300, 150)).std() > 20
     paths = [part_plots.contact_maps(pad, tmp_path / "maps.png", steps=[0, -1]),
              part_plots.history(pad, tmp_path / "history.png"),
              part_plots.pressure_radius(pad, tmp_path / "pr.png")]

@@ -136,7 +136,7 @@ class MeshSpec(Section):
 
     maxh: Number | None = key(None, "Netgen's largest element size (not for `geometry.kind = \"mesh\"`)",
                               shown="0.1; a tenth of a file's part", allowed="(0, size of the part]")
-    order: Whole = key(1, "polynomial order", ge=1, le=2, allowed="1, 2 (2 in 2D only)")
+    order: Whole = key(1, "polynomial order", ge=1, le=2, allowed="1, 2")
     contact_maxh: Number | None = key(None, "mesh size on Γ_C; for `half_disk` on the arc within "
                                       "`mesh.contact_zone` of its lowest point", shown="`mesh.maxh`",
                                       allowed="(0, maxh]")
@@ -674,8 +674,6 @@ def _check_geometry(scene: Scene) -> None:
                              "mesh.maxh, mesh.contact_maxh and mesh.grading out)")
     elif not 0 < m.maxh <= g.extent:
         raise SceneError(f"mesh.maxh: must be {range_text(0, round(g.extent, 6), lo_open=True)} (got {m.maxh!r})")
-    if m.order == 2 and scene.dim == 3:
-        raise SceneError(f"mesh.order: must be in [1, 1] in 3D (got {m.order})")
     if m.contact_maxh is not None and not 0 < m.contact_maxh <= m.maxh:
         raise SceneError(f"mesh.contact_maxh: must be {range_text(0, m.maxh, lo_open=True)} (got {m.contact_maxh!r})")
     if m.contact_zone is not None:

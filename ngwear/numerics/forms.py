@@ -6,9 +6,9 @@ Contact form (the nonlinear boundary integrator, paper φ with fixed w):
 
     φ(w, u, v) = ∫_ΓC p(u_ν − d₀ − w) (v_ν + μ n*·v_τ) da,   u_ν = u·ν,   n* = n*(x),
 
-integrated with the *nodal* rule of the element (trapezoidal / Simpson on segments, vertex rule
-on triangles): the integral is Σ_i m_i p_i (ν + μ n*)·v(x_i) over the contact points x_i with
-weights m_i.  This makes the constraint u_ν ≤ g + d₀, the wear update and ∫_ΓC w all nodal, so the
+integrated with the *nodal* rule of the element (trapezoidal / Simpson on segments, the vertex rule
+on triangles, for P2 on their four halves): the integral is Σ_i m_i p_i (ν + μ n*)·v(x_i) over the
+contact points x_i with weights m_i.  This makes the constraint u_ν ≤ g + d₀, the wear update and ∫_ΓC w all nodal, so the
 discrete Archard identity holds to round-off.  For P2 the points are vertices and edge midpoints.
 """
 from __future__ import annotations
@@ -23,17 +23,31 @@ from ngsolve.fem import NODE_TYPE
 from ..model.laws import Compliance, hooke_stress
 from ..model.scene import Scene
 
-NODAL_RULES = {
-    (2, 1): (ngs.SEGM, [(0.0,), (1.0,)], [0.5, 0.5]),
-    (2, 2): (ngs.SEGM, [(0.0,), (0.5,), (1.0,)], [1 / 6, 4 / 6, 1 / 6]),
-    (3, 1): (ngs.TRIG, [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)], [1 / 6, 1 / 6, 1 / 6]),
+NODAL_WEIGHTS = {
+    # (dimension, order): the weights of a contact facet's vertices and edge midpoints, per unit measure
+    (2, 1): (1 / 2, None),       # trapezoidal
+    (2, 2): (1 / 6, 2 / 3),      # Simpson
+    (3, 1): (1 / 3, None),       # vertex rule
+    (3, 2): (0.0, 1 / 3),        # edge-midpoint rule
 }
+"""Nodal rules of the contact facets: each integrates the element's shape functions exactly, so a
+uniform pressure gives the consistent nodal forces.  On P2 triangles that is the edge-midpoint rule
+(exact for quadratics): the vertices get zero weight, so the contact points are the edge midpoints
+alone (a positive rule on all six nodes, e.g. the vertex rule on the four halved triangles, gives
+inconsistent forces: 10 % error in the closed-form column at h = 1/4, first order, measured)."""
+_REFERENCE = {2: (ngs.SEGM, [(0.0,), (1.0,)], 1.0), 3: (ngs.TRIG, [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)], 0.5)}
 
 
 def contact_ds(dim: int, order: int):
-    """ds("contact") with the nodal integration rule of the contact elements."""
-    et, pts, wts = NODAL_RULES[dim, order]
-    return ngs.ds("contact", intrules={et: ngs.IntegrationRule(pts, wts)})
+    """ds("contact") with the nodal integration rule of the contact elements (:data:`NODAL_WEIGHTS`)."""
+    et, corners, measure = _REFERENCE[dim]
+    vertex, midpoint = NODAL_WEIGHTS[dim, order]
+    points, weights = (list(corners), [measure * vertex] * len(corners)) if vertex else ([], [])
+    if order == 2:
+        pairs = [(0, 1)] if dim == 2 else [(0, 1), (1, 2), (2, 0)]
+        points += [tuple(0.5 * (np.array(corners[a]) + np.array(corners[b]))) for a, b in pairs]
+        weights += [measure * midpoint] * len(pairs)
+    return ngs.ds("contact", intrules={et: ngs.IntegrationRule(points, weights)})
 
 
 def displacement_space(mesh: ngs.Mesh, scene: Scene) -> ngs.FESpace:
@@ -106,16 +120,22 @@ def initial_distance(coords: np.ndarray, nu) -> np.ndarray:
 class ContactPoints:
     """The nodal points x_i of Γ_C with weights m_i and evaluation maps.
 
-    ``P`` (d·n × ndof): (P u)[d i + k] = u_k(x_i).  ``Q`` (ndof_scalar × n): coefficients of the
-    scalar H1 function with nodal values ``w`` at the points (for the NGSolve form's w and d₀).
-    ``vertices[i]``: the mesh vertex at x_i, −1 for an edge midpoint (P2).
+    ``P`` (d·n × ndof): (P u)[d i + k] = u_k(x_i).  ``at_vertices`` (nv × n): values at the mesh
+    vertices of Γ_C from values at the points: the vertex's own point, or, where the vertices are no
+    points (P2 in 3D), the mean over its Γ_C triangles (v, a, b) of w_va + w_vb − w_ab (the linear
+    function through the triangle's midpoint values, exact for linear w); 0 off Γ_C.  ``Q`` (ndof_scalar × n):
+    coefficients of the scalar H1 function with these vertex values and the given values at the points
+    (for the NGSolve form's w and d₀, and VTU output).  ``vertices[i]``: the mesh vertex at x_i, −1 for
+    an edge midpoint (P2); ``edges[i]``: the mesh edge whose midpoint is x_i, −1 for a vertex.
     """
 
     coords: np.ndarray
     weights: np.ndarray
     P: sp.csr_matrix
     Q: sp.csr_matrix
+    at_vertices: sp.csr_matrix
     vertices: np.ndarray
+    edges: np.ndarray
 
     @property
     def n(self) -> int:
@@ -123,66 +143,106 @@ class ContactPoints:
 
 
 def contact_points(fes: ngs.FESpace, dim: int, order: int) -> ContactPoints:
-    """Collect the contact points (vertices, plus edge midpoints for P2) and their nodal weights."""
+    """Collect the contact points (the nodes of Γ_C with a positive weight in :data:`NODAL_WEIGHTS`) and their weights."""
     mesh = fes.mesh
-    ndof_s = fes.ndof // dim
+    vertex_weight, midpoint_weight = NODAL_WEIGHTS[dim, order]
     index: dict[tuple, int] = {}
     coords, weights = [], []
-    prow, pcol, pval = [], [], []
-    qrow, qcol, qval = [], [], []
+    edge_ends: dict[int, tuple[int, int]] = {}
+    triangles: list[tuple] = []
 
-    def point(key, x):
+    def point(key, x, weight):
         if key not in index:
             index[key] = len(coords)
             coords.append(x)
             weights.append(0.0)
-        return index[key]
+        weights[index[key]] += weight
 
-    def vdofs(vnr):
-        dofs = fes.GetDofNrs(ngs.NodeId(NODE_TYPE.VERTEX, vnr))
-        return [d for d in dofs if d >= 0]
+    def dofs(node_type, nr):
+        return [d for d in fes.GetDofNrs(ngs.NodeId(node_type, nr)) if d >= 0]
 
-    beta = _bubble_scale(fes, dim) if order == 2 else None
     for el in mesh.Elements(ngs.BND):
         if el.mat != "contact":
             continue
-        verts = [v.nr for v in el.vertices]
         xs = [np.array(mesh[v].point) for v in el.vertices]
         size = np.linalg.norm(xs[1] - xs[0]) if dim == 2 else 0.5 * np.linalg.norm(
             np.cross(xs[1] - xs[0], xs[2] - xs[0]))
-        vertex_weight = size / (6 if order == 2 else dim)
-        for v, x in zip(verts, xs):
-            i = point(("v", v), x)
-            weights[i] += vertex_weight
+        if vertex_weight:
+            for v, x in zip(el.vertices, xs):
+                point(("v", v.nr), x, size * vertex_weight)
         if order == 2:
+            if dim == 3:
+                triangles.append((tuple(v.nr for v in el.vertices), tuple(e.nr for e in el.edges)))
             for e in el.edges:
                 a, b = mesh[e].vertices
-                i = point(("e", e.nr), 0.5 * (np.array(mesh[a].point) + np.array(mesh[b].point)))
-                weights[i] += 4 * size / 6
-    for (kind, nr), i in index.items():
-        if kind == "v":
-            dofs = vdofs(nr)
-            terms = [(dofs, 1.0)]
-            if dofs:
-                qrow.append(dofs[0]), qcol.append(i), qval.append(1.0)
-        else:
-            a, b = (v.nr for v in mesh[ngs.NodeId(NODE_TYPE.EDGE, nr)].vertices)
-            edofs = [d for d in fes.GetDofNrs(ngs.NodeId(NODE_TYPE.EDGE, nr)) if d >= 0]
-            be = beta[edofs[0]]
-            terms = [(vdofs(a), 0.5), (vdofs(b), 0.5), (edofs, be)]
-            for col, c in ((i, 1 / be), (index["v", a], -0.5 / be), (index["v", b], -0.5 / be)):
-                qrow.append(edofs[0]), qcol.append(col), qval.append(c)
-        for dofs, c in terms:
-            for k, dof in enumerate(dofs):
-                prow.append(dim * i + k), pcol.append(dof), pval.append(c)
+                edge_ends[e.nr] = (a.nr, b.nr)
+                point(("e", e.nr), 0.5 * (np.array(mesh[a].point) + np.array(mesh[b].point)), size * midpoint_weight)
     n = len(coords)
-    P = sp.csr_matrix((pval, (prow, pcol)), shape=(dim * n, fes.ndof))
-    Q = sp.csr_matrix((qval, (qrow, qcol)), shape=(ndof_s, n))
-    vertices = np.full(n, -1)
+    vertices, edges = np.full(n, -1), np.full(n, -1)
+    for (kind, nr), i in index.items():
+        (vertices if kind == "v" else edges)[i] = nr
+    at_vertices = _vertex_map(mesh.nv, vertices, {key[1]: i for key, i in index.items() if key[0] == "e"},
+                              edge_ends, triangles)
+    # P: a vertex point is its vertex DOFs; an edge midpoint (u_a + u_b)/2 + β_e c_e (the hierarchical P2 bubble)
+    beta = _bubble_scale(fes, dim) if order == 2 else None
+    rows, cols, vals = [], [], []
     for (kind, nr), i in index.items():
         if kind == "v":
-            vertices[i] = nr
-    return ContactPoints(np.array(coords)[:, :dim], np.array(weights), P, Q, vertices)
+            terms = [(dofs(NODE_TYPE.VERTEX, nr), 1.0)]
+        else:
+            a, b = edge_ends[nr]
+            edofs = dofs(NODE_TYPE.EDGE, nr)
+            terms = [(dofs(NODE_TYPE.VERTEX, a), 0.5), (dofs(NODE_TYPE.VERTEX, b), 0.5), (edofs, beta[edofs[0]])]
+        for ds, c in terms:
+            for k, dof in enumerate(ds):
+                rows.append(dim * i + k), cols.append(dof), vals.append(c)
+    P = sp.csr_matrix((vals, (rows, cols)), shape=(dim * n, fes.ndof))
+    Q = _scalar_coefficients(mesh, order, at_vertices, edges, edge_ends, beta)
+    return ContactPoints(np.array(coords)[:, :dim], np.array(weights), P, Q, at_vertices, vertices, edges)
+
+
+def _vertex_map(nv: int, vertices: np.ndarray, midpoint: dict, edge_ends: dict, triangles: list) -> sp.csr_matrix:
+    """at_vertices of :class:`ContactPoints`: identity rows for vertex points, else the triangles' reconstruction."""
+    n = len(vertices)
+    if (vertices >= 0).any():
+        own = np.flatnonzero(vertices >= 0)
+        return sp.csr_matrix((np.ones(len(own)), (vertices[own], own)), shape=(nv, n))
+    rows, cols, vals = [], [], []
+    for corners, sides in triangles:
+        at = {frozenset(edge_ends[e]): midpoint[e] for e in sides}
+        for v in corners:
+            a, b = (u for u in corners if u != v)
+            rows += [v, v, v]
+            cols += [at[frozenset((v, a))], at[frozenset((v, b))], at[frozenset((a, b))]]
+            vals += [1.0, 1.0, -1.0]
+    rows = np.array(rows, dtype=int)
+    count = np.bincount(rows, minlength=nv) / 3
+    return sp.csr_matrix((np.array(vals) / count[rows], (rows, cols)), shape=(nv, n))
+
+
+def _scalar_coefficients(mesh, order, at_vertices, edges, edge_ends, beta) -> sp.csr_matrix:
+    """Q of :class:`ContactPoints`: vertex DOFs = at_vertices; edge DOFs c_e = (w_e − (w_a + w_b)/2)/β_e."""
+    scalar = ngs.H1(mesh, order=order, definedon="body")
+    n = at_vertices.shape[1]
+    vertex_dof = np.array([scalar.GetDofNrs(ngs.NodeId(NODE_TYPE.VERTEX, v))[0] for v in range(mesh.nv)])
+    inside = np.flatnonzero(vertex_dof >= 0)
+    blocks = sp.csr_matrix((np.ones(len(inside)), (vertex_dof[inside], inside)), shape=(scalar.ndof, mesh.nv))
+    Q = blocks @ at_vertices
+    if beta is None:
+        return Q.tocsr()
+    rows, cols, vals = [], [], []
+    midpoints = np.flatnonzero(edges >= 0)
+    for i in midpoints:
+        a, b = edge_ends[edges[i]]
+        dof = scalar.GetDofNrs(ngs.NodeId(NODE_TYPE.EDGE, int(edges[i])))[0]
+        inv = 1.0 / beta[dof]
+        rows.append(dof), cols.append(i), vals.append(inv)
+        for v in (a, b):
+            row = at_vertices.getrow(v)
+            rows += [dof] * row.nnz
+            cols += list(row.indices)
+            vals += list(-0.5 * inv * row.data)
+    return (Q + sp.csr_matrix((vals, (rows, cols)), shape=(scalar.ndof, n))).tocsr()
 
 
 def _bubble_scale(fes: ngs.FESpace, dim: int) -> np.ndarray:

@@ -43,13 +43,20 @@ def _run(scene: Scene) -> tuple[Result, float]:
 
 
 def _wear_on(result: Result, ref: Result, step: int) -> np.ndarray:
-    """Wear of ``result`` at ``step`` evaluated at the reference contact points (linear interpolation)."""
+    """Wear of ``result`` at ``step`` at the reference contact points.
+
+    Linear interpolation along Γ_C in 2D; in 3D the scalar finite element function with the wear's
+    nodal values (:attr:`ContactPoints.Q`).
+    """
     if result.contact_points.shape == ref.contact_points.shape and np.allclose(
             result.contact_points, ref.contact_points):
         return result.wear[step]
-    if result.scene.dim != 2:
-        raise ValueError("verify: wear interpolation between different meshes is implemented in 2D")
     nu = np.array(result.scene.contact.direction)
+    if result.scene.dim == 3:
+        disc = result.discretization
+        wear = ngs.GridFunction(ngs.H1(disc.mesh, order=result.scene.mesh.order, definedon="body"))
+        disc.set_nodal(wear, result.wear[step])
+        return np.asarray(wear(disc.locate(ref.contact_points))).ravel()
     tangent = np.array([-nu[1], nu[0]])
     x, xr = result.contact_points @ tangent, ref.contact_points @ tangent
     order = np.argsort(x)

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
+import scipy.sparse as sp
 from matplotlib.figure import Figure
 from matplotlib.tri import Triangulation
 
@@ -31,15 +32,35 @@ def _plane(nu: np.ndarray) -> np.ndarray:
     return np.array([first, second])
 
 
-def _triangulation(result) -> Triangulation:
-    """The Γ_C facets between the contact points at their vertices, projected on the plane ⟂ ν."""
+def _triangulation(result) -> tuple[Triangulation, sp.csr_matrix]:
+    """The Γ_C facets, projected on the plane ⟂ ν, and the map from point values to their nodes' values.
+
+    P1: the facets between the vertex points.  P2: each facet halved into four between its vertices
+    and edge midpoints (values at vertices that are no contact points: :attr:`ContactPoints.at_vertices`).
+    """
     disc = result.discretization
-    at = np.full(disc.mesh.nv, -1)
-    vertices = disc.points.vertices
-    at[vertices[vertices >= 0]] = np.flatnonzero(vertices >= 0)
-    facets = np.array([[at[v.nr] for v in el.vertices] for el in disc.mesh.Elements(ngs.BND) if el.mat == "contact"])
-    xy = result.contact_points @ _plane(np.asarray(result.scene.contact.direction)).T
-    return Triangulation(xy[:, 0], xy[:, 1], facets)
+    points, mesh = disc.points, disc.mesh
+    facets = [el for el in mesh.Elements(ngs.BND) if el.mat == "contact"]
+    corners = np.unique([v.nr for el in facets for v in el.vertices])
+    node = np.full(mesh.nv, -1)
+    node[corners] = np.arange(len(corners))
+    values = points.at_vertices[corners]
+    triangles = [[node[v.nr] for v in el.vertices] for el in facets]
+    if result.scene.mesh.order == 2:
+        mid = np.full(mesh.nedge, -1)
+        mid[points.edges[points.edges >= 0]] = len(corners) + np.arange((points.edges >= 0).sum())
+        values = sp.vstack([values, sp.eye(points.n, format="csr")[points.edges >= 0]]).tocsr()
+        triangles = []
+        for el in facets:
+            a, b, c = (node[v.nr] for v in el.vertices)
+            at = {frozenset(v.nr for v in mesh[e].vertices): mid[e.nr] for e in el.edges}
+            ab, bc, ca = (at[frozenset((el.vertices[i].nr, el.vertices[j].nr))] for i, j in ((0, 1), (1, 2), (2, 0)))
+            triangles += [(a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)]
+    xyz = np.array([mesh.vertices[int(v)].point for v in corners])
+    if result.scene.mesh.order == 2:
+        xyz = np.vstack([xyz, result.contact_points[points.edges >= 0]])
+    xy = xyz @ _plane(np.asarray(result.scene.contact.direction)).T
+    return Triangulation(xy[:, 0], xy[:, 1], np.array(triangles)), values
 
 
 def contact_maps(result, path, steps=None, fields=("pressure", "wear")) -> Path:
@@ -47,7 +68,7 @@ def contact_maps(result, path, steps=None, fields=("pressure", "wear")) -> Path:
     if result.scene.dim != 3:
         raise ValueError("contact maps need a 3D result (in 2D, Γ_C is a line: see plots.wear_profiles)")
     steps = [s for s, _ in _sampled(result, 4)] if steps is None else [range(result.steps + 1)[s] for s in steps]
-    tri = _triangulation(result)
+    tri, at_nodes = _triangulation(result)
     aspect = np.clip(np.ptp(tri.x) / max(np.ptp(tri.y), 1e-300), 0.35, 3.0)
     fig = Figure(figsize=((2.6 * aspect + 0.6) * len(steps) + 1, 3.0 * len(fields)), layout="constrained")
     axes = np.atleast_2d(fig.subplots(len(fields), len(steps), squeeze=False))
@@ -56,7 +77,7 @@ def contact_maps(result, path, steps=None, fields=("pressure", "wear")) -> Path:
         values = getattr(result, name)
         top = max(float(values[steps].max()), 1e-300)
         for ax, step in zip(row, steps):
-            shaded = ax.tripcolor(tri, values[step], shading="gouraud", cmap=cmap, vmin=0.0, vmax=top)
+            shaded = ax.tripcolor(tri, at_nodes @ values[step], shading="gouraud", cmap=cmap, vmin=0.0, vmax=top)
             ax.set_aspect("equal")
             ax.set_title(f"{label}, t = {result.times[step]:.4g}", fontsize=9)
             ax.tick_params(labelsize=7)

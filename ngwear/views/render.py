@@ -103,9 +103,7 @@ class _Picture:
         self.scales = _Scales.of(result, [_elastic(result, s, u) for s, u in shown.items()])
         moved = np.array([mesh.points + magnify * u for u in shown.values()])
         self.lo, self.hi = moved.min(axis=(0, 1)), moved.max(axis=(0, 1))
-        self.point_of_vertex = np.full(len(mesh.points), -1)
-        vertices = result.discretization.points.vertices
-        self.point_of_vertex[vertices[vertices >= 0]] = np.flatnonzero(vertices >= 0)
+        self.at_vertices = result.discretization.points.at_vertices
 
     @property
     def dim(self) -> int:
@@ -122,13 +120,13 @@ class _Picture:
         Only the vertices of Γ_C carry meaningful values (see the module docstring).
         """
         result, m, g = self.result, self.magnify, self.result.scene.contact.gap
-        at = self.point_of_vertex
+        at = self.at_vertices
         nu = np.asarray(result.scene.contact.direction)
         top = self.mesh.points + m * _vertex_displacement(result, step)
-        wear, squeeze = result.wear[step][at], np.maximum(result.compression[step][at], 0.0)
+        wear, squeeze = at @ result.wear[step], np.maximum(at @ result.compression[step], 0.0)
         bottom = top + np.maximum(g - m * wear - m * squeeze, 0.0)[:, None] * nu
         worn = bottom + np.clip(m * wear, 0.0, m * g)[:, None] * nu
-        return top, bottom, worn, getattr(result, LAYER_FIELDS[self.field])[step][at]
+        return top, bottom, worn, at @ getattr(result, LAYER_FIELDS[self.field])[step]
 
     @cached_property
     def disc(self) -> dict | None:
