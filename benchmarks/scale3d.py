@@ -35,32 +35,44 @@ import common as C
 import numpy as np
 
 SCENES = {"box": C.ROOT / "geometries" / "box3d.toml", "pad": C.ROOT / "geometries" / "brake_pad.toml"}
-CASES = ("box:0.04", "box:0.025", "box:0.018", "pad:0.002", "pad:0.0011", "pad:0.00078", "pad:0.00063")
-QUICK_CASES = ("box:0.04", "pad:0.004")
+CASES = ("box:0.04", "box:0.025", "box:0.018", "box:0.08:p2", "box:0.05:p2", "box:0.035:p2",
+         "pad:0.002", "pad:0.0011", "pad:0.0007", "pad:0.00063", "pad:0.004:p2", "pad:0.002:p2", "pad:0.0014:p2")
+QUICK_CASES = ("box:0.04", "pad:0.004", "pad:0.008:p2")
 STEPS = 100
-NO_ELASTIC = ("pad:0.00078", "pad:0.00063")   # NGSolve's reference skipped by default: minutes, and no target
+NO_ELASTIC = ("pad:0.0007", "pad:0.00063", "pad:0.0014:p2")   # NGSolve's reference skipped by default: no target
 BOX_TARGET = ("box", 0.018)
 BOX_RATIO, BOX_MEMORY_GB, PAD_MINUTES = 2.0, 3.0, 15.0
+SERIES = [(kind, order, mode) for kind in ("box", "pad") for order in (1, 2) for mode in ("dense", "krylov")]
 
 
-def scene_of(kind: str, maxh: float):
+def parse_case(case: str) -> tuple[str, float, int]:
+    """``kind:maxh`` (P1) or ``kind:maxh:p2``."""
+    kind, maxh, *order = case.split(":")
+    return kind, float(maxh), int(order[0].lstrip("p")) if order else 1
+
+
+def label(kind: str, maxh: float, order: int) -> str:
+    return f"{kind}:{maxh:g}" + (f":p{order}" if order > 1 else "")
+
+
+def scene_of(kind: str, maxh: float, order: int = 1):
     """The case's scene: 100 steps (the pad keeps its k = 1 s)."""
     import ngwear
-    settings = {"mesh.maxh": maxh, "time.steps": STEPS}
+    settings = {"mesh.maxh": maxh, "mesh.order": order, "time.steps": STEPS}
     if kind == "pad":
         settings["time.T"] = float(STEPS)
     return ngwear.load_scene(SCENES[kind]).replace(**settings)
 
 
 # ---- one case, in its own process -------------------------------------------------------------------
-def run_ngwear(kind: str, maxh: float, mode: str, remesh: bool) -> dict:
+def run_ngwear(kind: str, maxh: float, order: int, mode: str, remesh: bool) -> dict:
     import resource
 
     import ngwear
     from ngwear.model.geometry import build_mesh, cache_dir, mesh_key
     from ngwear.numerics.discrete import Discretization
 
-    scene = scene_of(kind, maxh)
+    scene = scene_of(kind, maxh, order)
     cached = (cache_dir() / "meshes" / f"{mesh_key(scene)}.vol").is_file()
     t0 = C.perf()
     mesh = build_mesh(scene, use_cache=not remesh)
@@ -87,7 +99,8 @@ def run_ngwear(kind: str, maxh: float, mode: str, remesh: bool) -> dict:
         times = [C.timed(disc.operator.solve, rhs)[0] for _ in range(5)]
         loop_solves = len(products) * C.median(times)
     return {
-        "case": f"{kind}:{maxh:g}", "kind": kind, "maxh": maxh, "mode": "krylov" if disc.matrix_free else "dense",
+        "case": label(kind, maxh, order), "kind": kind, "maxh": maxh, "order": order,
+        "mode": "krylov" if disc.matrix_free else "dense",
         "ndof": disc.fes.ndof, "free_dofs": C.free_dofs(disc), "contact_points": disc.points.n,
         "contact_dofs": len(disc.contact_dofs), "factor_nnz": disc.operator.factor_nonzeros,
         "mesh_cached": cached and not remesh, "mesh_s": t1 - t0,
@@ -99,9 +112,9 @@ def run_ngwear(kind: str, maxh: float, mode: str, remesh: bool) -> dict:
     }
 
 
-def run_elastic(kind: str, maxh: float) -> dict:
+def run_elastic(kind: str, maxh: float, order: int) -> dict:
     import resource
-    scene = scene_of(kind, maxh)
+    scene = scene_of(kind, maxh, order)
     mesh = C.mesh_for(scene)
     el = C.elastic_reference(scene, mesh)
     row = {"elastic_s": el["total"], "elastic_assemble_s": el["assemble"], "elastic_factorise_s": el["factorise"],
@@ -157,12 +170,12 @@ def main():
         f"pad >= 500k DOFs and >= 10k contact points in <= {PAD_MINUTES:g} min"]
     rows = []
     for case in cases:
-        kind, maxh = case.split(":")
+        kind, maxh, order = parse_case(case)
         skip = args.no_elastic or (case in NO_ELASTIC and not args.cases)
-        elastic = {} if skip else in_subprocess({"fn": "elastic", "kind": kind, "maxh": float(maxh)}, args.blas_threads)
+        job = {"kind": kind, "maxh": maxh, "order": order}
+        elastic = {} if skip else in_subprocess({"fn": "elastic", **job}, args.blas_threads)
         for mode in modes:
-            row = in_subprocess({"fn": "ngwear", "kind": kind, "maxh": float(maxh), "mode": mode,
-                                 "remesh": args.remesh}, args.blas_threads)
+            row = in_subprocess({"fn": "ngwear", **job, "mode": mode, "remesh": args.remesh}, args.blas_threads)
             row.update(elastic)
             if elastic:
                 row["ratio"] = row["ngwear_s"] / row["elastic_s"]
@@ -172,14 +185,12 @@ def main():
             print(f"  {row['case']} {row['mode']}: {row['ndof']} DOFs, {row['contact_points']} points, "
                   f"ngwear {row['ngwear_s']:.1f}s (loop {row['loop_s']:.1f}s), elastic {row.get('elastic_s', 0):.1f}s, "
                   f"peak {row['peak_gb']:.2f} GB", flush=True)
-    for kind in ("box", "pad"):
-        series = [r for r in rows if r["kind"] == kind and r["mode"] in ("dense", "krylov")]
-        for mode in ("dense", "krylov"):
-            same = [r for r in series if r["mode"] == mode]
-            if len(same) >= 2:
-                header.append(f"fitted growth, {kind} {mode}: time ~ DOFs^{fit(same, 'ndof', 'ngwear_s'):.2f}, "
-                              f"~ points^{fit(same, 'contact_points', 'ngwear_s'):.2f}; memory ~ DOFs^"
-                              f"{fit(same, 'ndof', 'peak_gb'):.2f}, ~ points^{fit(same, 'contact_points', 'peak_gb'):.2f}")
+    for kind, order, mode in SERIES:
+        same = [r for r in rows if (r["kind"], r.get("order", 1), r["mode"]) == (kind, order, mode)]
+        if len(same) >= 2:
+            header.append(f"fitted growth, {kind} P{order} {mode}: time ~ DOFs^{fit(same, 'ndof', 'ngwear_s'):.2f}, "
+                          f"~ points^{fit(same, 'contact_points', 'ngwear_s'):.2f}; memory ~ DOFs^"
+                          f"{fit(same, 'ndof', 'peak_gb'):.2f}, ~ points^{fit(same, 'contact_points', 'peak_gb'):.2f}")
     columns = [("case", "case", None), ("mode", "solve", None), ("ndof", "DOFs", "d"),
                ("contact_points", "points", "d"), ("mesh_s", "mesh s", ".1f"), ("mesh_cached", "cached", None),
                ("assemble_s", "assemble", ".1f"), ("factorise_s", "factorise", ".1f"), ("rows_s", "ν rows", ".1f"),
@@ -188,11 +199,12 @@ def main():
                ("ratio_tm", "ratio tm", ".2f"), ("peak_gb", "peak GB", ".2f"),
                ("newton_its", "Newton", "d"), ("target", "target", None)]
     fig, (ax_t, ax_m) = C.new_figure(2)
-    for (kind, mode), marker in zip([(k, m) for k in ("box", "pad") for m in ("dense", "krylov")], "osD^"):
-        same = [r for r in rows if r["kind"] == kind and r["mode"] == mode]
+    for (kind, order, mode), marker in zip(SERIES, "osD^v<>p"):
+        same = [r for r in rows if (r["kind"], r.get("order", 1), r["mode"]) == (kind, order, mode)]
         if same:
-            ax_t.loglog([r["ndof"] for r in same], [r["ngwear_s"] for r in same], marker + "-", label=f"{kind}, {mode}")
-            ax_m.loglog([r["ndof"] for r in same], [r["peak_gb"] for r in same], marker + "-", label=f"{kind}, {mode}")
+            name = f"{kind} P{order}, {'matrix-free' if mode == 'krylov' else mode}"
+            ax_t.loglog([r["ndof"] for r in same], [r["ngwear_s"] for r in same], marker + "-", label=name)
+            ax_m.loglog([r["ndof"] for r in same], [r["peak_gb"] for r in same], marker + "-", label=name)
     with_elastic = [r for r in rows if r.get("elastic_s")]
     if with_elastic:
         ax_t.loglog([r["ndof"] for r in with_elastic], [r["elastic_s"] for r in with_elastic], "k+",
@@ -207,7 +219,7 @@ def main():
 
 
 def verdict_of(row) -> str:
-    if (row["kind"], row["maxh"]) == BOX_TARGET and row.get("ratio"):
+    if (row["kind"], row["maxh"], row.get("order", 1)) == (*BOX_TARGET, 1) and row.get("ratio"):
         return C.verdict(row["ratio"] <= BOX_RATIO and row["peak_gb"] <= BOX_MEMORY_GB)
     if row["kind"] == "pad" and row["ndof"] >= 500_000 and row["contact_points"] >= 10_000:
         return C.verdict(row["ngwear_s"] <= PAD_MINUTES * 60)

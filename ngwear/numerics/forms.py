@@ -223,26 +223,21 @@ def _vertex_map(nv: int, vertices: np.ndarray, midpoint: dict, edge_ends: dict, 
 def _scalar_coefficients(mesh, order, at_vertices, edges, edge_ends, beta) -> sp.csr_matrix:
     """Q of :class:`ContactPoints`: vertex DOFs = at_vertices; edge DOFs c_e = (w_e − (w_a + w_b)/2)/β_e."""
     scalar = ngs.H1(mesh, order=order, definedon="body")
-    n = at_vertices.shape[1]
-    vertex_dof = np.array([scalar.GetDofNrs(ngs.NodeId(NODE_TYPE.VERTEX, v))[0] for v in range(mesh.nv)])
+    nv, n = at_vertices.shape
+    vertex_dof = np.array([scalar.GetDofNrs(ngs.NodeId(NODE_TYPE.VERTEX, v))[0] for v in range(nv)])
     inside = np.flatnonzero(vertex_dof >= 0)
-    blocks = sp.csr_matrix((np.ones(len(inside)), (vertex_dof[inside], inside)), shape=(scalar.ndof, mesh.nv))
-    Q = blocks @ at_vertices
+    Q = sp.csr_matrix((np.ones(len(inside)), (vertex_dof[inside], inside)), shape=(scalar.ndof, nv)) @ at_vertices
     if beta is None:
         return Q.tocsr()
-    rows, cols, vals = [], [], []
-    midpoints = np.flatnonzero(edges >= 0)
-    for i in midpoints:
-        a, b = edge_ends[edges[i]]
-        dof = scalar.GetDofNrs(ngs.NodeId(NODE_TYPE.EDGE, int(edges[i])))[0]
-        inv = 1.0 / beta[dof]
-        rows.append(dof), cols.append(i), vals.append(inv)
-        for v in (a, b):
-            row = at_vertices.getrow(v)
-            rows += [dof] * row.nnz
-            cols += list(row.indices)
-            vals += list(-0.5 * inv * row.data)
-    return (Q + sp.csr_matrix((vals, (rows, cols)), shape=(scalar.ndof, n))).tocsr()
+    mid = np.flatnonzero(edges >= 0)
+    dof = np.array([scalar.GetDofNrs(ngs.NodeId(NODE_TYPE.EDGE, int(e)))[0] for e in edges[mid]], dtype=int)
+    ends = np.array([edge_ends[e] for e in edges[mid]], dtype=int).reshape(-1, 2)
+    rows = np.arange(len(mid))
+    halves = sp.csr_matrix((np.full(2 * len(mid), 0.5), (np.repeat(rows, 2), ends.ravel())), shape=(len(mid), nv))
+    own = sp.csr_matrix((np.ones(len(mid)), (rows, mid)), shape=(len(mid), n))
+    bubble = sp.diags(1.0 / beta[dof]) @ (own - halves @ at_vertices)
+    place = sp.csr_matrix((np.ones(len(mid)), (dof, rows)), shape=(scalar.ndof, len(mid)))
+    return (Q + place @ bubble).tocsr()
 
 
 def _bubble_scale(fes: ngs.FESpace, dim: int) -> np.ndarray:

@@ -102,7 +102,8 @@ class Recycler:
         if self._key != (key, memory.generation):
             self._key, self._used = (key, memory.generation), 0
             self.U, self.Q, self.T = np.zeros((size, 0)), np.zeros((size, 0)), np.zeros((0, 0))
-            plate = np.eye(size)[:, n:]                         # the plate's unknowns: images without products
+            plate = np.zeros((size, size - n))                  # the plate's unknowns: images without products
+            plate[n:] = np.eye(size - n)
             self._extend(plate, np.array([apply(u, np.zeros(n)) for u in plate.T]).reshape(-1, size).T)
         self._recall(weights, apply, scaling)
         r = b - self.Q @ (self.Q.T @ b)
