@@ -36,7 +36,8 @@ import numpy as np
 
 SCENES = {"box": C.ROOT / "geometries" / "box3d.toml", "pad": C.ROOT / "geometries" / "brake_pad.toml"}
 CASES = ("box:0.04", "box:0.025", "box:0.018", "box:0.08:p2", "box:0.05:p2", "box:0.035:p2",
-         "pad:0.002", "pad:0.0011", "pad:0.0007", "pad:0.00063", "pad:0.004:p2", "pad:0.002:p2", "pad:0.0014:p2")
+         "pad:0.002", "pad:0.0011", "pad:0.0007", "pad:0.00063",
+         "pad:0.004:p2", "pad:0.003:p2", "pad:0.002:p2", "pad:0.0014:p2")
 QUICK_CASES = ("box:0.04", "pad:0.004", "pad:0.008:p2")
 STEPS = 100
 NO_ELASTIC = ("pad:0.0007", "pad:0.00063", "pad:0.0014:p2")   # NGSolve's reference skipped by default: no target

@@ -7,8 +7,9 @@ through the Cholesky factor of S, never formed.  Beyond ``DENSE_LIMIT`` contact 
 pay (its n_c² memory and n_c³ factorisation outgrow the per-step work it saves) and the operator
 keeps the plain factorisation: the contact problem is then solved matrix-free
 (:class:`~ngwear.numerics.solver.KrylovSystem`).  So it is from ``SOFT_LIMIT`` contact DOFs when the
-layer is soft against the body (:attr:`Discretization.layer_ratio` < 1): GMRES then needs only a few
-products per step.
+layer is soft against the body (:attr:`Discretization.layer_ratio` < 1): its Newton systems are then
+well conditioned, and with the products remembered (:mod:`~ngwear.numerics.recycle`) a run needs about
+one back-substitution per step.
 """
 from __future__ import annotations
 
@@ -39,10 +40,10 @@ class ElasticOperator:
         c = local[self.contact_dofs]
         self._factor = Pardiso(K[self.free][:, self.free], c if schur and len(c) else None)
         self._cholesky = None
-        if self._factor.schur_complement is not None:
-            self._cholesky = sla.cho_factor(self._factor.schur_complement, lower=True, overwrite_a=True,
+        if self._factor.schur_upper is not None:   # S's upper triangle, row-major: the lower one of its transpose
+            self._cholesky = sla.cho_factor(self._factor.schur_upper.T, lower=True, overwrite_a=True,
                                             check_finite=False)
-            self._factor.schur_complement = None
+            self._factor.schur_upper = None
 
     @property
     def schur_complement(self) -> np.ndarray | None:

@@ -52,7 +52,9 @@ _MKL = None
 class Pardiso:
     """Cholesky factorisation of an SPD sparse matrix K (both triangles given); optional Schur rows.
 
-    ``schur_complement`` is S (dense, symmetric) when ``schur`` rows are given, else None.
+    With ``schur`` rows, ``schur_upper`` holds S as PARDISO hands it back (row-major, upper triangle
+    valid, the rest undefined; no copies of an n_c × n_c matrix are made) and ``schur_complement``
+    builds the whole symmetric S from it; without, both are None.
     """
 
     def __init__(self, K: sp.spmatrix, schur: np.ndarray | None = None):
@@ -70,14 +72,12 @@ class Pardiso:
         self._perm = np.zeros(self.n, dtype=np.int32)
         weakref.finalize(self, _release, self._pt, self.iparm)
         self.schur = np.zeros(0, dtype=int) if schur is None else np.sort(np.asarray(schur, dtype=int))
-        self.schur_complement = None
+        self.schur_upper = None
         if len(self.schur):
             self._perm[self.schur] = 1
             self.iparm[35] = 2                     # Schur complement + partial solves
-            out = np.zeros((len(self.schur), len(self.schur)))
-            self._call(12, np.zeros(self.n), out)
-            upper_s = np.triu(out)                  # row-major upper triangle
-            self.schur_complement = upper_s + np.triu(out, 1).T
+            self.schur_upper = np.zeros((len(self.schur), len(self.schur)))
+            self._call(12, np.zeros(self.n), self.schur_upper)
         else:
             self._call(12, np.zeros(self.n), np.zeros(self.n))
 
@@ -113,6 +113,13 @@ class Pardiso:
         finally:
             self.iparm[5] = 0
             _MKL.MKL_Set_Num_Threads_Local(threads)
+
+    @property
+    def schur_complement(self) -> np.ndarray | None:
+        """S, both triangles (a new array)."""
+        if self.schur_upper is None:
+            return None
+        return np.triu(self.schur_upper) + np.triu(self.schur_upper, 1).T
 
     @property
     def factor_nonzeros(self) -> int:

@@ -15,7 +15,8 @@ max(|R|, |min(λ/c, g + d₀ − s)|).  Two systems implement the same protocol:
   plate (:mod:`ngwear.numerics.plate`) borders it with its r unknowns δ: R_s gains −Ψ δ and the rows
   R_δ = S δ + Φ_bᵀ (m∘p) + Ψᵀ (m∘λ) − s_F (f_B + F_B) join, scaled to lengths.
 * :class:`KrylovSystem`: the same, matrix-free (each product with H or A one back-substitution,
-  GMRES for the Newton steps), for contact surfaces too large for dense n × n matrices.
+  remembered across the run; GCR with recycling for the Newton steps), for contact surfaces too large
+  for dense n × n matrices.
 * :class:`FullSystem`: unknown x = the free DOFs (and δ, in the basis u = T x); R = Tᵀ(K u + R_c(u) +
   (N P)ᵀ(m∘λ) − F) assembled by NGSolve (``Apply`` / ``AssembleLinearization``) and solved as a sparse
   saddle-point system.
@@ -55,6 +56,8 @@ class NewtonRecord:
 
 MEMORY = 5
 UNDAMPED = 20
+FACTOR_BYTES = 2.5e8
+"""Memory for the LU factors of the dense Newton matrices kept for patterns that recur (at most 16, LRU)."""
 
 
 def semismooth_newton(system, x, lam, tol: float = 1e-10, max_iterations: int = 50):
@@ -148,7 +151,8 @@ class CondensedSystem:
     """The step problem condensed onto the n contact points (dense (n + r) × (n + r) algebra).
 
     ``factors`` caches LU factorisations of the Newton matrix by (active set, p'): with a
-    piecewise-linear law the matrix repeats across iterations and steps and is factorised once.
+    piecewise-linear law the matrix repeats across iterations and steps and is factorised once
+    (the 16 most recently used, fewer if they would take more than ``FACTOR_BYTES``).
     The plate's rows are multiplied by h / ‖Ψ_k‖∞ (h the largest point compliance H_ii), which turns
     forces into lengths comparable with the rows of s.  A body held by the plate alone (S = 0) with no
     contact stiffness in the Newton matrix moves rigidly to its force balance first
@@ -203,7 +207,9 @@ class CondensedSystem:
     def _factor(self, active, dp):
         """LU of M = [J_{:,I} | H_{:,A} diag(m_A) | −Ψ] with J = I + A diag(m p'), bordered by the plate's rows."""
         key = active.tobytes() + dp.tobytes()
-        if key not in self.factors:
+        if key in self.factors:
+            self.factors[key] = self.factors.pop(key)       # the most recently used last
+        else:
             inactive = ~active
             M = self.A * (self.m * dp * inactive)[None, :] + self.H * (self.m * active)[None, :]
             M[np.diag_indices(len(dp))] += inactive
@@ -213,8 +219,8 @@ class CondensedSystem:
                          + plate.normal * (self.m * active)[:, None]).T
                 M = np.block([[M, -plate.normal],
                               [self.rows[:, None] * below, self.rows[:, None] * self.jacobian_stiffness]])
-            if len(self.factors) >= 16:
-                self.factors.clear()
+            while self.factors and len(self.factors) >= min(16, max(1, int(FACTOR_BYTES // M.nbytes))):
+                del self.factors[next(iter(self.factors))]  # the least recently used
             self.factors[key] = sla.lu_factor(M, check_finite=False)
         return self.factors[key]
 
