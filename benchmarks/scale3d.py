@@ -66,7 +66,7 @@ def scene_of(kind: str, maxh: float, order: int = 1):
 
 
 # ---- one case, in its own process -------------------------------------------------------------------
-def run_ngwear(kind: str, maxh: float, order: int, mode: str, remesh: bool) -> dict:
+def run_ngwear(kind: str, maxh: float, mode: str, remesh: bool, order: int = 1) -> dict:
     import resource
 
     import ngwear
@@ -113,7 +113,7 @@ def run_ngwear(kind: str, maxh: float, order: int, mode: str, remesh: bool) -> d
     }
 
 
-def run_elastic(kind: str, maxh: float, order: int) -> dict:
+def run_elastic(kind: str, maxh: float, order: int = 1) -> dict:
     import resource
     scene = scene_of(kind, maxh, order)
     mesh = C.mesh_for(scene)

@@ -184,7 +184,7 @@ def contact_points(fes: ngs.FESpace, dim: int, order: int) -> ContactPoints:
     at_vertices = _vertex_map(mesh.nv, vertices, {key[1]: i for key, i in index.items() if key[0] == "e"},
                               edge_ends, triangles)
     # P: a vertex point is its vertex DOFs; an edge midpoint (u_a + u_b)/2 + β_e c_e (the hierarchical P2 bubble)
-    beta = _bubble_scale(fes, dim) if order == 2 else None
+    beta = _bubble_scale(mesh, dim, edge_ends) if order == 2 else None
     rows, cols, vals = [], [], []
     for (kind, nr), i in index.items():
         if kind == "v":
@@ -192,12 +192,12 @@ def contact_points(fes: ngs.FESpace, dim: int, order: int) -> ContactPoints:
         else:
             a, b = edge_ends[nr]
             edofs = dofs(NODE_TYPE.EDGE, nr)
-            terms = [(dofs(NODE_TYPE.VERTEX, a), 0.5), (dofs(NODE_TYPE.VERTEX, b), 0.5), (edofs, beta[edofs[0]])]
+            terms = [(dofs(NODE_TYPE.VERTEX, a), 0.5), (dofs(NODE_TYPE.VERTEX, b), 0.5), (edofs, beta[nr])]
         for ds, c in terms:
             for k, dof in enumerate(ds):
                 rows.append(dim * i + k), cols.append(dof), vals.append(c)
     P = sp.csr_matrix((vals, (rows, cols)), shape=(dim * n, fes.ndof))
-    Q = _scalar_coefficients(mesh, order, at_vertices, edges, edge_ends, beta)
+    Q = _scalar_coefficients(fes, dim, at_vertices, edges, edge_ends, beta)
     return ContactPoints(np.array(coords)[:, :dim], np.array(weights), P, Q, at_vertices, vertices, edges)
 
 
@@ -220,42 +220,41 @@ def _vertex_map(nv: int, vertices: np.ndarray, midpoint: dict, edge_ends: dict, 
     return sp.csr_matrix((np.array(vals) / count[rows], (rows, cols)), shape=(nv, n))
 
 
-def _scalar_coefficients(mesh, order, at_vertices, edges, edge_ends, beta) -> sp.csr_matrix:
-    """Q of :class:`ContactPoints`: vertex DOFs = at_vertices; edge DOFs c_e = (w_e − (w_a + w_b)/2)/β_e."""
-    scalar = ngs.H1(mesh, order=order, definedon="body")
+def _scalar_coefficients(fes, dim, at_vertices, edges, edge_ends, beta) -> sp.csr_matrix:
+    """Q of :class:`ContactPoints`: vertex DOFs = at_vertices; edge DOFs c_e = (w_e − (w_a + w_b)/2)/β_e.
+
+    The scalar space's DOFs are numbered as the first component's of the vector space ``fes``.
+    """
+    ndof = fes.ndof // dim
     nv, n = at_vertices.shape
-    vertex_dof = np.array([scalar.GetDofNrs(ngs.NodeId(NODE_TYPE.VERTEX, v))[0] for v in range(nv)])
-    inside = np.flatnonzero(vertex_dof >= 0)
-    Q = sp.csr_matrix((np.ones(len(inside)), (vertex_dof[inside], inside)), shape=(scalar.ndof, nv)) @ at_vertices
+    touched = np.flatnonzero(at_vertices.getnnz(axis=1))            # the vertices of Γ_C
+    vertex_dof = np.array([fes.GetDofNrs(ngs.NodeId(NODE_TYPE.VERTEX, int(v)))[0] for v in touched], dtype=int)
+    Q = sp.csr_matrix((np.ones(len(touched)), (vertex_dof, touched)), shape=(ndof, nv)) @ at_vertices
     if beta is None:
         return Q.tocsr()
     mid = np.flatnonzero(edges >= 0)
-    dof = np.array([scalar.GetDofNrs(ngs.NodeId(NODE_TYPE.EDGE, int(e)))[0] for e in edges[mid]], dtype=int)
+    dof = np.array([fes.GetDofNrs(ngs.NodeId(NODE_TYPE.EDGE, int(e)))[0] for e in edges[mid]], dtype=int)
     ends = np.array([edge_ends[e] for e in edges[mid]], dtype=int).reshape(-1, 2)
     rows = np.arange(len(mid))
     halves = sp.csr_matrix((np.full(2 * len(mid), 0.5), (np.repeat(rows, 2), ends.ravel())), shape=(len(mid), nv))
     own = sp.csr_matrix((np.ones(len(mid)), (rows, mid)), shape=(len(mid), n))
-    bubble = sp.diags(1.0 / beta[dof]) @ (own - halves @ at_vertices)
-    place = sp.csr_matrix((np.ones(len(mid)), (dof, rows)), shape=(scalar.ndof, len(mid)))
+    bubble = sp.diags([1.0 / beta[e] for e in edges[mid]]) @ (own - halves @ at_vertices)
+    place = sp.csr_matrix((np.ones(len(mid)), (dof, rows)), shape=(ndof, len(mid)))
     return (Q + place @ bubble).tocsr()
 
 
-def _bubble_scale(fes: ngs.FESpace, dim: int) -> np.ndarray:
-    """β_e: value at the edge midpoint of the P2 edge shape function, per scalar edge DOF.
+def _bubble_scale(mesh: ngs.Mesh, dim: int, edge_ends: dict) -> dict:
+    """β_e of the edges e of ``edge_ends`` ({e: (a, b)}): the P2 edge shape function's value at the midpoint.
 
     From f = |x|²: f(mid) − (f(a)+f(b))/2 = −|b−a|²/4 = β_e c_e, with c_e the interpolant's edge DOF.
     """
-    mesh = fes.mesh
     scal = ngs.H1(mesh, order=2, definedon="body")
     gf = ngs.GridFunction(scal)
     gf.Set(sum(c * c for c in (ngs.x, ngs.y, ngs.z)[:dim]))
     coef = gf.vec.FV().NumPy()
-    beta = np.zeros(scal.ndof)
-    for e in mesh.edges:
-        dofs = scal.GetDofNrs(e)
-        if not dofs or dofs[0] < 0:
-            continue
-        a, b = (np.array(mesh[v].point) for v in e.vertices)
-        if abs(coef[dofs[0]]) > 0:
-            beta[dofs[0]] = -np.dot(b - a, b - a) / 4 / coef[dofs[0]]
+    points = mesh.ngmesh.Coordinates()
+    beta = {}
+    for e, (a, b) in edge_ends.items():
+        length2 = float(np.sum((points[b] - points[a]) ** 2))
+        beta[e] = -length2 / 4 / coef[scal.GetDofNrs(ngs.NodeId(NODE_TYPE.EDGE, e))[0]]
     return beta
