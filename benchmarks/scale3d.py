@@ -1,10 +1,11 @@
-"""3D at scale (issue 10): time and peak memory against DOFs and contact points, P1.
+"""3D at scale (issue 10): time and peak memory against DOFs and contact points, P1 and P2.
 
-Two series: ``geometries/box3d.toml`` at maxh 0.04, 0.025, 0.018 (the issue's meshes) and the
-brake pad ``geometries/brake_pad.toml`` (held by its rigid back plate only, on a disc turning about
-z) at maxh 0.002, 0.0011, 0.00078, 0.00063 (the last ≥ 500k DOFs and ≥ 10k contact points); 100 steps
-each (the pad with k = 1 s).  Every case runs in a fresh subprocess, so its peak memory is the
-process's own (``ru_maxrss``, C allocations included):
+Four series: ``geometries/box3d.toml`` at maxh 0.04, 0.025, 0.018 (P1, the issue's meshes) and 0.08,
+0.05, 0.035 (P2, about the same DOFs), and the brake pad ``geometries/brake_pad.toml`` (held by its
+rigid back plate only, on a disc turning about z) at maxh 0.002, 0.0011, 0.0007, 0.00063 (P1, the
+last 844k DOFs and 18k contact points) and 0.004, 0.003, 0.002, 0.0014, 0.0012 (P2, the last 891k
+DOFs and 15k contact points); 100 steps each (the pad with k = 1 s).  Every case runs in a fresh
+subprocess, so its peak memory is the process's own (``ru_maxrss``, C allocations included):
 
 * ``mesh``: Netgen meshing, or the cache's load when the mesh is cached (first-run cost: the
   ``mesh_first_s`` column, measured with ``--remesh``, or the build time when the cache was empty);
@@ -15,15 +16,13 @@ process's own (``ru_maxrss``, C allocations included):
   sequential and inside ``TaskManager``, in its own subprocess: the denominator of the box target.
 
 ``--modes dense,krylov`` runs both contact solves on the same meshes (the crossover, written to
-``results/scale3d_crossover.*``); the default is ``auto``.  P2 is 2D-only in ngwear (``mesh.order = 2``
-is refused in 3D), so 3D is P1 only.
+``results/scale3d_crossover.*``); the default is ``auto``.  A case is ``kind:maxh`` (P1) or
+``kind:maxh:p2``.
 Targets: the 166k box (maxh 0.018) ≤ 2× the elastic solve with ≤ 3 GB; the ≥ 500k-DOF pad in ≤ 15 min
 from its mesh (meshing reported apart: it is cached after the first run).  NGSolve's reference is skipped
-for the two largest pads unless they are named in ``--cases``.
+for the largest pads unless they are named in ``--cases``.
 
-    .venv/bin/python benchmarks/scale3d.py [--quick] [--cases box:0.04,pad:0.002] [--modes auto] [--name NAME]
-
-The large pads were run apart (``--cases pad:0.0007,pad:0.00063 --no-elastic --reps 1 --name scale3d_large``).
+    .venv/bin/python benchmarks/scale3d.py [--quick] [--cases box:0.04,pad:0.002:p2] [--modes auto] [--name NAME]
 """
 from __future__ import annotations
 
@@ -37,10 +36,10 @@ import numpy as np
 SCENES = {"box": C.ROOT / "geometries" / "box3d.toml", "pad": C.ROOT / "geometries" / "brake_pad.toml"}
 CASES = ("box:0.04", "box:0.025", "box:0.018", "box:0.08:p2", "box:0.05:p2", "box:0.035:p2",
          "pad:0.002", "pad:0.0011", "pad:0.0007", "pad:0.00063",
-         "pad:0.004:p2", "pad:0.003:p2", "pad:0.002:p2", "pad:0.0014:p2")
+         "pad:0.004:p2", "pad:0.003:p2", "pad:0.002:p2", "pad:0.0014:p2", "pad:0.0012:p2")
 QUICK_CASES = ("box:0.04", "pad:0.004", "pad:0.008:p2")
 STEPS = 100
-NO_ELASTIC = ("pad:0.0007", "pad:0.00063", "pad:0.0014:p2")   # NGSolve's reference skipped by default: no target
+NO_ELASTIC = ("pad:0.0007", "pad:0.00063", "pad:0.0014:p2", "pad:0.0012:p2")   # no NGSolve reference by default
 BOX_TARGET = ("box", 0.018)
 BOX_RATIO, BOX_MEMORY_GB, PAD_MINUTES = 2.0, 3.0, 15.0
 SERIES = [(kind, order, mode) for kind in ("box", "pad") for order in (1, 2) for mode in ("dense", "krylov")]

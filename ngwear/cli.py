@@ -165,10 +165,16 @@ def _write(result, out: Path, pictures: bool) -> None:
     width = max(map(len, summary))
     for key, value in summary.items():
         print(f"{key:<{width}}  {value:.4g}" if isinstance(value, float) else f"{key:<{width}}  {value}")
-    if result.scene.contact.friction > 0 and result.discretization is not None:
+    disc = result.discretization
+    if result.scene.contact.friction > 0 and disc is not None:
+        from .numerics.condense import DENSE_LIMIT
         from .studies.theory import smallness
-        check = smallness(result.discretization)
-        print(f"{'uniqueness' if check.holds else 'warning':<{width}}  {check.message()}")
+        if len(disc.contact_dofs) <= DENSE_LIMIT:
+            check = smallness(disc)
+            print(f"{'uniqueness' if check.holds else 'warning':<{width}}  {check.message()}")
+        else:
+            print(f"{'uniqueness':<{width}}  (H_S) not evaluated: c0 on {len(disc.contact_dofs)} contact DOFs needs a "
+                  "second factorisation of the mesh; ngwear.studies.theory.smallness(discretization) computes it")
     for warning in result.warnings:
         print(f"{'warning':<{width}}  {warning}")
     frames = len(result.stored_steps)

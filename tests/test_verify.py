@@ -2,6 +2,7 @@
 import ngsolve as ngs
 import pytest
 
+from ngwear.numerics import discrete
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.forms import elastic_form, load_form
 from ngwear.studies import verify
@@ -65,3 +66,13 @@ def test_stability_picture(paper_scene):
     assert rows[10]["trapezoidal_overshoot"] == 0 and rows[6]["trapezoidal_overshoot"] > 0.005  # 1.5, 2.5
     assert all(r["implicit_overshoot"] == 0 for r in rows.values())
     assert rows[10]["trapezoidal_W_final"] < rows[10]["implicit_W_final"] < rows[10]["explicit_W_final"]
+
+
+def test_trace_constant_matrix_free_equals_dense(paper_scene, monkeypatch):
+    """Beyond DENSE_LIMIT contact DOFs c₀ comes from shift-invert Lanczos with back-substitutions: the same number."""
+    disc = Discretization(paper_scene.replace(**{"mesh.maxh": 0.2}))
+    dense = trace_constant(disc)
+    monkeypatch.setattr(discrete, "DENSE_LIMIT", 1)
+    large = Discretization(disc.scene, disc.mesh)
+    assert large.with_scene(large.scene.replace(material={"lame_lambda": 0.0, "lame_mu": 0.5})).matrix_free
+    assert trace_constant(large) == pytest.approx(dense, rel=1e-7)

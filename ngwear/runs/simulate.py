@@ -49,18 +49,22 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
         When set, the run stops at the next step boundary with status ``interrupted``.
     """
     start = time.perf_counter()
+    stages = _Stages(scene.name if scene is not None else "resume", progress)
     if resume is not None:
-        saved = Checkpoint(resume, scene)
+        saved = stages.run("reading the checkpoint and its mesh", lambda: Checkpoint(resume, scene))
         scene, result, disc = saved.scene, saved.result, saved.result.discretization
         x, lam, checkpoint = saved.x, saved.lam, checkpoint if checkpoint is not None else resume
     else:
-        disc = Discretization(scene) if discretization is None else (
-            discretization if discretization.scene == scene else discretization.with_scene(scene))
+        if discretization is None:
+            disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene))
+        else:
+            disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
         result = Result.empty(scene, disc)
         warning = None if scene.time.adaptive else explicit_stability(scene, disc.largest_alpha())
         if warning:
             log.warning("%s", warning)
             result.warnings.append(warning)
+    stages.prepare(disc)
     clock = Clock(scene, disc.largest_alpha(), result.rejected)
     if resume is not None:
         clock.step, result.continuation = saved.step, (saved.x, saved.lam, saved.step)
@@ -169,6 +173,38 @@ def _next(stepper, integrator, clock: Clock, result: Result, x, lam):
         if clock.judge([*times, t_next], [*rates, disc.alpha(t_next) * attempt.pressure]):
             _record(result, stepper, t_next, attempt)
             return attempt.x, attempt.lam
+
+
+class _Stages:
+    """The set-up before the first step, stage by stage on a progress bar (minutes on large 3D meshes).
+
+    Stages already done (a reused discretization) are skipped; without ``show`` nothing is drawn.
+    """
+
+    def __init__(self, name: str, show: bool):
+        self.name, self.bar = name, None
+        if show:
+            from tqdm.auto import tqdm
+            self.bar = tqdm(total=None, desc=f"{name}: set-up", leave=False, bar_format="{desc} [{elapsed}]")
+
+    def run(self, label: str, build):
+        if self.bar is not None:
+            self.bar.set_description_str(f"{self.name}: {label}")
+        return build()
+
+    def prepare(self, disc: Discretization) -> None:
+        """Assemble, factorise and condense what the condensed path needs, then close the bar."""
+        if disc.scene.solver.method == "condensed":
+            ndof = f"{disc.fes.ndof:,} DOFs".replace(",", " ")
+            needed = [("stiffness", f"assembling K ({ndof})"), ("operator", "factorising K (PARDISO)")]
+            if not disc.matrix_free:
+                needed.append(("normal_rows", f"contact compliance ({disc.points.n} points)"))
+            needed += [("u_load", "loads"), ("plate", "plate")]
+            for name, label in needed:
+                if name not in disc.__dict__:
+                    self.run(label, lambda name=name: getattr(disc, name))
+        if self.bar is not None:
+            self.bar.close()
 
 
 class _Saver:

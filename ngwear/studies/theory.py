@@ -2,7 +2,9 @@
 
 c₀ is the trace constant of (9), ‖v‖_{L²(Γ_C)} ≤ c₀ ‖ε(v)‖_{L²(Ω)} on V = {v = 0 on Γ_D}.  On the
 scene's mesh, c₀² is the largest eigenvalue of  M_C v = c₀² A_ε v  (M_C the Γ_C mass matrix, A_ε the
-form (ε(u), ε(v))), computed on the contact DOFs through the Schur complement of A_ε.
+form (ε(u), ε(v))), computed on the contact DOFs through the Schur complement S of A_ε: densely, or,
+beyond ``condense.DENSE_LIMIT`` contact DOFs, by Lanczos in shift-invert mode on S v = c₀⁻² M_C v
+(each step one back-substitution with A_ε's factorisation, which is a second factorisation of the mesh).
 For Hooke's law m_F = 2η; L_p is the largest slope of p on [0, g].
 """
 from __future__ import annotations
@@ -13,6 +15,7 @@ import ngsolve as ngs
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from ..numerics.discrete import Discretization
 from ..numerics.wear import largest_slope
@@ -52,10 +55,24 @@ def trace_constant(disc: Discretization) -> float:
     vals, cols, ptr = mass.mat.CSR()
     M = sp.csr_matrix((np.array(vals), np.array(cols), np.array(ptr)), shape=(disc.fes.ndof,) * 2)
     c = op.contact_dofs
-    Mcc = M[c][:, c].toarray()
+    Mcc = M[c][:, c]
     schur = op.schur_complement
-    top = sla.eigh(Mcc, 0.5 * (schur + schur.T), eigvals_only=True, subset_by_index=[len(c) - 1, len(c) - 1])
-    return float(np.sqrt(top[0]))
+    if schur is not None:
+        top = sla.eigh(Mcc.toarray(), 0.5 * (schur + schur.T), eigvals_only=True,
+                       subset_by_index=[len(c) - 1, len(c) - 1])
+        return float(np.sqrt(top[0]))
+
+    def contact_inverse(r):                                     # S⁻¹ r = (A_ε⁻¹)_cc r
+        full = np.zeros(disc.fes.ndof)
+        full[c] = r
+        return op.solve(full)[c]
+
+    n = len(c)
+    inverse = spla.LinearOperator((n, n), matvec=contact_inverse, dtype=float)
+    unused = spla.LinearOperator((n, n), matvec=lambda r: np.full(n, np.nan), dtype=float)
+    smallest = spla.eigsh(unused, k=1, M=Mcc.tocsc(), sigma=0.0, OPinv=inverse, which="LM", tol=1e-8,
+                          return_eigenvectors=False)
+    return float(1.0 / np.sqrt(smallest[0]))
 
 
 def smallness(disc: Discretization) -> SmallnessCheck:
