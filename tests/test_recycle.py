@@ -85,11 +85,62 @@ def test_recycled_solves_are_exact_and_reuse_the_products(plate):
     solver = recycle.Recycler(recycle.ComplianceMemory(R, n))
     b1, b2 = rng.standard_normal((2, n + plate))
     for b in (b1, b2):
-        z = solver.solve(b"pattern", (w_a, w_b), image, scaling, b, atol=1e-12)
-        assert np.linalg.norm(M @ z - b) <= 2e-12
+        z = solver.solve(b"pattern", (w_a, w_b), image, scaling, b, atol=1e-10)
+        assert np.abs(M @ z - b).max() <= 1e-10
     spent = R.products
-    z = solver.solve(b"pattern", (w_a, w_b), image, scaling, 2 * b1 - b2, atol=1e-12)
-    assert np.linalg.norm(M @ z - (2 * b1 - b2)) <= 1e-11 and R.products == spent
+    z = solver.solve(b"pattern", (w_a, w_b), image, scaling, 2 * b1 - b2, atol=1e-10)
+    assert np.abs(M @ z - (2 * b1 - b2)).max() <= 1e-10 and R.products == spent
+
+
+def test_recalled_directions_keep_the_solve_exact_when_p_prime_spans_decades():
+    """Every solve meets its tolerance in the true residual, where recalled images are combinations.
+
+    Power-law-like slopes p' over six decades, active sets and patterns changing, products between solves.
+    """
+    n = 60
+    R, rng = operator(n, seed=2)
+    m = rng.uniform(0.5, 1.5, n)
+    c = 1 / (np.diag(R.H) * m)
+    solver = recycle.Recycler(recycle.ComplianceMemory(R, n))
+    worst = 0.0
+    for k in range(20):
+        active = np.zeros(n, bool)
+        active[:n // 3 + k % 3] = True
+        inactive = ~active
+        dp = 10.0 ** rng.uniform(-6, 0, n) * inactive
+        w_a, w_b = m * dp, m * active
+        M = np.diag(inactive * 1.0) + R.A * w_a + R.H * w_b
+        scaling = np.where(active, c, 1.0)
+        for _ in range(3):
+            solver.memory(m * rng.standard_normal(n) * (dp > 0), m * rng.standard_normal(n) * active)
+            b = rng.standard_normal(n)
+            atol = 1e-12 * np.abs(b).max()
+            z = solver.solve(active.tobytes() + dp.tobytes(), (w_a, w_b), lambda u, r: inactive * u + r, scaling, b,
+                             atol)
+            worst = max(worst, np.abs(M @ z - b).max() / atol)
+    assert worst <= 1.0 + 1e-6, worst
+
+
+def test_an_ill_conditioned_newton_matrix_is_reported_not_hidden(caplog):
+    """A floating plate whose contact stiffness almost vanishes: the solve says how far it got."""
+    n = 30
+    R, rng = operator(n, seed=3)
+    m = rng.uniform(0.5, 1.5, n)
+    dp = np.zeros(n)
+    dp[:3] = 1e-10 * np.array([1.0, 2.0, 3.0])
+    inactive = np.ones(n, bool)
+
+    def image(u, response):
+        out = np.empty_like(u)
+        out[:n] = u[:n] + response - u[n:]
+        out[n:] = (m * dp) @ u[:n]
+        return out
+
+    solver = recycle.Recycler(recycle.ComplianceMemory(R, n))
+    b = np.concatenate([rng.uniform(0.5, 1.0, n), [0.3]])
+    with caplog.at_level("WARNING", logger="ngwear.numerics.recycle"):
+        solver.solve(b"floating", (m * dp * inactive, np.zeros(n)), image, np.ones(n + 1), b, atol=1e-12)
+    assert solver.shortfall > 1 and "ill-conditioned Newton matrix" in caplog.text
 
 
 def test_a_run_reuses_products_and_equals_the_dense_solve():

@@ -6,10 +6,11 @@ Contact form (the nonlinear boundary integrator, paper φ with fixed w):
 
     φ(w, u, v) = ∫_ΓC p(u_ν − d₀ − w) (v_ν + μ n*·v_τ) da,   u_ν = u·ν,   n* = n*(x),
 
-integrated with the *nodal* rule of the element (trapezoidal / Simpson on segments, the vertex rule
-on triangles, for P2 on their four halves): the integral is Σ_i m_i p_i (ν + μ n*)·v(x_i) over the
-contact points x_i with weights m_i.  This makes the constraint u_ν ≤ g + d₀, the wear update and ∫_ΓC w all nodal, so the
-discrete Archard identity holds to round-off.  For P2 the points are vertices and edge midpoints.
+integrated with the *nodal* rule of the element (trapezoidal / Simpson on segments, the vertex rule /
+the edge-midpoint rule on triangles): the integral is Σ_i m_i p_i (ν + μ n*)·v(x_i) over the contact
+points x_i with weights m_i.  This makes the constraint u_ν ≤ g + d₀, the wear update and ∫_ΓC w all
+nodal, so the discrete Archard identity holds to round-off.  For P2 the points are the vertices and
+edge midpoints of Γ_C in 2D, its edge midpoints in 3D (:data:`NODAL_WEIGHTS`).
 """
 from __future__ import annotations
 

@@ -287,7 +287,7 @@ class _Stepper:
             return _full_system(disc, t, load_factor, integrator)
         n_star, mu = disc.n_star(t), self.scene.contact.friction
         if disc.matrix_free:
-            key = ("krylov", n_star.tobytes())
+            key = ("krylov", (disc.nu[None, :] + mu * n_star).tobytes())    # A's force directions ν + μ n*
             if key not in self._matrices:
                 self._matrices = {key: _recycler(disc, n_star)}
             return _krylov_system(disc, self._matrices[key], n_star, load_factor, law)

@@ -69,7 +69,7 @@ def trace_constant(disc: Discretization) -> float:
 
     n = len(c)
     inverse = spla.LinearOperator((n, n), matvec=contact_inverse, dtype=float)
-    unused = spla.LinearOperator((n, n), matvec=lambda r: np.full(n, np.nan), dtype=float)
+    unused = spla.LinearOperator((n, n), matvec=lambda r: np.full(n, np.nan), dtype=float)   # mode 3 needs OPinv only
     smallest = spla.eigsh(unused, k=1, M=Mcc.tocsc(), sigma=0.0, OPinv=inverse, which="LM", tol=1e-8,
                           return_eigenvectors=False)
     return float(1.0 / np.sqrt(smallest[0]))
