@@ -22,10 +22,12 @@ from __future__ import annotations
 import argparse
 import csv
 import gc
+import json
 import math
 import os
 import platform
 import statistics
+import subprocess
 import sys
 import time
 from contextlib import contextmanager, nullcontext
@@ -320,6 +322,18 @@ def finish(name: str, title: str, header_lines: list[str], rows: list[dict], col
     if fig is not None:
         out.append(str(save_figure(fig, name, header_lines).relative_to(ROOT)))
     print("wrote " + ", ".join(out))
+
+
+def in_subprocess(script, job: dict, blas_threads: int | None) -> dict:
+    """Run ``script --job JOB`` in a fresh interpreter (its own peak memory); the JSON it prints last."""
+    cmd = [sys.executable, str(script), "--job", json.dumps(job)]
+    if blas_threads:
+        cmd += ["--blas-threads", str(blas_threads)]
+    out = subprocess.run(cmd, capture_output=True, text=True, cwd=HERE)
+    lines = [line for line in out.stdout.splitlines() if line.startswith("{")]
+    if out.returncode or not lines:
+        raise RuntimeError(f"{job}: failed\n{out.stderr[-3000:]}")
+    return json.loads(lines[-1])
 
 
 def verdict(ok: bool | None) -> str:

@@ -27,8 +27,6 @@ for the largest pads unless they are named in ``--cases``.
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 import common as C
 import numpy as np
@@ -124,15 +122,8 @@ def run_elastic(kind: str, maxh: float, order: int = 1) -> dict:
 
 
 def in_subprocess(job: dict, blas_threads: int | None) -> dict:
-    """Run ``job`` ({"fn": ..., args}) in a fresh interpreter; its JSON result."""
-    cmd = [sys.executable, __file__, "--job", json.dumps(job)]
-    if blas_threads:
-        cmd += ["--blas-threads", str(blas_threads)]
-    out = subprocess.run(cmd, capture_output=True, text=True, cwd=C.HERE)
-    lines = [line for line in out.stdout.splitlines() if line.startswith("{")]
-    if out.returncode or not lines:
-        raise RuntimeError(f"{job}: failed\n{out.stderr[-3000:]}")
-    return json.loads(lines[-1])
+    """Run ``job`` ({"fn": ..., args}) in a fresh interpreter of this script; its JSON result."""
+    return C.in_subprocess(__file__, job, blas_threads)
 
 
 # ---- the table ----------------------------------------------------------------------------------------

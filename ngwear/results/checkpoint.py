@@ -1,8 +1,10 @@
 """Checkpoints: everything a run needs to go on, written atomically into its output folder.
 
-``checkpoint.npz`` holds the result so far (its arrays and Newton records, :meth:`Result.arrays`), the
-solver's warm start (x, λ), the adaptive clock's next step and the scene (as JSON); the mesh is the
-folder's ``mesh.vol``, so a resumed run needs no meshing.  Resumed, a run computes the same numbers,
+``checkpoint.npz`` holds the result so far but its per-step rows (:meth:`Result.header`: Newton records,
+status), how many rows count and the folder of the files that hold them (``history-<id>``, see
+:mod:`ngwear.results.history`), the solver's warm start (x, λ), the adaptive clock's next step and the
+scene (as JSON); the mesh is the folder's ``mesh.vol``, so a resumed run needs no meshing.  A checkpoint
+costs what the rows since the last one cost to write, not the whole run.  Resumed, a run computes the same numbers,
 to the last bit, as if it had never stopped: every step starts from values that the checkpoint holds
 exactly.  A resumed scene may differ from the checkpoint's only in ``time.T`` (growing, to extend a
 run; with uniform steps ``time.steps`` grows with it, k = T/N kept) and in ``output.*``.
@@ -15,22 +17,30 @@ from pathlib import Path
 import numpy as np
 
 from ..model.scene import Scene, SceneError
-from .result import Result, from_arrays, replacing, save_mesh
+from .history import History, remove_others
+from .result import Result, from_arrays, replacing, row_shapes, save_mesh
 
 CHECKPOINT = "checkpoint.npz"
 FREE = ("time.T", "time.steps")
 
 
 def write_checkpoint(folder, result: Result) -> Path:
-    """Write (or replace) the checkpoint of ``result`` (its ``continuation``) in ``folder``; the mesh too, once."""
+    """Write (or replace) the checkpoint of ``result`` (its ``continuation``) in ``folder``; the mesh too, once.
+
+    Rows kept elsewhere (in memory: the explorer's runs) are copied into a new history folder of ``folder``;
+    the history folders of earlier runs there go once this checkpoint names another.
+    """
     x, lam, step = result.continuation
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
+    folder, history = Path(folder), result.history
+    if history.folder is None or history.folder.parent.resolve() != folder.resolve():
+        history = history.moved(folder, len(result.times))
     if not (folder / "mesh.vol").is_file():
         save_mesh(result.discretization.mesh, folder)
+    history.flush()
     with replacing(folder / CHECKPOINT) as tmp:
-        np.savez(tmp, **result.arrays(), x=x, lam=lam, step=np.array(step),
-                 scene=np.array(json.dumps(result.scene.to_dict())))
+        np.savez(tmp, **result.header(), rows=np.array(len(result.times)), history=np.array(history.folder.name),
+                 x=x, lam=lam, step=np.array(step), scene=np.array(json.dumps(result.scene.to_dict())))
+    remove_others(folder, history.folder)
     return folder / CHECKPOINT
 
 
@@ -49,7 +59,8 @@ class Checkpoint:
             saved = Scene.from_dict(json.loads(str(data["scene"])))
             self.scene = saved if scene is None else _continuing(saved, scene)
             disc = Discretization(self.scene, load_mesh(folder / "mesh.vol", self.scene.dim))
-            self.result = from_arrays(self.scene, data, disc)
+            history = History.reopen(folder / str(data["history"]), row_shapes(self.scene, disc))
+            self.result = from_arrays(self.scene, data, disc, history)
             self.x, self.lam, self.step = np.array(data["x"]), np.array(data["lam"]), float(data["step"])
         self.result.status = "completed"
 

@@ -34,6 +34,7 @@ from ..model.kinematics import Slip
 from ..model.scene import Scene
 from ..numerics.forms import initial_distance
 from ..numerics.solver import NewtonRecord
+from .history import History
 
 ARRAYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces", "plate_displacement")
 PART = ("normal_force", "torque", "contact_area", "wear_volume")
@@ -61,30 +62,33 @@ class Result:
     fields: dict[int, np.ndarray] = field(default_factory=dict)
     discretization: object = field(default=None, repr=False)
     continuation: tuple | None = field(default=None, repr=False)   # (x, λ, next step): to go on from the last step
-    _buffers: dict = field(default_factory=dict, repr=False)
+    history: History | None = field(default=None, repr=False)   # the rows behind the arrays
 
     @classmethod
-    def empty(cls, scene: Scene, disc) -> Result:
-        """A result with room for the scene's steps; the public arrays are views of the completed rows."""
-        n, d = disc.points.n, scene.dim
-        shapes = {"times": (), "forces": (n, d), "plate_displacement": (disc.plate_modes_count,)}
-        rows = scene.time.steps + 1
+    def empty(cls, scene: Scene, disc, folder=None) -> Result:
+        """A result with room for the scene's steps, in memory or (``folder``) in mapped files there.
+
+        The public arrays are views of the completed rows (:mod:`ngwear.results.history`).
+        """
+        shapes = row_shapes(scene, disc)
         result = cls(scene, disc.points.coords, disc.points.weights,
-                     *(np.zeros((0, *shapes.get(name, (n,)))) for name in ARRAYS), discretization=disc)
-        result._buffers = {name: np.zeros((rows, *shapes.get(name, (n,)))) for name in ARRAYS}
+                     *(np.zeros((0, *shapes[name])) for name in ARRAYS), discretization=disc)
+        result.history = History.empty(shapes, scene.time.steps + 1, folder)
         return result
 
     def append(self, t, w, s, p, lam, forces, delta, record: NewtonRecord) -> None:
-        """Record step j = number of steps so far (the buffers double when full: adaptive runs)."""
+        """Record step j = number of steps so far (the rows double when full: adaptive runs)."""
         j = len(self.times)
         for name, value in zip(ARRAYS, (t, w, s, p, lam, forces, delta)):
-            buffer = self._buffers.get(name)
-            if buffer is None or len(buffer) <= j:
-                buffer = np.concatenate([getattr(self, name), np.zeros((j + 1, *np.shape(value)))])
-                self._buffers[name] = buffer
-            buffer[j] = value
-            setattr(self, name, buffer[:j + 1])
+            setattr(self, name, self.history.put(name, j, value))
         self.newton.append(record)
+
+    def keep_in(self, folder) -> None:
+        """Move the rows into mapped files of a new history folder in ``folder`` (to checkpoint there)."""
+        rows = len(self.times)
+        self.history = self.history.moved(folder, rows)
+        for name in ARRAYS:
+            setattr(self, name, self.history.buffers[name][:rows])
 
     def fail(self, message: str, record: NewtonRecord) -> None:
         self.status = message
@@ -203,12 +207,14 @@ class Result:
         }
 
     def arrays(self) -> dict[str, np.ndarray]:
-        """Everything of the run as named arrays (``result.npz``, checkpoints): steps, records, status."""
-        return {"contact_points": self.contact_points, "weights": self.weights,
-                **{name: getattr(self, name) for name in ARRAYS}, **records_to_arrays(self.newton),
+        """Everything of the run as named arrays (``result.npz``): its steps and :meth:`header`."""
+        return {**self.header(), **{name: getattr(self, name) for name in ARRAYS}}
+
+    def header(self) -> dict[str, np.ndarray]:
+        """Everything of the run but its per-step rows: points, weights, Newton records, status."""
+        return {"contact_points": self.contact_points, "weights": self.weights, **records_to_arrays(self.newton),
                 "status": np.array(self.status), "wall_time": np.array(self.wall_time),
-                "rejected": np.array(self.rejected),
-                "warnings": np.array(self.warnings, dtype=str)}
+                "rejected": np.array(self.rejected), "warnings": np.array(self.warnings, dtype=str)}
 
     def save(self, directory) -> Path:
         """Write result.npz, scene.json, mesh.vol, summary.json and a VTU/PVD series of the frames."""
@@ -217,8 +223,8 @@ class Result:
         steps = self.stored_steps
         fields = np.array([self.displacement(s) for s in steps]) if self.discretization else np.zeros((0, 0))
         with replacing(out / "result.npz") as tmp:
-            np.savez_compressed(tmp, **self.arrays(), **{name: getattr(self, name) for name in PART},
-                                field_steps=np.array(steps, dtype=int), fields=fields)
+            np.savez(tmp, **self.arrays(), **{name: getattr(self, name) for name in PART},   # zlib: 10x slower
+                     field_steps=np.array(steps, dtype=int), fields=fields)                 # for 20 % less
         with replacing(out / "scene.json") as tmp:
             tmp.write_text(json.dumps(self.scene.to_dict(), indent=2))
         with replacing(out / "summary.json") as tmp:
@@ -242,15 +248,23 @@ def load_result(directory) -> Result:
     return result
 
 
-def from_arrays(scene: Scene, data, disc) -> Result:
-    """The result that :meth:`Result.arrays` wrote, on the discretization ``disc`` (or None)."""
-    result = Result(scene, data["contact_points"], data["weights"], *(np.array(data[name]) for name in ARRAYS),
-                    newton=records_from_arrays(data), status=str(data["status"]),
-                    wall_time=float(data["wall_time"]), warnings=[str(w) for w in data["warnings"]],
-                    rejected=int(data["rejected"]),
-                    discretization=disc)
-    result._buffers = {name: getattr(result, name) for name in ARRAYS}
-    return result
+def row_shapes(scene: Scene, disc) -> dict[str, tuple]:
+    """The shape of one step's row of each of :data:`ARRAYS`."""
+    n = disc.points.n
+    shapes = {"times": (), "forces": (n, scene.dim), "plate_displacement": (disc.plate_modes_count,)}
+    return {name: shapes.get(name, (n,)) for name in ARRAYS}
+
+
+def from_arrays(scene: Scene, data, disc, history: History | None = None) -> Result:
+    """The result that :meth:`Result.arrays` wrote (or :meth:`Result.header` and ``history``'s rows), on ``disc``."""
+    if history is None:
+        history = History({name: np.array(data[name]) for name in ARRAYS})
+    count = len(history.buffers["times"]) if history.folder is None else int(data["rows"])
+    rows = (history.buffers[name][:count] for name in ARRAYS)
+    return Result(scene, data["contact_points"], data["weights"], *rows, newton=records_from_arrays(data),
+                  status=str(data["status"]), wall_time=float(data["wall_time"]),
+                  warnings=[str(w) for w in data["warnings"]], rejected=int(data["rejected"]),
+                  discretization=disc, history=history)
 
 
 def _discretization(scene: Scene, folder: Path):

@@ -15,6 +15,7 @@ from __future__ import annotations
 import logging
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -54,12 +55,14 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
         saved = stages.run("reading the checkpoint and its mesh", lambda: Checkpoint(resume, scene))
         scene, result, disc = saved.scene, saved.result, saved.result.discretization
         x, lam, checkpoint = saved.x, saved.lam, checkpoint if checkpoint is not None else resume
+        if Path(checkpoint).resolve() != Path(resume).resolve():
+            result.keep_in(checkpoint)              # the run goes on in another folder: the first stays as it was
     else:
         if discretization is None:
             disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene))
         else:
             disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
-        result = Result.empty(scene, disc)
+        result = Result.empty(scene, disc, checkpoint)
         warning = None if scene.time.adaptive else explicit_stability(scene, disc.largest_alpha())
         if warning:
             log.warning("%s", warning)
