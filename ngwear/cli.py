@@ -126,8 +126,8 @@ def run(args) -> int:
 
     scene, settings = _scene(args, required=args.resume is None)
     if args.resume is not None and scene is None:
-        from .results.checkpoint import Checkpoint
-        scene = Checkpoint(args.resume).scene
+        from .results.checkpoint import saved_scene
+        scene = saved_scene(args.resume)
         scene = scene.replace(**dict(parse_override(item) for item in settings)) if settings else scene
     out = Path(args.resume or args.out or Path("out") / scene.name)
     stop, received = threading.Event(), []

@@ -44,6 +44,19 @@ def write_checkpoint(folder, result: Result) -> Path:
     return folder / CHECKPOINT
 
 
+def saved_scene(folder) -> Scene:
+    """The scene of the checkpoint in ``folder`` (read alone: no mesh, no rows)."""
+    with np.load(_path(folder)) as data:
+        return Scene.from_dict(json.loads(str(data["scene"])))
+
+
+def _path(folder) -> Path:
+    path = Path(folder) / CHECKPOINT
+    if not path.is_file():
+        raise SceneError(f"resume: {folder} holds no {CHECKPOINT} (not the output folder of a run)")
+    return path
+
+
 class Checkpoint:
     """A checkpoint read back: its scene, the result on the folder's mesh, the warm start and the next step."""
 
@@ -52,10 +65,7 @@ class Checkpoint:
         from ..numerics.discrete import Discretization
 
         folder = Path(folder)
-        path = folder / CHECKPOINT
-        if not path.is_file():
-            raise SceneError(f"resume: {folder} holds no {CHECKPOINT} (not the output folder of a run)")
-        with np.load(path) as data:
+        with np.load(_path(folder)) as data:
             saved = Scene.from_dict(json.loads(str(data["scene"])))
             self.scene = saved if scene is None else _continuing(saved, scene)
             disc = Discretization(self.scene, load_mesh(folder / "mesh.vol", self.scene.dim))
