@@ -77,7 +77,7 @@ class Slip:
         omega = np.asarray(self.omega, dtype=float)
         return omega / np.linalg.norm(omega) if omega.any() else -self.nu
 
-    def moment_arms(self, t: float) -> np.ndarray:
-        """((x_i − c) × n*_i)·e at time t, shape (n,): torque per unit tangential force."""
-        moment = cross(self.arms, self.n_star(t))
+    def moment_arms(self) -> np.ndarray:
+        """((x_i − c) × n*_i)·e while s_v > 0, shape (n,): torque per unit tangential force (times sign s_v)."""
+        moment = cross(self.arms, self.direction)
         return moment * self.axis if moment.ndim == 1 else moment @ self.axis

@@ -128,8 +128,8 @@ class Result:
     def torque(self) -> np.ndarray:
         """Friction moment about the counterface's axis per step (negative when it brakes a rotation)."""
         slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
-        arms = np.array([slip.moment_arms(t) for t in self.times]).reshape(len(self.times), -1)
-        return self.scene.contact.friction * (self.pressure * arms) @ self.weights
+        signs = np.sign([slip.factor(t) for t in self.times])
+        return self.scene.contact.friction * signs * (self.pressure @ (slip.moment_arms() * self.weights))
 
     @property
     def contact_area(self) -> np.ndarray:
