@@ -155,7 +155,7 @@ def test_saved_scene_reproduces_the_run_with_ngwear_run(explorer, tmp_path, caps
     saved = explorer.save_result(tmp_path / "explorer")
     assert cli.main(["run", str(path), "--out", str(tmp_path / "run"), "--quiet"]) == 0
     capsys.readouterr()
-    files = lambda d: sorted(p.name.split("-")[0] for p in d.iterdir())  # noqa: E731   history-<id>: one each
+    files = lambda d: sorted(p.name.split("-")[0] for p in d.iterdir())  # noqa: E731   steps-<id>: one each
     assert files(saved) == files(tmp_path / "run") and "fig4_step030.png" in files(saved)
     ours, theirs = np.load(saved / "result.npz"), np.load(tmp_path / "run" / "result.npz")
     for name in ("wear", "normal_displacement", "pressure", "reaction", "fields"):

@@ -17,7 +17,7 @@ def small(**changes):
 
 
 def histories(folder):
-    return sorted(p.name for p in folder.glob("history-*"))
+    return sorted(p.name for p in folder.glob("steps-*"))
 
 
 def test_rows_on_disk_are_the_rows_in_memory(tmp_path):

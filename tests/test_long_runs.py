@@ -88,7 +88,7 @@ def test_killed_run_resumes_from_its_last_checkpoint(uninterrupted, tmp_path):
     assert proc.returncode == -signal.SIGKILL
     with np.load(out / CHECKPOINT) as checkpoint:                 # whole: a write cut short left only a temporary
         assert 0 < int(checkpoint["rows"]) <= 20001
-        assert [p.name for p in out.glob("history-*")] == [str(checkpoint["history"])]
+        assert [p.name for p in out.glob("steps-*")] == [str(checkpoint["history"])]
     resumed = ngwear_cli("run", "--resume", out, "--quiet", "--no-pictures")
     assert resumed.wait(timeout=600) == 0, resumed.stderr.read()
     assert same(np.load(out / "result.npz"), uninterrupted)

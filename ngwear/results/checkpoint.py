@@ -1,7 +1,7 @@
 """Checkpoints: everything a run needs to go on, written atomically into its output folder.
 
 ``checkpoint.npz`` holds the result so far but its per-step rows (:meth:`Result.header`: Newton records,
-status), how many rows count and the folder of the files that hold them (``history-<id>``, see
+status), how many rows count and the folder of the files that hold them (``steps-<id>``, see
 :mod:`ngwear.results.history`), the solver's warm start (x, λ), the adaptive clock's next step and the
 scene (as JSON); the mesh is the folder's ``mesh.vol``, so a resumed run needs no meshing.  A checkpoint
 costs what the rows since the last one cost to write, not the whole run.  Resumed, a run computes the same numbers,

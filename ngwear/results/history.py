@@ -2,7 +2,7 @@
 
 A run records (4 + d) n_c numbers a step at its n_c contact points: 18 260 points in 3D make 1 MB a step and
 10 GB in 10 000 steps, which would sit in the process's memory beside K's factor and be written whole by
-every checkpoint.  With an output folder the rows live in files ``history-<id>/<name>.f64`` (float64, C
+every checkpoint.  With an output folder the rows live in files ``steps-<id>/<name>.f64`` (float64, C
 order, no header) mapped into memory: the kernel writes them out and drops them from memory as they fill,
 and a checkpoint flushes the mapping and records how many rows count, so that it writes only what is new.
 Rows past that count belong to steps after the checkpoint and are written again when the run resumes.
@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-PREFIX = "history-"
+PREFIX = "steps-"
 
 
 class History:
@@ -26,7 +26,7 @@ class History:
 
     @classmethod
     def empty(cls, shapes: dict[str, tuple], capacity: int, folder=None) -> History:
-        """Zeros in memory, or (``folder`` given) in new files of a new ``history-<id>`` folder in it."""
+        """Zeros in memory, or (``folder`` given) in new files of a new ``steps-<id>`` folder in it."""
         if folder is None:
             return cls({name: np.zeros((capacity, *shape)) for name, shape in shapes.items()})
         home = Path(folder) / f"{PREFIX}{uuid.uuid4().hex[:12]}"
@@ -38,7 +38,7 @@ class History:
 
     @classmethod
     def reopen(cls, home, shapes: dict[str, tuple]) -> History:
-        """The files of ``home`` (a ``history-<id>`` folder) mapped again, to be appended to."""
+        """The files of ``home`` (a ``steps-<id>`` folder) mapped again, to be appended to."""
         home = Path(home)
         history = cls({}, home)
         capacity = (home / "times.f64").stat().st_size // 8          # the rows all grow together
