@@ -3,13 +3,15 @@
 The same numbers as in memory, checkpoints that write only what is new, room that grows, and a folder that
 holds the history of one run.
 """
+import json
+
 import numpy as np
 from conftest import PAPER
 
 import ngwear
 from ngwear.results.checkpoint import CHECKPOINT
 from ngwear.results.history import History
-from ngwear.results.result import ARRAYS
+from ngwear.results.result import ARRAYS, save_mesh
 
 
 def small(**changes):
@@ -103,3 +105,16 @@ def test_a_run_kept_in_memory_checkpoints_a_copy(tmp_path):
     longer = small(**{"time.T": 2.0, "time.steps": 80})
     resumed = ngwear.simulate(longer, progress=False, resume=tmp_path)
     assert np.array_equal(resumed.wear, ngwear.simulate(longer, progress=False).wear)
+
+
+def test_a_checkpoint_holding_its_rows_still_resumes(tmp_path):
+    """Checkpoints written before the rows had files of their own (all rows in checkpoint.npz) go on."""
+    part = ngwear.simulate(small(), progress=False)
+    x, lam, step = part.continuation
+    np.savez(tmp_path / CHECKPOINT, **part.arrays(), x=x, lam=lam, step=np.array(step),
+             scene=np.array(json.dumps(part.scene.to_dict())))
+    save_mesh(part.discretization.mesh, tmp_path)
+    longer = small(**{"time.T": 2.0, "time.steps": 80})
+    resumed = ngwear.simulate(longer, progress=False, resume=tmp_path)
+    assert np.array_equal(resumed.wear, ngwear.simulate(longer, progress=False).wear)
+    assert len(histories(tmp_path)) == 1

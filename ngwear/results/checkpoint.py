@@ -69,8 +69,12 @@ class Checkpoint:
             saved = Scene.from_dict(json.loads(str(data["scene"])))
             self.scene = saved if scene is None else _continuing(saved, scene)
             disc = Discretization(self.scene, load_mesh(folder / "mesh.vol", self.scene.dim))
-            history = History.reopen(folder / str(data["history"]), row_shapes(self.scene, disc))
-            self.result = from_arrays(self.scene, data, disc, history)
+            if "history" in data:
+                history = History.reopen(folder / str(data["history"]), row_shapes(self.scene, disc))
+                self.result = from_arrays(self.scene, data, disc, history)
+            else:                                   # written before the rows had their own files: they are here
+                self.result = from_arrays(self.scene, data, disc)
+                self.result.keep_in(folder)
             self.x, self.lam, self.step = np.array(data["x"]), np.array(data["lam"]), float(data["step"])
         self.result.status = "completed"
 
