@@ -32,7 +32,7 @@ def write_checkpoint(folder, result: Result) -> Path:
     """
     x, lam, step = result.continuation
     folder, history = Path(folder), result.history
-    if history.folder is None or history.folder.parent.resolve() != folder.resolve():
+    if not history.is_in(folder):
         history = history.moved(folder, len(result.times))
     if not (folder / "mesh.vol").is_file():
         save_mesh(result.discretization.mesh, folder)
@@ -47,7 +47,11 @@ def write_checkpoint(folder, result: Result) -> Path:
 def saved_scene(folder) -> Scene:
     """The scene of the checkpoint in ``folder`` (read alone: no mesh, no rows)."""
     with np.load(_path(folder)) as data:
-        return Scene.from_dict(json.loads(str(data["scene"])))
+        return _scene(data)
+
+
+def _scene(data) -> Scene:
+    return Scene.from_dict(json.loads(str(data["scene"])))
 
 
 def _path(folder) -> Path:
@@ -66,7 +70,7 @@ class Checkpoint:
 
         folder = Path(folder)
         with np.load(_path(folder)) as data:
-            saved = Scene.from_dict(json.loads(str(data["scene"])))
+            saved = _scene(data)
             self.scene = saved if scene is None else _continuing(saved, scene)
             disc = Discretization(self.scene, load_mesh(folder / "mesh.vol", self.scene.dim))
             if "history" in data:

@@ -78,6 +78,10 @@ class History:
             if isinstance(buffer, np.memmap):
                 buffer.flush()
 
+    def is_in(self, folder) -> bool:
+        """Whether the rows live in files of ``folder`` (not in memory, not in another folder)."""
+        return self.folder is not None and self.folder.parent.resolve() == Path(folder).resolve()
+
     def moved(self, folder, rows: int) -> History:
         """A copy of the first ``rows`` rows in a new history folder in ``folder``."""
         shapes = {name: buffer.shape[1:] for name, buffer in self.buffers.items()}

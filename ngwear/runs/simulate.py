@@ -15,7 +15,6 @@ from __future__ import annotations
 import logging
 import time
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
@@ -55,7 +54,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
         saved = stages.run("reading the checkpoint and its mesh", lambda: Checkpoint(resume, scene))
         scene, result, disc = saved.scene, saved.result, saved.result.discretization
         x, lam, checkpoint = saved.x, saved.lam, checkpoint if checkpoint is not None else resume
-        if Path(checkpoint).resolve() != Path(resume).resolve():
+        if not result.history.is_in(checkpoint):
             result.keep_in(checkpoint)              # the run goes on in another folder: the first stays as it was
     else:
         if discretization is None:
