@@ -77,7 +77,7 @@ def test_pin_with_a_flat_or_a_spherical_end(end):
 
 def test_cad_pad_from_its_step_file():
     scene = ngwear.load_scene(ROOT / "geometries" / "cad_pad.toml")
-    assert scene.geometry.file == str(ROOT / "geometries" / "cad_pad.step")
+    assert scene.geometry.file == str((ROOT / "geometries" / "cad_pad.step").resolve())
     assert set(scene.geometry.boundaries) == {"back", "chamfer", "contact", "inner", "leading", "outer", "slot",
                                               "trailing"}
     coarse = scene.replace(**{"mesh.maxh": 0.012, "time.steps": 4, "output.every": 150.0})

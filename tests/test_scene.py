@@ -402,11 +402,11 @@ def test_readme_reference_table_is_the_declared_schema():
 
 
 def test_published_json_schema_is_current():
-    """docs/scene.schema.json (what editors read) is the declared schema; regenerate with `ngwear schema`."""
+    """geometries/scene.schema.json (what editors read) is the declared schema; regenerate with `ngwear schema`."""
     from conftest import ROOT
 
     from ngwear.model.scene import json_schema
-    published = json.loads((ROOT / "docs" / "scene.schema.json").read_text())
+    published = json.loads((ROOT / "geometries" / "scene.schema.json").read_text())
     assert published == json_schema()
     assert published["properties"]["contact"]["$ref"].endswith("/Contact")
     gap = published["$defs"]["Contact"]["properties"]["gap"]

@@ -36,11 +36,10 @@ from typing import Any, Callable
 
 import numpy as np
 
+from ..model.examples import FOLDER as GEOMETRIES
 from ..model.scene import Scene, SceneError, load_scene
 
-ROOT = Path(__file__).resolve().parents[2]
-GEOMETRIES = ROOT / "geometries"
-REPORT = ROOT / "docs" / "stress_report.md"
+REPORT = Path("docs") / "stress_report.md"
 SCENES = Path(__file__).with_name("stress_scenes.toml")
 
 #: every invariant violation below is dimensionless; an invariant is held when it is ≤ TOL
