@@ -3,7 +3,7 @@
 Every script in this folder:
 
 * runs the paper scene (``geometries/paper_strip.toml``) at nominal sizes of ~2k, 10k, 50k, 200k
-  *free* DOFs (``disc.free.sum()``), P1 and P2, with ``mesh.maxh`` chosen from a calibrated
+  *free* DOFs (``disc.body.free.sum()``), P1 and P2, with ``mesh.maxh`` chosen from a calibrated
   ``free ≈ C / maxh²`` law (the actual free DOF count is always reported);
 * caches its meshes in ``benchmarks/results/mesh_cache`` (``$NGWEAR_CACHE``, unless already set),
   so the user's ``~/.cache/ngwear`` is neither read nor polluted;
@@ -167,7 +167,7 @@ def mesh_for(scene):
 
 
 def free_dofs(disc: Discretization) -> int:
-    return int(disc.free.sum())
+    return int(disc.body.free.sum())
 
 
 # ---- timing ---------------------------------------------------------------------------------

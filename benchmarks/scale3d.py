@@ -80,27 +80,27 @@ def run_ngwear(kind: str, maxh: float, mode: str, remesh: bool, order: int = 1) 
     Discretization.normal_response = lambda self, *a: (products.append(1), respond(self, *a))[1]
     disc = Discretization(scene, mesh, contact_solve=mode)
     t2 = C.perf()
-    disc.stiffness  # noqa: B018 - timed stages, in dependency order
+    disc.elastic.stiffness  # noqa: B018 - timed stages, in dependency order
     t3 = C.perf()
-    disc.operator  # noqa: B018
+    disc.elastic.operator  # noqa: B018
     t4 = C.perf()
     if not disc.matrix_free:
-        disc.normal_compliance  # noqa: B018
+        disc.condensation.normal_compliance  # noqa: B018
     t5 = C.perf()
-    disc.u_load, disc.s_load, disc.plate, disc.plate_load  # noqa: B018
+    disc.loads.u_load, disc.loads.s_load, disc.condensation.plate, disc.loads.plate_load  # noqa: B018
     t6 = C.perf()
     result = ngwear.simulate(scene, discretization=disc, progress=False)
     t7 = C.perf()
     loop_solves = None
     if disc.matrix_free:   # the loop's back-substitutions, timed apart on the same operator
         rhs = np.random.default_rng(0).standard_normal(disc.fes.ndof)
-        times = [C.timed(disc.operator.solve, rhs)[0] for _ in range(5)]
+        times = [C.timed(disc.elastic.operator.solve, rhs)[0] for _ in range(5)]
         loop_solves = len(products) * C.median(times)
     return {
         "case": label(kind, maxh, order), "kind": kind, "maxh": maxh, "order": order,
         "mode": "krylov" if disc.matrix_free else "dense",
         "ndof": disc.fes.ndof, "free_dofs": C.free_dofs(disc), "contact_points": disc.points.n,
-        "contact_dofs": len(disc.contact_dofs), "factor_nnz": disc.operator.factor_nonzeros,
+        "contact_dofs": len(disc.body.contact_dofs), "factor_nnz": disc.elastic.operator.factor_nonzeros,
         "mesh_cached": cached and not remesh, "mesh_s": t1 - t0,
         "mesh_first_s": None if cached and not remesh else t1 - t0,
         "init_s": t2 - t1, "assemble_s": t3 - t2, "factorise_s": t4 - t3, "rows_s": t5 - t4, "loads_s": t6 - t5,

@@ -33,7 +33,7 @@ def full_probe(scene, mesh, probe_steps: int) -> dict:
     probe = scene.replace(**{"time.steps": probe_steps, "time.T": probe_steps * k, "solver.method": "full"})
     t0 = C.perf()
     disc = Discretization(probe, mesh)
-    disc.stiffness, disc.load, disc.full_form  # noqa: B018 - what the full path builds before its loop
+    disc.elastic.stiffness, disc.loads.load, disc.full_form  # noqa: B018 - what the full path builds before its loop
     t1 = C.perf()
     res = ngwear.simulate(probe, discretization=disc, progress=False)
     t2 = C.perf()

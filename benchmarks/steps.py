@@ -8,7 +8,7 @@ oscillates), interleaved over repetitions, with the BLAS pools limited to 1 and 
 Linear fit  t(S) = a + b (S + 1)  on the medians (relative least squares), and the local exponents
 d log t / d log S (1 = linear; S = 10 → 100 also changes k, hence Newton iterations per step):
 b is the marginal cost of one more step, compared
-with one back-substitution with the elastic factorisation (``disc.operator.solve(rhs)``, SuperLU)
+with one back-substitution with the elastic factorisation (``disc.elastic.operator.solve(rhs)``, SuperLU)
 and with NGSolve's sparsecholesky back-substitution (``inv * f``).  ``Result.append`` (the per-step
 bookkeeping; O(S²) in total while it re-concatenated the arrays, as at commit 9a56360) is timed on
 its own (S appends of arrays of the run's shapes) and extrapolated quadratically to 10 000 steps.
@@ -41,13 +41,13 @@ def median_call(fn, n=20):
 def setup(scene, mesh) -> tuple[Discretization, float]:
     t = C.perf()
     disc = Discretization(scene, mesh)
-    disc.normal_compliance, disc.s_load, disc.u_load  # noqa: B018 - all simulate needs
+    disc.condensation.normal_compliance, disc.loads.s_load, disc.loads.u_load  # noqa: B018 - all simulate needs
     return disc, C.perf() - t
 
 
 def backsubstitutions(disc, scene, mesh) -> dict:
-    rhs = disc.load
-    ours = median_call(lambda: disc.operator.solve(rhs))
+    rhs = disc.loads.load
+    ours = median_call(lambda: disc.elastic.operator.solve(rhs))
     a = ngwear.numerics.forms.elastic_form(disc.fes, scene)
     a.Assemble()
     f = ngwear.numerics.forms.load_form(disc.fes, scene)
@@ -156,7 +156,7 @@ def main():
     header = C.machine_lines(args) + [
         "loop = simulate(scene.replace(time.steps=S), discretization=disc) with disc built once (setup); "
         "BLAS threads 1 vs 2 in the loop",
-        "targets: fitted marginal cost per step <= one back-substitution (SuperLU disc.operator.solve and "
+        "targets: fitted marginal cost per step <= one back-substitution (SuperLU disc.elastic.operator.solve and "
         "NGSolve sparsecholesky); t(S) linear: local exponent d log t / d log S between 100 and 1000 steps "
         "<= 1.10 and every point within 25% of the (relative least-squares) linear fit"]
     rows = []

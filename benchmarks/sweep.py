@@ -26,6 +26,7 @@ from pathlib import Path
 import common as C
 
 import ngwear
+from ngwear.model.keys import Level
 from ngwear.studies.study import study_from_dict
 
 STUDY = C.ROOT / "geometries" / "studies" / "paper_grid64.toml"
@@ -45,11 +46,11 @@ def loop(study, reuse: bool) -> int:
     disc, count = None, 0
     with tempfile.TemporaryDirectory() as tmp:
         for case in study.cases:
-            before = disc.__dict__.get("operator") if disc is not None else None
+            kept = disc is not None and reuse and disc.reuse(case.scene).rebuilt > Level.STIFFNESS
             result = ngwear.simulate(case.scene, discretization=disc if reuse else None, progress=False)
             result.save(Path(tmp) / case.id)
             disc = result.discretization
-            count += disc.__dict__.get("operator") is not before
+            count += not kept
     return count
 
 

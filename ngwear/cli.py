@@ -169,11 +169,11 @@ def _write(result, out: Path, pictures: bool) -> None:
     if result.scene.contact.friction > 0 and disc is not None:
         from .numerics.condense import DENSE_LIMIT
         from .studies.theory import smallness
-        if len(disc.contact_dofs) <= DENSE_LIMIT:
+        if len(disc.body.contact_dofs) <= DENSE_LIMIT:
             check = smallness(disc)
             print(f"{'uniqueness' if check.holds else 'warning':<{width}}  {check.message()}")
         else:
-            print(f"{'uniqueness':<{width}}  (H_S) not evaluated: c0 on {len(disc.contact_dofs)} contact DOFs needs a "
+            print(f"{'uniqueness':<{width}}  (H_S) not evaluated: c0 on {len(disc.body.contact_dofs)} contact DOFs needs a "
                   "second factorisation of the mesh; ngwear.studies.theory.smallness(discretization) computes it")
     for warning in result.warnings:
         print(f"{'warning':<{width}}  {warning}")

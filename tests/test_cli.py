@@ -108,7 +108,7 @@ def test_summary_skips_the_uniqueness_check_where_it_needs_a_second_factorisatio
     result = simulate(scene, progress=False)
     cli._write(result, tmp_path / "small", pictures=False)
     assert "(H_S) c0² L_p μ =" in capsys.readouterr().out
-    monkeypatch.setattr(condense, "DENSE_LIMIT", len(result.discretization.contact_dofs) - 1)
+    monkeypatch.setattr(condense, "DENSE_LIMIT", len(result.discretization.body.contact_dofs) - 1)
     cli._write(result, tmp_path / "large", pictures=False)
     line = [x for x in capsys.readouterr().out.splitlines() if x.startswith("uniqueness")][0]
-    assert "(H_S) not evaluated" in line and f"{len(result.discretization.contact_dofs)} contact DOFs" in line
+    assert "(H_S) not evaluated" in line and f"{len(result.discretization.body.contact_dofs)} contact DOFs" in line

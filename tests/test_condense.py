@@ -36,14 +36,15 @@ def test_normal_rows_are_the_nu_rows_of_the_point_compliance(paper_scene):
     """R_ijb = ν·G_ij·e_b with G = P K⁻¹ Pᵀ from plain solves; H = R ν, F = R n*."""
     disc = Discretization(paper_scene.replace(**{"mesh.maxh": 0.3}))
     n, d = disc.points.n, 2
-    G = disc.points.P @ disc.operator.solve(disc.points.P.T.toarray())
+    G = disc.points.P @ disc.elastic.operator.solve(disc.points.P.T.toarray())
     G = G.reshape(n, d, n, d)
-    R = np.einsum("a,iajb->ijb", disc.nu, G)
-    assert np.abs(disc.normal_rows - R).max() < 1e-12 * np.abs(R).max()
+    R = np.einsum("a,iajb->ijb", disc.condensation.nu, G)
+    assert np.abs(disc.condensation.normal_rows - R).max() < 1e-12 * np.abs(R).max()
     n_star = disc.n_star(0.0)
-    assert np.allclose(disc.friction_compliance(n_star), np.einsum("ijb,jb->ij", R, n_star), rtol=0,
+    assert np.allclose(disc.condensation.friction_compliance(n_star), np.einsum("ijb,jb->ij", R, n_star), rtol=0,
                        atol=1e-12 * np.abs(R).max())
-    assert np.abs(disc.normal_compliance - disc.normal_compliance.T).max() < 1e-12 * np.abs(R).max()
+    H = disc.condensation.normal_compliance
+    assert np.abs(H - H.T).max() < 1e-12 * np.abs(R).max()
 
 
 def compare(scene, names=("normal_displacement", "wear", "pressure", "reaction")):
@@ -78,10 +79,10 @@ def test_matrix_free_equals_dense_for_a_pad_on_a_disc(order):
 def test_auto_is_dense_below_the_limit_and_matrix_free_above(paper_scene, monkeypatch):
     scene = paper_scene.replace(**{"mesh.maxh": 0.3, "time.steps": 5})
     small = Discretization(scene)
-    assert not small.matrix_free and small.operator.schur_complement is not None
-    monkeypatch.setattr(discrete, "DENSE_LIMIT", len(small.contact_dofs) - 1)
+    assert not small.matrix_free and small.elastic.operator.schur_complement is not None
+    monkeypatch.setattr(discrete, "DENSE_LIMIT", len(small.body.contact_dofs) - 1)
     large = Discretization(scene, small.mesh)
-    assert large.matrix_free and large.operator.schur_complement is None
+    assert large.matrix_free and large.elastic.operator.schur_complement is None
     a = ngwear.simulate(scene, discretization=small, progress=False)
     b = ngwear.simulate(scene, discretization=large, progress=False)
     assert np.abs(a.wear - b.wear).max() < 1e-9 * a.wear.max()
@@ -94,8 +95,8 @@ def test_auto_is_matrix_free_for_a_soft_layer_only(monkeypatch):
     box = Discretization(ngwear.load_scene(ROOT / "geometries" / "box3d.toml").replace(**{"mesh.maxh": 0.25}))
     assert pad.layer_ratio == pytest.approx(1e10 * 0.012 / 1e9) and box.layer_ratio == pytest.approx(10 * 0.5 / 2.5)
     assert not pad.matrix_free and not box.matrix_free
-    monkeypatch.setattr(discrete, "SOFT_LIMIT", min(len(pad.contact_dofs), len(box.contact_dofs)) - 1)
-    assert pad.matrix_free and not box.matrix_free
+    monkeypatch.setattr(discrete, "SOFT_LIMIT", min(len(pad.body.contact_dofs), len(box.body.contact_dofs)) - 1)
+    assert Discretization(pad.scene, pad.mesh).matrix_free and not Discretization(box.scene, box.mesh).matrix_free
 
 
 def test_contact_solve_is_checked(paper_scene):

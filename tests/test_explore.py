@@ -60,10 +60,10 @@ def test_faster_foundation_wears_faster(explorer):
 
 
 def test_friction_change_reuses_mesh_and_factorisation(explorer):
-    mesh, operator = explorer.disc.mesh, explorer.disc.operator
+    mesh, operator = explorer.disc.mesh, explorer.disc.elastic.operator
     explorer.set(friction=0.2)
     explorer.set(**{"contact.wear": 1.0}, load=0.15, speed=1.5, gap=0.15, steps=30)
-    assert explorer.disc.mesh is mesh and explorer.disc.operator is operator
+    assert explorer.disc.mesh is mesh and explorer.disc.elastic.operator is operator
     assert [u.refactorised for u in explorer.updates] == [True, False, False]
     assert explorer.scene.contact.friction == 0.2 and explorer.result.steps == 30
 
@@ -104,7 +104,7 @@ def test_pictures_follow_the_parameters_and_record_their_time(explorer):
     assert explorer.updates[-1].picture is None
     assert np.abs(explorer.picture().astype(int) - picture).mean() > 0.5
     assert np.abs(explorer.plots().astype(int) - plots).mean() > 0.1
-    assert explorer.updates[-1].picture > 0 and "factorisation reused" in explorer.summary()
+    assert explorer.updates[-1].picture > 0 and "rebuilds loads; keeps mesh, space, factorisation" in explorer.summary()
 
 
 def test_pictures_from_any_thread_are_the_same(explorer):
@@ -233,5 +233,5 @@ def test_brake_pad_sliders_force_omega_kappa_mu():
     assert ex.result.torque[-1] == pytest.approx(2 * faster.torque[-1], rel=0.02)
     ex.set(kappa=0.0)
     assert not ex.result.wear.any() and before.wear.any()
-    assert ex.disc.operator is before.discretization.operator          # no new factorisation for any of them
+    assert ex.disc.elastic.operator is before.discretization.elastic.operator          # no new factorisation for any of them
     ex.close()

@@ -21,8 +21,8 @@ def state_away_from_kink(disc, rng):
     """A displacement whose penetrations at the contact points are ≥ 0.02 or ≤ −0.02."""
     u = ngs.GridFunction(disc.fes)
     u.vec.FV().NumPy()[:] = 0.01 * rng.standard_normal(disc.fes.ndof)
-    u.vec.FV().NumPy()[~disc.free] = 0
-    pen = disc.N @ u.vec.FV().NumPy()
+    u.vec.FV().NumPy()[~disc.body.free] = 0
+    pen = disc.condensation.N @ u.vec.FV().NumPy()
     w = pen - np.where(rng.random(len(pen)) < 0.7, 0.05, -0.05)
     return u, w
 
@@ -37,7 +37,7 @@ def test_taylor_jacobian_matches_residual(disc, friction):
     for gf, component in zip(cf.n_star, disc.n_star(0.0).T):
         disc.set_nodal(gf, component)
     delta = u.vec.CreateVector()
-    delta.FV().NumPy()[:] = rng.standard_normal(disc.fes.ndof) * disc.free
+    delta.FV().NumPy()[:] = rng.standard_normal(disc.fes.ndof) * disc.body.free
     res0, res1, jd = u.vec.CreateVector(), u.vec.CreateVector(), u.vec.CreateVector()
     cf.form.Apply(u.vec, res0)
     cf.form.AssembleLinearization(u.vec)
@@ -63,7 +63,7 @@ def test_contact_form_is_nodal(disc):
         disc.set_nodal(gf, component)
     res = u.vec.CreateVector()
     cf.form.Apply(u.vec, res)
-    pressure = disc.law(disc.N @ u.vec.FV().NumPy() - disc.d0 - w)
+    pressure = disc.law(disc.condensation.N @ u.vec.FV().NumPy() - disc.condensation.d0 - w)
     expected = disc.points.P.T @ disc.contact_forces(pressure, np.zeros_like(pressure), 0.0).ravel()
     assert np.allclose(res.FV().NumPy(), expected, atol=1e-13)
 

@@ -82,7 +82,7 @@ def test_half_disk_mesh(scene, disc):
     assert np.abs(np.hypot(pts[:, 0], pts[:, 1] - radius) - radius).max() < 1e-12
     assert pts[:, 1].min() == pytest.approx(0, abs=1e-14) and np.abs(pts[:, 0]).min() < 1e-14
     assert np.all(pts[:, 1] <= radius + 1e-12)
-    np.testing.assert_allclose(disc.d0, pts[:, 1], atol=1e-14)  # d₀ = height above the lowest point
+    np.testing.assert_allclose(disc.condensation.d0, pts[:, 1], atol=1e-14)  # d₀ = height above the lowest point
     assert set(disc.mesh.GetBoundaries()) == {"contact", "top"}
     assert set(disc.mesh.GetMaterials()) == {"body"}
     x = np.sort(pts[:, 0])

@@ -115,10 +115,10 @@ def test_plate_in_2d_with_tilt(paper_scene):
 def test_force_change_reuses_the_factorisation(pressed):
     first = ngwear.simulate(pressed, progress=False)
     disc = first.discretization
-    operator, coupling = disc.operator, disc.plate
+    operator, coupling = disc.elastic.operator, disc.condensation.plate
     second = ngwear.simulate(pressed.replace(**{"loads.plate.force": [0, 0, -0.1]}), discretization=disc,
                              progress=False)
-    assert second.discretization.operator is operator and second.discretization.plate is coupling
+    assert second.discretization.elastic.operator is operator and second.discretization.condensation.plate is coupling
     assert second.normal_force[-1] == pytest.approx(0.1, rel=1e-10)
 
 

@@ -1,66 +1,236 @@
-"""Skip rules: what a scene change does not invalidate is not rebuilt, and μ = 0 takes the symmetric path."""
+"""Skip rules: a scene change handed to an existing discretization rebuilds exactly what its keys declare.
+
+For every scene key and every part kind it applies to: the changed scene run on the old discretization
+(``with_scene``) gives bit for bit what a fresh run gives, and the pieces rebuilt (mesh, body, factorisation,
+contact compliance, loads) are those of the level the key declares, no fewer and no more.
+"""
+import shutil
+from pathlib import Path
+
 import numpy as np
 import pytest
+from conftest import ROOT
 
 import ngwear
+from ngwear.model.keys import Level, level_of
+from ngwear.model.sections import declared_keys
 from ngwear.numerics.discrete import Discretization
+
+SHIPPED = ROOT / "geometries"
+BASES = {   # a small scene per part kind: (shipped scene, overrides)
+    "strip": ("paper_strip.toml", {"mesh.maxh": 0.5, "loads.traction": {"top": [0.0, -0.1]}}),
+    "box": ("box3d.toml", {"mesh.maxh": 0.3}),
+    "half_disk": ("hertz.toml", {"mesh.maxh": 0.3, "mesh.contact_maxh": 0.05, "mesh.contact_zone": 0.3,
+                                 "mesh.grading": 0.3, "contact.gap": 0.01, "contact.friction": 0.2,
+                                 "contact.wear": 0.5, "foundation.velocity": [1.0, 0.0]}),
+    "pad": ("brake_pad.toml", {"mesh.maxh": 0.02, "time.T": 3.0, "output.every": 1.5}),
+    "pin": ("pin_on_disc.toml", {"mesh.maxh": 0.005, "mesh.contact_maxh": 0.002, "time.T": 3.0,
+                                 "output.every": 1.5}),
+    "step": ("cad_pad.toml", {"mesh.maxh": 0.03, "time.T": 3.0, "output.every": 1.5}),
+}
+STEPS = 3
+
+
+def scaled(value, factor):
+    return [factor * v for v in value] if isinstance(value, (list, tuple)) else factor * value
+
+
+def free_boundary(scene):
+    """A named boundary that is neither contact nor clamped, loaded or under the plate (None if there is none)."""
+    taken = {"contact", *scene.geometry.dirichlet, *scene.loads.traction,
+             *((scene.loads.plate.boundary,) if scene.loads.plate else ())}
+    return next((b for b in scene.geometry.boundaries if b not in taken), None)
+
+
+def copy_of(file) -> Path:
+    """The name of the file's copy beside it (the base fixture makes it)."""
+    return Path(file).with_stem(Path(file).stem + "-copy")
+
+
+def geometry(scene, **changes):
+    table = {k: v for k, v in scene.to_dict()["geometry"].items() if k not in changes or changes[k] is not None}
+    return {"geometry": {**table, **{k: v for k, v in changes.items() if v is not None}}}
+
+
+def plate_only(fn):
+    return lambda s: fn(s) if s.loads.plate is not None else None
+
+
+# key → the overrides that change it in a scene (None: not for that scene)
+CHANGES = {
+    "name": lambda s: {"name": "other"},
+    "geometry.kind": lambda s: {**geometry(s, kind="half_disk", size=[1.0], dirichlet=["top"]),
+                                "loads.traction": {}, "loads.body_force": [0.0, -0.01], "mesh.maxh": 0.3}
+    if s.geometry.kind == "strip" else None,
+    "geometry.size": lambda s: None if s.geometry.size is None else {"geometry.size": [
+        v * (1.0 if s.geometry.kind == "pad" and i == 2 else 1.05) for i, v in enumerate(s.geometry.size)]},
+    "geometry.dirichlet": lambda s: {"geometry.dirichlet": [*s.geometry.dirichlet, free_boundary(s)]}
+    if free_boundary(s) else None,
+    "geometry.position": lambda s: {"geometry.position": [0.035, 0.002]} if s.geometry.kind == "pin" else None,
+    "geometry.end": lambda s: geometry(s, end="flat", end_radius=None) if s.geometry.kind == "pin" else None,
+    "geometry.end_radius": lambda s: {"geometry.end_radius": 1.2 * s.geometry.end_radius}
+    if s.geometry.end == "sphere" else None,
+    "geometry.file": lambda s: {"geometry.file": str(copy_of(s.geometry.file))} if s.geometry.file else None,
+    "mesh.maxh": lambda s: {"mesh.maxh": 0.9 * s.mesh.maxh} if s.mesh.maxh else None,
+    "mesh.order": lambda s: {"mesh.order": 2},
+    "mesh.contact_maxh": lambda s: {"mesh.contact_maxh": 0.5 * (s.mesh.contact_maxh or s.mesh.maxh)}
+    if s.mesh.maxh else None,
+    "mesh.contact_zone": lambda s: {"mesh.contact_zone": 0.2} if s.geometry.kind == "half_disk" else None,
+    "mesh.grading": lambda s: {"mesh.grading": 0.5} if s.mesh.maxh else None,
+    "material.lame_lambda": lambda s: {"material.lame_lambda": 2.0} if s.material.lame_lambda is not None else None,
+    "material.lame_mu": lambda s: {"material.lame_mu": 1.5} if s.material.lame_mu is not None else None,
+    "material.young": lambda s: {"material.young": 1.5 * s.material.young} if s.material.young else None,
+    "material.poisson": lambda s: {"material.poisson": 0.1} if s.material.young else None,
+    "contact.law": lambda s: {"contact.law": "power"},
+    "contact.stiffness": lambda s: {"contact.stiffness": 1.5 * s.contact.stiffness},
+    "contact.exponent": lambda s: {"contact.law": "power", "contact.exponent": 2.0},
+    "contact.gap": lambda s: {"contact.gap": 0.8 * s.contact.gap},
+    "contact.friction": lambda s: {"contact.friction": s.contact.friction + 0.1},
+    "contact.wear": lambda s: {"contact.wear": 2 * s.contact.wear},
+    "contact.direction": lambda s: {"contact.direction": [0.1, *s.contact.direction[1:]]},
+    "foundation.velocity": lambda s: {"foundation.velocity": [0.5, *s.foundation.velocity[1:]]},
+    "foundation.angular_velocity": lambda s: {"foundation.angular_velocity": 0.2 if s.dim == 2 else
+                                              [0.0, 0.0, 1.2 * (s.foundation.angular_velocity or (0, 0, 5.0))[2]]},
+    "foundation.center": lambda s: {"foundation.center": [0.001] * s.dim},
+    "foundation.speed_table": lambda s: {"foundation.speed_table": [[0.0, 1.0], [s.time.T, 0.5]]},
+    "loads.traction": lambda s: {"loads.traction": {b: scaled(v, 1.5) for b, v in s.loads.traction.items()}}
+    if s.loads.traction else None,
+    "loads.body_force": lambda s: {"loads.body_force": [0.0] * (s.dim - 1) + [-0.02 if s.loads.plate is None else -1e3]},
+    "loads.time_table": lambda s: {"loads.time_table": [[0.0, 0.5], [s.time.T, 1.0]]},
+    "loads.plate.boundary": plate_only(lambda s: {"loads.plate.boundary": free_boundary(s)}),
+    "loads.plate.force": plate_only(lambda s: {"loads.plate.force": scaled(s.loads.plate.force, 1.2)}),
+    "loads.plate.tilt": plate_only(lambda s: {"loads.plate.tilt": True}),
+    "time.T": lambda s: {"time.T": 1.5 * s.time.T},
+    "time.steps": lambda s: {"time.steps": STEPS + 1},
+    "time.adaptive": lambda s: {"time.adaptive": True, "wear.integrator": "trapezoidal"},
+    "time.tolerance": lambda s: {"time.adaptive": True, "time.tolerance": 1e-2, "wear.integrator": "trapezoidal"},
+    "time.min_step": lambda s: {"time.adaptive": True, "time.min_step": 1e-3 * s.time.T,
+                                "wear.integrator": "trapezoidal"},
+    "time.max_step": lambda s: {"time.adaptive": True, "time.max_step": 0.5 * s.time.T,
+                                "wear.integrator": "trapezoidal"},
+    "wear.integrator": lambda s: {"wear.integrator": "implicit"},
+    "solver.method": lambda s: {"solver.method": "full"},
+    "solver.tolerance": lambda s: {"solver.tolerance": 1e-9},
+    "solver.max_iterations": lambda s: {"solver.max_iterations": 40},
+    "output.every": lambda s: {"output.every": s.time.T / 2},
+    "output.times": lambda s: {"output.times": [0.0, s.time.T]},
+    "output.checkpoint_seconds": lambda s: {"output.checkpoint_seconds": 0.0},
+}
+
+
+def test_every_declared_key_has_a_level_and_a_change():
+    """A key added without its level (what it invalidates) or without an entry here fails."""
+    keys = {name: level_of(info) for name, info in declared_keys()}
+    assert set(keys) | {"name"} == set(CHANGES), "give every scene key a change in CHANGES"
+    assert all(isinstance(level, Level) for level in keys.values())
 
 
 @pytest.fixture(scope="module")
-def base(paper_scene):
-    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 10})
-    disc = Discretization(scene)
-    result = ngwear.simulate(scene, discretization=disc, progress=False)
-    return scene, disc, result
+def base(tmp_path_factory):
+    """The base scene of each kind and a discretization that has run it (mesh kind: the strip's mesh as a file)."""
+    folder = tmp_path_factory.mktemp("parts")
+    for path in (folder / "cad_pad.step", copy_of(folder / "cad_pad.step")):   # geometry.file's change: same content
+        shutil.copy(SHIPPED / "cad_pad.step", path)
+    cache = {}
+
+    def get(kind):
+        if kind not in cache:
+            if kind == "mesh":
+                strip, disc = get("strip")
+                path = folder / "strip.vol"
+                disc.mesh.ngmesh.Save(str(path))
+                scene = strip.replace(**{"geometry": {"kind": "mesh", "file": str(path), "dirichlet": ["left"]},
+                                         "mesh": {"order": 1}})
+                shutil.copy(path, copy_of(path))
+            else:
+                name, overrides = BASES[kind]
+                if kind == "step":
+                    overrides = {**overrides, "geometry.file": str(folder / "cad_pad.step")}
+                scene = ngwear.load_scene(SHIPPED / name).replace(**{**overrides, "time.steps": STEPS})
+            disc = Discretization(scene)
+            assert ngwear.simulate(scene, discretization=disc, progress=False).completed
+            cache[kind] = scene, disc
+        return cache[kind]
+
+    return get
 
 
-@pytest.mark.parametrize("change", [{"contact.wear": 0.5}, {"contact.friction": 0.3},
-                                    {"foundation.velocity": [2.0, 0.0]}, {"contact.gap": 0.1},
-                                    {"loads.traction": {"top": [0.0, -0.2]}}])
-def test_change_reuses_factorisation(base, change):
-    scene, disc, _ = base
-    new = disc.with_scene(scene.replace(**change))
-    assert new.mesh is disc.mesh and new.operator is disc.operator
-    assert new.normal_rows is disc.normal_rows
-    reused_load = "loads.traction" not in change
-    assert (new.__dict__.get("u_load") is disc.u_load) == reused_load
+def rebuilt(old: Discretization, new: Discretization) -> Level:
+    """The first piece that ``new`` does not share with ``old``."""
+    if new.mesh is not old.mesh:
+        return Level.MESH
+    shared = [(new.body, old.body, Level.SPACE), (new.elastic, old.elastic, Level.STIFFNESS),
+              (new.condensation, old.condensation, Level.DIRECTION), (new.loads, old.loads, Level.LOADS)]
+    return next((level for a, b, level in shared if a is not b), Level.NOTHING)
 
 
-def test_material_change_refactorises_but_keeps_mesh(base):
-    scene, disc, _ = base
-    new = disc.with_scene(scene.replace(**{"material.lame_mu": 2.0}))
-    assert new.mesh is disc.mesh and new.operator is not disc.operator
+CASES = [(key, kind) for key in CHANGES for kind in (*BASES, "mesh")]
 
 
-def test_reused_run_equals_fresh_run(base):
-    scene, disc, _ = base
-    changed = scene.replace(**{"contact.wear": 0.5, "contact.friction": 0.3})
-    reused = ngwear.simulate(changed, discretization=disc, progress=False)
+@pytest.mark.slow
+@pytest.mark.parametrize("key, kind", CASES, ids=[f"{k}-{kind}" for k, kind in CASES])
+def test_a_change_rebuilds_what_its_keys_declare_and_equals_a_fresh_run(base, key, kind):
+    scene, disc = base(kind)
+    overrides = CHANGES[key](scene)
+    if overrides is None:
+        pytest.skip(f"{key} does not apply to a {kind}")
+    changed = scene.replace(**overrides)
+    declared = changed.changed_from(scene)
+    reuse = disc.reuse(changed)
+    new = disc.with_scene(changed)
+    assert reuse.rebuilt == declared == rebuilt(disc, new), (str(reuse), declared)
+    reused = ngwear.simulate(changed, discretization=new, progress=False)
     fresh = ngwear.simulate(changed, progress=False)
-    assert np.allclose(reused.wear, fresh.wear, atol=1e-14)
+    assert reused.status == fresh.status           # completed, or stopped at the same step (a tilting pin)
+    for name in ("times", "wear", "normal_displacement", "pressure", "reaction", "plate_displacement"):
+        assert np.array_equal(getattr(reused, name), getattr(fresh, name)), name
+    assert fresh.steps < 0 or np.array_equal(reused.displacement(-1), fresh.displacement(-1))
 
 
-def test_zero_friction_matrix_is_symmetric(base):
+@pytest.mark.parametrize("change, level", [({"contact.friction": 0.3}, Level.NOTHING),
+                                           ({"material.lame_mu": 2.0}, Level.STIFFNESS),
+                                           ({"loads.traction": {"top": [0.0, -0.2]}}, Level.LOADS),
+                                           ({"contact.direction": [0.1, -1.0]}, Level.DIRECTION),
+                                           ({"mesh.order": 2}, Level.SPACE),
+                                           ({"mesh.maxh": 0.4}, Level.MESH)])
+def test_what_is_rebuilt_is_counted(paper_scene, change, level):
+    """μ rebuilds nothing, a material the factorisation, the mesh size the mesh: the pieces say so by identity."""
+    scene = paper_scene.replace(**{"mesh.maxh": 0.5, "time.steps": 3})
+    disc = Discretization(scene)
+    ngwear.simulate(scene, discretization=disc, progress=False)
+    new = ngwear.simulate(scene.replace(**change), discretization=disc, progress=False).discretization
+    assert rebuilt(disc, new) == level == disc.reuse(scene.replace(**change)).rebuilt
+    factorised = "operator" in vars(new.elastic) and new.elastic is not disc.elastic
+    assert factorised == (level <= Level.STIFFNESS)
+
+
+def test_reuse_says_what_is_kept(paper_scene):
+    disc = Discretization(paper_scene.replace(**{"mesh.maxh": 0.5}))
+    assert str(disc.reuse(disc.scene.replace(**{"contact.wear": 0.5}))) == "reuses everything"
+    assert str(disc.reuse(disc.scene.replace(**{"material.lame_mu": 2.0}))) == \
+        "rebuilds factorisation, contact compliance, loads; keeps mesh, space"
+
+
+def test_zero_friction_matrix_is_symmetric(paper_scene):
     """μ = 0: the condensed Newton matrix is the symmetric H (no friction compliance is formed)."""
-    scene, disc, _ = base
-    H = disc.normal_compliance
+    disc = Discretization(paper_scene.replace(**{"mesh.maxh": 0.2}))
+    H = disc.condensation.normal_compliance
     assert np.allclose(H, H.T, atol=1e-14 * np.abs(H).max())
-    frictional = H + disc.friction_compliance(disc.n_star(0.0))
+    frictional = H + disc.condensation.friction_compliance(disc.n_star(0.0))
     assert not np.allclose(frictional, frictional.T, atol=1e-6 * np.abs(H).max())
 
 
-def test_zero_wear_rate_gives_no_wear(base):
-    scene, disc, _ = base
-    r = ngwear.simulate(scene.replace(**{"contact.wear": 0.0}), discretization=disc, progress=False)
+def test_zero_wear_rate_gives_no_wear(paper_scene):
+    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 10, "contact.wear": 0.0})
+    r = ngwear.simulate(scene, progress=False)
     assert r.wear.max() == 0 and r.pressure.max() > 0
     assert np.allclose(r.normal_displacement, r.normal_displacement[0], atol=1e-14), "steady without wear"
 
 
-def test_zero_friction_skips_friction_work(base, monkeypatch):
-    scene, disc, _ = base
-    frictionless = disc.with_scene(scene.replace(**{"contact.friction": 0.0}))
+def test_zero_friction_skips_friction_work(paper_scene, monkeypatch):
+    frictionless = Discretization(paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 10, "contact.friction": 0.0}))
 
     def forbidden(*_):
         raise AssertionError("friction compliance formed although μ = 0")
-    monkeypatch.setattr(frictionless, "friction_compliance", forbidden)
+    monkeypatch.setattr(frictionless.condensation, "friction_compliance", forbidden)
     assert ngwear.simulate(frictionless.scene, discretization=frictionless, progress=False).completed

@@ -24,6 +24,9 @@ import ngsolve as ngs
 import numpy as np
 from netgen.occ import OCCGeometry, TopoDS_Shape
 
+from .cache import cache_dir
+from .kinds import Kind, register
+
 SHAPE_FILES = (".step", ".stp", ".iges", ".igs", ".brep")
 MESH_FILES = (".vol", ".msh")
 
@@ -46,7 +49,7 @@ def describe(path: str, kind: str) -> Part:
     file = Path(path)
     if not file.is_file():
         raise PartError(f"{path} does not exist")
-    suffixes = SHAPE_FILES if kind == "step" else MESH_FILES
+    suffixes = KINDS_OF_FILES[kind].files
     if file.suffix.lower() not in suffixes:
         raise PartError(f"{file.name} is not a {' / '.join(suffixes)} file")
     stat = file.stat()
@@ -102,8 +105,6 @@ def read_mesh(path: str) -> netgen.meshing.Mesh:
 
 def store(part) -> tuple[str, str]:
     """(kind, path) of a file in the cache holding a ``netgen.occ`` shape or a mesh given in Python."""
-    from .geometry import cache_dir
-
     folder = cache_dir() / "parts"
     folder.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=folder) as scratch:
@@ -131,3 +132,26 @@ def _fingerprint(shape: TopoDS_Shape, names: list) -> str:
     faces = [(round(f.mass, 12), *(round(c, 12) for c in (f.center.x, f.center.y, f.center.z))) for f in shape.faces]
     vertices = sorted(tuple(round(c, 12) for c in (v.p.x, v.p.y, v.p.z)) for v in shape.vertices)
     return hashlib.sha256(json.dumps([faces, vertices, names]).encode()).hexdigest()[:16]
+
+
+def _step(geometry, mesh):
+    """The shape of the part file; every solid is the body."""
+    body = read_shape(geometry.file)
+    body.solids.name = "body"
+    if mesh.contact_maxh is not None:
+        for face in body.faces:
+            if face.name == "contact":
+                face.maxh = mesh.contact_maxh
+    return body
+
+
+KINDS_OF_FILES = {
+    kind.name: register(kind) for kind in (
+        Kind("step", "`step` a STEP/IGES/BREP file", None, build=_step, options=("geometry.file",), files=SHAPE_FILES),
+        Kind("mesh", "`mesh` a Netgen .vol or Gmsh .msh file", None, options=("geometry.file",), files=MESH_FILES))}
+
+
+def fingerprint(path: str) -> tuple:
+    """What identifies a part file's content cheaply: its path, size and modification time (and its sidecar's)."""
+    stats = [Path(p).stat() for p in (path, f"{path}.names.json") if Path(p).is_file()]
+    return (str(Path(path).resolve()), *((s.st_size, s.st_mtime_ns) for s in stats))

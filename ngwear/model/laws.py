@@ -6,6 +6,7 @@ Elasticity (paper §5): F(ε) = 2η ε + λ tr(ε) I.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import ngsolve as ngs
@@ -45,9 +46,18 @@ def compliance_from(contact) -> Compliance:
     return Compliance(contact.stiffness, contact.exponent if contact.law == "power" else 1.0)
 
 
-def hooke_stress(strain: ngs.CoefficientFunction, lam: float, mu: float, dim: int):
+def largest_slope(contact) -> float:
+    """L_p, the largest slope of the compliance p over [0, g]: L e g^(e−1) (inf where it overflows)."""
+    e = contact.exponent if contact.law == "power" else 1.0
+    try:
+        return contact.stiffness * e * contact.gap ** (e - 1)
+    except OverflowError:
+        return math.inf
+
+
+def hooke_stress(strain: ngs.CoefficientFunction, lam: float, eta: float, dim: int):
     """σ = 2η ε + λ tr(ε) I."""
-    return 2 * mu * strain + lam * ngs.Trace(strain) * ngs.Id(dim)
+    return 2 * eta * strain + lam * ngs.Trace(strain) * ngs.Id(dim)
 
 
 def piecewise_linear(table, t: float) -> float:

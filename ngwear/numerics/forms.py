@@ -60,10 +60,10 @@ def displacement_space(mesh: ngs.Mesh, scene: Scene) -> ngs.FESpace:
 
 def elastic_integrand(fes: ngs.FESpace, scene: Scene):
     """σ(ε(u)) : ε(v) dx."""
-    lam, mu = scene.material.lame
+    lam, eta = scene.material.lame
     u, v = fes.TnT()
     strain = ngs.Sym(ngs.Grad(u))
-    return ngs.InnerProduct(hooke_stress(strain, lam, mu, scene.dim), ngs.Sym(ngs.Grad(v))) * ngs.dx("body")
+    return ngs.InnerProduct(hooke_stress(strain, lam, eta, scene.dim), ngs.Sym(ngs.Grad(v))) * ngs.dx("body")
 
 
 def elastic_form(fes: ngs.FESpace, scene: Scene) -> ngs.BilinearForm:
@@ -89,7 +89,7 @@ class ContactForm:
     form: ngs.BilinearForm
     w: ngs.GridFunction
     d0: ngs.GridFunction
-    mu: ngs.Parameter
+    friction: ngs.Parameter
     n_star: list
 
 
@@ -98,7 +98,7 @@ def contact_form(fes: ngs.FESpace, scene: Scene, law: Compliance, with_elastic: 
     dim, order = scene.dim, scene.mesh.order
     scal = ngs.H1(fes.mesh, order=order, definedon="body")
     w, d0 = ngs.GridFunction(scal), ngs.GridFunction(scal)
-    mu = ngs.Parameter(scene.contact.friction)
+    friction = ngs.Parameter(scene.contact.friction)
     n_star = [ngs.GridFunction(scal) for _ in range(dim)]
     nu = ngs.CF(scene.contact.direction)
     u, v = fes.TnT()
@@ -106,9 +106,9 @@ def contact_form(fes: ngs.FESpace, scene: Scene, law: Compliance, with_elastic: 
     if with_elastic:
         form += elastic_integrand(fes, scene)
     compression = ngs.InnerProduct(u, nu) - d0 - w
-    direction = nu + mu * ngs.CF(tuple(n_star))
+    direction = nu + friction * ngs.CF(tuple(n_star))
     form += law.cf(compression) * ngs.InnerProduct(direction, v) * contact_ds(dim, order)
-    return ContactForm(form, w, d0, mu, n_star)
+    return ContactForm(form, w, d0, friction, n_star)
 
 
 def initial_distance(coords: np.ndarray, nu) -> np.ndarray:

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.laws import Compliance
+from ..model.laws import Compliance, largest_slope
 from .solver import PointLaw
 
 INTEGRATORS = {
@@ -89,12 +89,6 @@ def stable_step(scene, alpha: float) -> float:
     limit = {"explicit": 1.0, "trapezoidal": 2.0, "implicit": np.inf}[scene.wear.integrator]
     rate = alpha * largest_slope(scene.contact)
     return limit / rate if rate > 0 else np.inf
-
-
-def largest_slope(contact) -> float:
-    """L_p, the largest slope of the compliance p over [0, g]."""
-    e = contact.exponent if contact.law == "power" else 1.0
-    return contact.stiffness * e * contact.gap ** (e - 1)
 
 
 def explicit_stability(scene, alpha: float) -> str | None:

@@ -251,7 +251,7 @@ def load_result(directory) -> Result:
 def row_shapes(scene: Scene, disc) -> dict[str, tuple]:
     """The shape of one step's row of each of :data:`ARRAYS`."""
     n = disc.points.n
-    shapes = {"times": (), "forces": (n, scene.dim), "plate_displacement": (disc.plate_modes_count,)}
+    shapes = {"times": (), "forces": (n, scene.dim), "plate_displacement": (disc.condensation.plate_modes_count,)}
     return {name: shapes.get(name, (n,)) for name in ARRAYS}
 
 

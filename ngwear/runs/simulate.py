@@ -126,10 +126,10 @@ def _solve(stepper, integrator, t: float, t_prev: float | None, x, lam) -> _Atte
     disc, law = stepper.disc, integrator.point_law()
     x, lam, record = stepper.solve(t, t_prev, law, x, lam, integrator)
     s, delta = stepper.normal(x), stepper.plate(x)
-    pressure = law.pressure(s - disc.d0)
+    pressure = law.pressure(s - disc.condensation.d0)
     if not all(np.all(np.isfinite(a)) for a in (s, lam, pressure, delta)):
         raise ArithmeticError(record)
-    return _Attempt(x, lam, s, delta, pressure, integrator.wear_at(s - disc.d0), record)
+    return _Attempt(x, lam, s, delta, pressure, integrator.wear_at(s - disc.condensation.d0), record)
 
 
 def _record(result: Result, stepper, t: float, attempt: _Attempt) -> None:
@@ -197,14 +197,8 @@ class _Stages:
     def prepare(self, disc: Discretization) -> None:
         """Assemble, factorise and condense what the condensed path needs, then close the bar."""
         if disc.scene.solver.method == "condensed":
-            ndof = f"{disc.fes.ndof:,} DOFs".replace(",", " ")
-            needed = [("stiffness", f"assembling K ({ndof})"), ("operator", "factorising K (PARDISO)")]
-            if not disc.matrix_free:
-                needed.append(("normal_rows", f"contact compliance ({disc.points.n} points)"))
-            needed += [("u_load", "loads"), ("plate", "plate")]
-            for name, label in needed:
-                if name not in disc.__dict__:
-                    self.run(label, lambda name=name: getattr(disc, name))
+            for label, build in disc.stages():
+                self.run(label, build)
         if self.bar is not None:
             self.bar.close()
 
@@ -247,16 +241,16 @@ class _Stepper:
     def unknowns(self) -> np.ndarray:
         """The unknowns at rest: s at the contact points (condensed) or the free DOFs (full), then δ."""
         disc = self.disc
-        size = disc.full_basis.shape[1] if self._full else disc.points.n + disc.plate_modes_count
+        size = disc.condensation.full_basis.shape[1] if self._full else disc.points.n + disc.condensation.plate_modes_count
         return np.zeros(size)
 
     def normal(self, x):
         """The normal displacements s = ν·u at the contact points."""
-        return self.disc.N @ (self.disc.full_basis @ x) if self._full else x[:self.disc.points.n]
+        return self.disc.condensation.N @ (self.disc.condensation.full_basis @ x) if self._full else x[:self.disc.points.n]
 
     def plate(self, x):
         """δ, the plate's displacement (and tilts)."""
-        return x[len(x) - self.disc.plate_modes_count:]
+        return x[len(x) - self.disc.condensation.plate_modes_count:]
 
     def solve(self, t, t_prev, law, x, lam, integrator):
         target = self.disc.load_factor(t)
@@ -284,28 +278,25 @@ class _Stepper:
         return semismooth_newton(system, x, lam, sc.tolerance, sc.max_iterations)
 
     def _system(self, t, load_factor, law, integrator):
-        disc = self.disc
+        disc, cond = self.disc, self.disc.condensation
         if self._full:
             return _full_system(disc, t, load_factor, integrator)
         n_star, mu = disc.n_star(t), self.scene.contact.friction
         if disc.matrix_free:
-            key = ("krylov", (disc.nu[None, :] + mu * n_star).tobytes())    # A's force directions ν + μ n*
+            key = ("krylov", (cond.nu[None, :] + mu * n_star).tobytes())    # A's force directions ν + μ n*
             if key not in self._matrices:
                 self._matrices = {key: _recycler(disc, n_star)}
             return _krylov_system(disc, self._matrices[key], n_star, load_factor, law)
         key = n_star.tobytes()
         if key not in self._matrices:
-            H = disc.normal_compliance
-            A = H + mu * disc.friction_compliance(n_star) if mu > 0 and n_star.any() else H
-            coupling = disc.plate
-            directed = None if coupling is None else coupling.directed(disc.nu[None, :] + mu * n_star)
+            H = cond.normal_compliance
+            A = H + mu * cond.friction_compliance(n_star) if mu > 0 and n_star.any() else H
+            directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + mu * n_star)
             self._matrices = {key: (A, directed)}
             self._factors = {}
         A, directed = self._matrices[key]
-        plate = None if directed is None else PlateRows(disc.plate.normal, directed, disc.plate.stiffness,
-                                                        load_factor * disc.plate_load)
-        return CondensedSystem(disc.normal_compliance, A, disc.points.weights, load_factor * disc.s_load, disc.d0,
-                               self.scene.contact.gap, law, self._factors, plate)
+        return CondensedSystem(cond.normal_compliance, A, disc.points.weights, load_factor * disc.loads.s_load, cond.d0,
+                               self.scene.contact.gap, law, self._factors, _plate_rows(disc, directed, load_factor))
 
 
 def _remedy(scene: Scene, record) -> str:
@@ -323,33 +314,39 @@ def _remedy(scene: Scene, record) -> str:
 
 def _recycler(disc: Discretization, n_star) -> Recycler:
     """The products with A = H + μF (this n*) and H remembered for the run, and the Newton basis built on them."""
-    directions = disc.nu[None, :] + disc.scene.contact.friction * n_star
+    directions = disc.condensation.nu[None, :] + disc.scene.contact.friction * n_star
     respond = lambda directed, normal: disc.normal_response(normal, directed, directions)  # noqa: E731
     return Recycler(ComplianceMemory(respond, disc.points.n))
 
 
 def _krylov_system(disc: Discretization, recycler: Recycler, n_star, load_factor: float, law) -> KrylovSystem:
     """The condensed system applied matrix-free (large contact surfaces, see :class:`Discretization`)."""
-    directions = disc.nu[None, :] + disc.scene.contact.friction * n_star
-    plate = None if disc.plate is None else PlateRows(disc.plate.normal, disc.plate.directed(directions),
-                                                      disc.plate.stiffness, load_factor * disc.plate_load)
-    return KrylovSystem(recycler, disc.compliance_estimate, disc.points.weights, load_factor * disc.s_load, disc.d0,
-                        disc.scene.contact.gap, law, disc.scene.solver.tolerance, plate)
+    cond = disc.condensation
+    directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + disc.scene.contact.friction * n_star)
+    return KrylovSystem(recycler, cond.compliance_estimate, disc.points.weights, load_factor * disc.loads.s_load, cond.d0,
+                        disc.scene.contact.gap, law, disc.scene.solver.tolerance, _plate_rows(disc, directed, load_factor))
+
+
+def _plate_rows(disc: Discretization, directed, load_factor: float) -> PlateRows | None:
+    """The plate's rows of a step (None without a plate), ``directed`` = b_i·Φ_i for this step's force directions."""
+    plate = disc.condensation.plate
+    return None if plate is None else PlateRows(plate.normal, directed, plate.stiffness,
+                                                load_factor * disc.loads.plate_load)
 
 
 def _full_system(disc: Discretization, t: float, load_factor: float, integrator: WearIntegrator) -> FullSystem:
     """The reference system: NGSolve form with w, μ, n* of this step (explicit wear: w = a, see the scene's rules)."""
-    cf = disc.full_form
+    cf, cond = disc.full_form, disc.condensation
     disc.set_nodal(cf.w, integrator.a)
-    cf.mu.Set(disc.scene.contact.friction)
+    cf.friction.Set(disc.scene.contact.friction)
     for gf, component in zip(cf.n_star, disc.n_star(t).T):
         disc.set_nodal(gf, component)
-    load = disc.full_basis.T @ disc.load
-    load[len(load) - disc.plate_modes_count:] += disc.plate_force
-    floating = disc.plate_modes_count and not disc.scene.geometry.dirichlet
-    return FullSystem(cf, disc.full_basis, load_factor * load, disc.N, disc.points.weights, disc.d0,
-                      disc.scene.contact.gap, disc.stiffness, integrator.point_law(),
-                      disc.rigid_translation if floating else None)
+    load = cond.full_basis.T @ disc.loads.load
+    load[len(load) - cond.plate_modes_count:] += disc.loads.plate_force
+    floating = cond.plate_modes_count and not disc.scene.geometry.dirichlet
+    return FullSystem(cf, cond.full_basis, load_factor * load, cond.N, disc.points.weights, cond.d0,
+                      disc.scene.contact.gap, disc.elastic.stiffness, integrator.point_law(),
+                      cond.rigid_translation if floating else None)
 
 
 def _progress(scene: Scene, result: Result):

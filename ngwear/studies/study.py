@@ -45,6 +45,7 @@ from typing import Any
 
 import numpy as np
 
+from ..model.keys import Level
 from ..model.scene import Scene, SceneError, load_scene
 from .outputs import OUTPUTS
 
@@ -62,8 +63,8 @@ class Case:
     """One run of a study: its parameters (dotted key → value) and its scene, or why it has none.
 
     ``id`` is a hash of the scene (name excluded), so a case keeps its results folder when the study
-    around it changes; ``group`` is what the discretization of the case depends on (geometry, mesh,
-    material and the plate's boundary): cases of one group share mesh and factorisation.
+    around it changes; ``group`` is what the factorisation of the case depends on (the keys that declare
+    they invalidate the mesh, the space or the stiffness): cases of one group share mesh and factorisation.
     """
 
     index: int
@@ -78,9 +79,8 @@ class Case:
 
     @property
     def group(self) -> str:
-        data, plate = self.scene.to_dict(), self.scene.loads.plate
-        held = plate and (plate.boundary, plate.tilt)
-        return json.dumps([*(data.get(k) for k in ("geometry", "mesh", "material")), held], sort_keys=True)
+        """The case's mesh, space and material (the keys declared up to :attr:`Level.STIFFNESS`)."""
+        return json.dumps([self.scene.signature(level) for level in Level if level <= Level.STIFFNESS])
 
 
 @dataclass(frozen=True)

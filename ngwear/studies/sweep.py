@@ -40,6 +40,7 @@ from pathlib import Path
 from time import perf_counter
 from typing import TYPE_CHECKING, Any
 
+from ..model.keys import Level
 from ..model.scene import SceneError
 from ..runs.simulate import simulate
 from .outputs import OUTPUTS, outputs
@@ -134,14 +135,13 @@ def run_case(scene, group: str) -> tuple[dict, dict[str, bytes]]:
     with lock, _quiet():
         start = perf_counter()
         cached = _CACHE.get(group)
-        before = cached.__dict__.get("operator") if cached is not None else None
+        factorised = cached is None or cached.reuse(scene).rebuilt <= Level.STIFFNESS
         try:
             result = simulate(scene, discretization=cached, progress=False)
         except SceneError as err:
             return _row(status="rejected", error=str(err), wall_time=perf_counter() - start,
                         worker=_worker(), factorised=False), {}
         disc = result.discretization
-        operator = disc.__dict__.get("operator")
         with _GUARD:
             _CACHE[group] = disc
             _CACHE.move_to_end(group)
@@ -154,7 +154,7 @@ def run_case(scene, group: str) -> tuple[dict, dict[str, bytes]]:
         row = _row(**outputs(result), status="completed" if result.completed else "stopped",
                    error=None if result.completed else result.status,
                    warnings="; ".join(result.warnings) or None, wall_time=perf_counter() - start,
-                   worker=_worker(), factorised=operator is not None and operator is not before)
+                   worker=_worker(), factorised=factorised)
     return row, files
 
 

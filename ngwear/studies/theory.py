@@ -47,7 +47,7 @@ class SmallnessCheck:
 def trace_constant(disc: Discretization) -> float:
     """Discrete c₀ on the discretization's mesh and clamping."""
     strain_only = disc.with_scene(disc.scene.replace(material={"lame_lambda": 0.0, "lame_mu": 0.5}))
-    op = strain_only.operator
+    op = strain_only.elastic.operator
     u, v = disc.fes.TnT()
     mass = ngs.BilinearForm(disc.fes)
     mass += ngs.InnerProduct(u, v) * ngs.ds("contact")

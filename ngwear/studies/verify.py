@@ -108,7 +108,7 @@ def h_study(scene: Scene, maxhs, ref_maxh: float) -> list[dict]:
     for h in maxhs:
         result, seconds = _run(scene.replace(**{"mesh.maxh": h}))
         e = errors(result, ref)
-        rows.append({"h": h, "dofs": int(result.discretization.free.sum()), "seconds": seconds, **e.__dict__})
+        rows.append({"h": h, "dofs": int(result.discretization.body.free.sum()), "seconds": seconds, **e.__dict__})
     return rows
 
 

@@ -35,7 +35,9 @@ import numpy as np
 import tomli_w
 from PIL import Image
 
+from ..model.keys import Level
 from ..model.scene import Scene, SceneError
+from ..numerics.discrete import Reuse
 from ..runs.simulate import simulate
 from .compare import Comparison, nearest_step
 from .plots import Dashboard
@@ -59,9 +61,14 @@ class Update:
 
     changes: dict
     solve: float
-    refactorised: bool
+    reuse: Reuse
     picture: float | None = None
     plots: float | None = None
+
+    @property
+    def refactorised(self) -> bool:
+        """Whether the solve needed a new factorisation of the stiffness."""
+        return self.reuse.rebuilt <= Level.STIFFNESS
 
     @property
     def total(self) -> float:
@@ -157,17 +164,15 @@ class Explorer:
             return self.result
 
     def _solve(self, scene: Scene, changes: dict) -> None:
-        operator = self.disc.__dict__.get("operator") if self.disc is not None else None
+        reuse = self.disc.reuse(scene) if self.disc is not None else Reuse(Level.MESH)
         start = time.perf_counter()
         result = simulate(scene, discretization=self.disc, progress=False)
         elapsed = time.perf_counter() - start
         if not result.completed:
             raise RunError(result.status, result)
         self.scene, self.result, self.disc = scene, result, result.discretization
-        refactorised = operator is None or self.disc.__dict__.get("operator") is not operator
-        self.updates.append(Update(dict(changes), elapsed, refactorised))
-        log.info("explorer: %s solved in %.3f s%s", changes or "scene", elapsed,
-                 " (new factorisation)" if refactorised else "")
+        self.updates.append(Update(dict(changes), elapsed, reuse))
+        log.info("explorer: %s solved in %.3f s (%s)", changes or "scene", elapsed, reuse)
 
     # ---- the step on show, A/B --------------------------------------------------------------
     def scrub(self, step: int) -> None:
@@ -220,7 +225,7 @@ class Explorer:
         with self._lock:
             u, s = self.updates[-1], self.result.summary()
             ms = lambda x: "–" if x is None else f"{1000 * x:.0f} ms"  # noqa: E731
-            reuse = "new factorisation" if u.refactorised else "factorisation reused"
+            reuse = u.reuse
             parts = [f"solve {ms(u.solve)} ({reuse}), picture {ms(u.picture)}, plots {ms(u.plots)}",
                      f"max wear {s['max_wear']:.4g}, max penetration {s['max_penetration']:.4g} "
                      f"(g = {s['gap']:.3g})", *self.result.warnings]

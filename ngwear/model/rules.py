@@ -1,0 +1,249 @@
+"""Rules across scene keys: vector lengths by dimension, boundary names by geometry, ranges set by other keys.
+
+:func:`check` runs after every key has been validated on its own; each rule raises a
+:class:`~ngwear.model.keys.SceneError` naming the key that is off and what it must be.  Quantities derived
+from several keys (α = κ‖v*‖, the step k = T/N, k·α·L) must stay finite: a scene whose numbers overflow
+them is refused here, naming the key, not turned into NaN or infinity at run time.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from .keys import SceneError
+from .kinds import KINDS, owners
+from .laws import largest_slope
+
+
+def check(scene) -> None:
+    """Every rule of this module, in the order a reader fixes a scene: geometry first, time last."""
+    _check_geometry(scene)
+    _check_material(scene.material)
+    _check_contact(scene)
+    _check_motion(scene)
+    _check_loads(scene)
+    _check_time(scene)
+    if scene.solver.method == "full" and scene.wear.integrator != "explicit":
+        raise SceneError(f"solver.method: 'full' supports only wear.integrator = 'explicit' "
+                         f"(got {scene.wear.integrator!r}; use solver.method = 'condensed')")
+
+
+def range_text(lo=None, hi=None, lo_open=False, hi_open=False) -> str:
+    """``> 0``, ``>= 1``, ``<= 2`` or ``in (0, 3.0]``."""
+    if lo is not None and hi is not None:
+        return f"in {'(' if lo_open else '['}{lo}, {hi}{')' if hi_open else ']'}"
+    if lo is not None:
+        return f"{'>' if lo_open else '>='} {lo}"
+    if hi is not None:
+        return f"{'<' if hi_open else '<='} {hi}"
+    return ""
+
+
+def vector(value, name: str, dim: int) -> tuple[float, ...]:
+    """``value`` if it is a list of ``dim`` numbers, else a SceneError naming ``name``."""
+    if value is None or len(value) != dim:
+        raise SceneError(f"{name}: must be a list of {dim} numbers (got {list(value) if value else value!r})")
+    return value
+
+
+def _value(scene, dotted: str):
+    node = scene
+    for part in dotted.split("."):
+        node = getattr(node, part)
+    return node
+
+
+# ---------------------------------------------------------------- geometry and mesh
+
+
+def _check_geometry(scene) -> None:
+    g, m, kind = scene.geometry, scene.mesh, KINDS[scene.geometry.kind]
+    for option in {o for k in KINDS.values() for o in k.options}:
+        if _value(scene, option) is not None and g.kind not in owners(option):
+            allowed = " or ".join(repr(name) for name in owners(option))
+            raise SceneError(f"{option}: only for geometry.kind = {allowed} (got kind {g.kind!r})")
+    _check_size(g, kind)
+    boundaries = g.boundaries
+    if "contact" not in boundaries:
+        raise SceneError(f"geometry.file: {Path(g.file).name} has no boundary named 'contact' (its named "
+                         f"boundaries: {', '.join(boundaries) or 'none'})")
+    if not g.dirichlet and scene.loads.plate is None:
+        raise SceneError("geometry.dirichlet: must name at least one boundary, or give loads.plate (a rigid plate "
+                         "pressed along contact.direction) to hold the body (got [])")
+    for b in g.dirichlet:
+        if b not in boundaries or b == "contact":
+            allowed = ", ".join(x for x in boundaries if x != "contact")
+            raise SceneError(f"geometry.dirichlet: unknown or non-Dirichlet boundary {b!r} (allowed: {allowed})")
+    if kind.build is None:
+        if m.maxh is not None or m.contact_maxh is not None or m.grading is not None:
+            raise SceneError(f"mesh.maxh: not used with geometry.kind = {g.kind!r} (the file is the mesh; leave "
+                             "mesh.maxh, mesh.contact_maxh and mesh.grading out)")
+    elif not 0 < m.maxh <= g.extent:
+        raise SceneError(f"mesh.maxh: must be {range_text(0, round(g.extent, 6), lo_open=True)} (got {m.maxh!r})")
+    if m.contact_maxh is not None and not 0 < m.contact_maxh <= m.maxh:
+        raise SceneError(f"mesh.contact_maxh: must be {range_text(0, m.maxh, lo_open=True)} (got {m.contact_maxh!r})")
+    if m.contact_zone is not None and not 0 < m.contact_zone <= g.size[0]:
+        raise SceneError(f"mesh.contact_zone: must be {range_text(0, g.size[0], lo_open=True)} (got {m.contact_zone!r})")
+
+
+def _check_size(g, kind) -> None:
+    """The size of a built-in kind: its length, positive lengths, then the kind's own rules; none for a file."""
+    if kind.size is None:
+        if g.size is not None:
+            raise SceneError(f"geometry.size: not used with geometry.kind = {g.kind!r} (the file gives the shape)")
+        return
+    if len(g.size) != len(kind.size):
+        raise SceneError(f"geometry.size: must be a list of {len(kind.size)} numbers (got {list(g.size)})")
+    if min(g.size) <= 0:
+        raise SceneError(f"geometry.size: every length must be > 0 (got {list(g.size)})")
+    if kind.check is not None:
+        kind.check(g)
+
+
+# ---------------------------------------------------------------- material and contact
+
+
+def _check_material(mat) -> None:
+    lame = [k for k in ("lame_lambda", "lame_mu") if getattr(mat, k) is not None]
+    engineering = [k for k in ("young", "poisson") if getattr(mat, k) is not None]
+    if lame and engineering:
+        raise SceneError(f"material.{engineering[0]}: cannot be combined with material.{lame[0]} "
+                         "(give either lame_lambda and lame_mu, or young and poisson)")
+    missing = [k for k in (("young", "poisson") if engineering else ("lame_lambda", "lame_mu"))
+               if getattr(mat, k) is None]
+    if missing:
+        together = "young and poisson" if engineering else "lame_lambda and lame_mu"
+        raise SceneError(f"material.{missing[0]}: missing ({together} go together)")
+
+
+def _check_contact(scene) -> None:
+    c = scene.contact
+    vector(c.direction, "contact.direction", scene.dim)
+    if c.law == "linear" and c.exponent != 1:
+        raise SceneError(f"contact.exponent: must be 1 with contact.law = 'linear' (got {c.exponent!r})")
+    if not largest_slope(c) <= BIG:
+        raise SceneError(f"contact.stiffness: the layer's largest slope L·e·g^(e−1) must be <= {BIG:g} (got L = "
+                         f"{c.stiffness:g}, e = {c.exponent:g}, g = {c.gap:g})")
+
+
+# ---------------------------------------------------------------- foundation motion
+
+
+def _check_motion(scene) -> None:
+    f, c, T, nu = scene.foundation, scene.contact, scene.time.T, scene.contact.direction
+    velocity = vector(f.velocity, "foundation.velocity", scene.dim)
+    if f.center is not None:
+        vector(f.center, "foundation.center", scene.dim)
+    omega = f.angular_velocity
+    if scene.dim == 2 and isinstance(omega, tuple):
+        raise SceneError(f"foundation.angular_velocity: must be a number in 2D (got {list(omega)})")
+    if scene.dim == 3 and omega is not None and (not isinstance(omega, tuple) or len(omega) != 3):
+        raise SceneError(f"foundation.angular_velocity: must be a list of 3 numbers in 3D (got {omega!r})")
+    _check_table(f.speed_table, "foundation.speed_table", T)
+    vn = sum(a * b for a, b in zip(velocity, nu))
+    speed = math.hypot(*velocity)
+    tangential = math.hypot(*(v - vn * n for v, n in zip(velocity, nu)))
+    # a rotation slides Γ_C over the foundation when its axis is not parallel to the contact plane
+    spin = abs(omega or 0.0) if scene.dim == 2 else abs(sum(a * b for a, b in zip(omega or (0, 0, 0), nu)))
+    if c.friction > 0 and tangential <= 1e-12 * speed and spin == 0:
+        raise SceneError("foundation.velocity: must have a non-zero part tangential to contact.direction "
+                         "(or give foundation.angular_velocity about an axis along it) when contact.friction > 0 "
+                         f"(got {list(velocity)})")
+    if c.wear > 0 and speed == 0 and spin == 0:
+        raise SceneError("foundation.velocity: must be non-zero (or give foundation.angular_velocity) when "
+                         f"contact.wear > 0 (got {list(velocity)})")
+    _check_rates(scene)
+
+
+def _check_rates(scene) -> None:
+    """The foundation's largest speed at the part and κ‖v*‖·L_p·T stay below :data:`BIG` (finite, with room)."""
+    f, c = scene.foundation, scene.contact
+    factor = max((abs(s) for _, s in f.speed_table), default=1.0)
+    omega = f.angular_velocity or 0.0
+    spin = math.hypot(*omega) if isinstance(omega, tuple) else abs(omega)
+    translation, rotation = math.hypot(*f.velocity), spin * _reach(scene)
+    slide = factor * (translation + rotation)
+    if not slide <= BIG:
+        name = "foundation.angular_velocity" if rotation > translation else "foundation.velocity"
+        raise SceneError(f"{name}: the foundation's largest speed at the part, {slide:.3g}, must be <= {BIG:g}")
+    rate = c.wear * slide * largest_slope(c) * scene.time.T
+    if not rate <= BIG:
+        raise SceneError(f"contact.wear: κ‖v*‖·L·T = {rate:.3g} must be <= {BIG:g} (the wear of a run this fast "
+                         f"overflows; κ = {c.wear:g})")
+
+
+def _reach(scene) -> float:
+    """A bound of the distance of the part's points from the rotation axis: |c| + the part's reach from the origin."""
+    g = scene.geometry
+    center = math.hypot(*(scene.foundation.center or (0.0,)))
+    offset = math.hypot(*g.position) if g.position is not None else 0.0
+    return center + offset + 2 * g.extent
+
+
+BIG = 1e200
+"""Largest sliding speed, and largest κ‖v*‖·L·T, a scene may give: beyond them products of the run overflow."""
+
+
+def _check_table(table, name: str, T: float) -> None:
+    times = [t for t, _ in table]
+    if any(b < a for a, b in zip(times, times[1:])):
+        raise SceneError(f"{name}: times must be non-decreasing (got {times})")
+    if table and (times[0] > 0 or times[-1] < T):
+        raise SceneError(f"{name}: must cover [0, time.T] = [0, {T}] (got {times[0]} to {times[-1]})")
+
+
+# ---------------------------------------------------------------- loads
+
+
+def _check_loads(scene) -> None:
+    loads, g = scene.loads, scene.geometry
+    boundaries = g.boundaries
+    for bname, vec in loads.traction.items():
+        if bname not in boundaries or bname == "contact" or bname in g.dirichlet:
+            allowed = ", ".join(x for x in boundaries if x != "contact" and x not in g.dirichlet)
+            raise SceneError(f"loads.traction.{bname}: unknown or non-Neumann boundary (allowed: {allowed})")
+        vector(vec, f"loads.traction.{bname}", scene.dim)
+    if loads.body_force is not None:
+        vector(loads.body_force, "loads.body_force", scene.dim)
+    _check_table(loads.time_table, "loads.time_table", scene.time.T)
+    if loads.plate is not None:
+        _check_plate(scene, boundaries)
+
+
+def _check_plate(scene, boundaries: tuple[str, ...]) -> None:
+    plate, g = scene.loads.plate, scene.geometry
+    taken = {"contact", *g.dirichlet, *scene.loads.traction}
+    if plate.boundary not in boundaries or plate.boundary in taken:
+        allowed = ", ".join(b for b in boundaries if b not in taken)
+        raise SceneError(f"loads.plate.boundary: unknown, clamped, loaded or contact boundary {plate.boundary!r} "
+                         f"(allowed: {allowed})")
+    force = vector(plate.force, "loads.plate.force", scene.dim)
+    pressing = sum(f * n for f, n in zip(force, scene.contact.direction))
+    floating = not g.dirichlet
+    if floating and pressing <= 0:
+        raise SceneError(f"loads.plate.force: must press the body onto the foundation (a positive component along "
+                         f"contact.direction) when nothing is clamped (got {list(force)})")
+    if floating and any(f < 0 for _, f in scene.loads.time_table):
+        raise SceneError("loads.time_table: factors must be >= 0 when only the plate holds the body (a pulling "
+                         "plate would lift the body off)")
+
+
+# ---------------------------------------------------------------- time and output
+
+
+def _check_time(scene) -> None:
+    t, o = scene.time, scene.output
+    if not math.isfinite(t.T / t.steps) or t.T / t.steps == 0:
+        raise SceneError(f"time.T: the step T/N = {t.T / t.steps:.3g} is not a usable number (got T = {t.T:g})")
+    if not t.adaptive:
+        given = [k for k in ("min_step", "max_step") if getattr(t, k) is not None]
+        if given:
+            raise SceneError(f"time.{given[0]}: only with time.adaptive = true")
+    elif not 0 < t.min_step <= t.max_step <= t.T:
+        raise SceneError(f"time.max_step: must satisfy 0 < time.min_step <= time.max_step <= time.T = {t.T} "
+                         f"(got {t.min_step!r}, {t.max_step!r})")
+    if o.times is not None:
+        if not o.times or any(b <= a for a, b in zip(o.times, o.times[1:])) or o.times[0] < 0 or o.times[-1] > t.T:
+            raise SceneError(f"output.times: must be increasing times in [0, time.T] = [0, {t.T}] (got {list(o.times)})")
+    elif not 0 < o.every <= t.T:
+        raise SceneError(f"output.every: must be a time in (0, time.T] = (0, {t.T}] (got {o.every!r})")

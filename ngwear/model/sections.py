@@ -1,0 +1,228 @@
+"""The tables of a scene file and their keys, each declared once: type, range, documentation, what it invalidates.
+
+``[geometry]``, ``[mesh]``, ``[material]``, ``[contact]``, ``[foundation]``, ``[loads]`` (with ``plate``),
+``[time]``, ``[wear]``, ``[solver]``, ``[output]``.  Ranges that depend on other keys are rules of
+:mod:`ngwear.model.rules`; the kinds of ``geometry.kind`` come from the registry
+(:mod:`ngwear.model.kinds`).
+"""
+from __future__ import annotations
+
+import math
+from typing import Literal, get_args
+
+from pydantic import Field, field_validator
+
+from . import cad, shapes  # noqa: F401 - they register the part kinds
+from .keys import Flag, Level, Number, SceneError, Section, Table, Vector, Whole, key
+from .kinds import KINDS, ordered
+
+KindName = Literal[tuple(kind.name for kind in ordered())]
+
+
+class Geometry(Section):
+    """Body shape: a built-in kind with its ``size``, or the user's part from ``file`` (see :mod:`ngwear.model.cad`)."""
+
+    kind: KindName = key("strip", "; ".join(k.doc for k in ordered()), reuse=Level.MESH)
+    size: Vector | None = key(None, ", ".join(k.size_doc for k in ordered() if k.size) + "; not for files",
+                              reuse=Level.MESH, allowed="lengths > 0",
+                              shown=" / ".join(str(list(k.size)).replace(".0,", ",").replace(".0]", "]")
+                                               for k in ordered() if k.size))
+    dirichlet: tuple[str, ...] | None = key(None, "clamped boundaries", reuse=Level.SPACE,
+                                            shown="[left]; [top] (`half_disk`); [] (`pad`, `pin`, files)",
+                                            allowed="named boundaries except `contact`")
+    position: Vector | None = key(None, "`pin`: (x, y) of its axis on the disc", reuse=Level.MESH, shown="(1, 0)",
+                                  allowed="2 numbers")
+    end: Literal["flat", "sphere"] | None = key(None, "`pin`: a flat end, or a spherical cap touching the disc at "
+                                                "its lowest point (curved Γ_C, initial distance d₀)",
+                                                reuse=Level.MESH, shown="flat")
+    end_radius: Number | None = key(None, "`pin` with `end = \"sphere\"`: the cap's radius R", reuse=Level.MESH,
+                                    shown="a", allowed="[a, a²/(2·10⁻³ size)]: a cap at least 10⁻³ of the pin deep")
+    file: str | None = key(None, "`step`, `mesh`: the part file (relative to the scene file); its named "
+                           "boundaries, one of them `contact`", reuse=Level.MESH, shown="—", allowed="an existing file")
+
+    @property
+    def part(self) -> cad.Part | None:
+        """The part file's dimension, boundaries and extent (None for the built-in kinds; read before validation)."""
+        return None if self.file is None else cad.describe(self.file, self.kind)
+
+    @property
+    def dim(self) -> int:
+        return KINDS[self.kind].dim or self.part.dim
+
+    @property
+    def boundaries(self) -> tuple[str, ...]:
+        return KINDS[self.kind].boundaries or self.part.boundaries
+
+    @property
+    def extent(self) -> float:
+        """The part's largest dimension (the bound of ``mesh.maxh``)."""
+        return self.part.extent if self.file is not None else KINDS[self.kind].extent(self.size)
+
+
+class MeshSpec(Section):
+    """Netgen mesh size, polynomial order, refinement of Γ_C and grading."""
+
+    maxh: Number | None = key(None, "Netgen's largest element size (not for `geometry.kind = \"mesh\"`)",
+                              reuse=Level.MESH, shown="0.1; a tenth of a file's part", allowed="(0, size of the part]")
+    order: Whole = key(1, "polynomial order", reuse=Level.SPACE, ge=1, le=2, allowed="1, 2")
+    contact_maxh: Number | None = key(None, "mesh size on Γ_C; for `half_disk` on the arc within "
+                                      "`mesh.contact_zone` of its lowest point", reuse=Level.MESH,
+                                      shown="`mesh.maxh`", allowed="(0, maxh]")
+    contact_zone: Number | None = key(None, "`half_disk` only: horizontal half-width of the arc refined to "
+                                      "`mesh.contact_maxh`", reuse=Level.MESH, shown="R/4", allowed="(0, R]")
+    grading: Number | None = key(None, "Netgen's grading: how fast elements grow away from fine edges (0.1 "
+                                 "resolves the field under a Hertz contact)", reuse=Level.MESH, shown="0.3",
+                                 ge=0.1, le=1.0)
+
+
+class Material(Section):
+    """Hooke's law σ = 2η ε + λ tr(ε) I, from Lamé (λ, η) or from Young's modulus E and Poisson ν."""
+
+    lame_lambda: Number | None = key(None, "Lamé λ (Hooke: σ = 2η ε + λ tr ε I)", reuse=Level.STIFFNESS, shown="1",
+                                     ge=0)
+    lame_mu: Number | None = key(None, "Lamé η", reuse=Level.STIFFNESS, shown="1", gt=0)
+    young: Number | None = key(None, "Young's modulus E (instead of Lamé, with `material.poisson`)",
+                               reuse=Level.STIFFNESS, gt=0)
+    poisson: Number | None = key(None, "Poisson's ratio ν", reuse=Level.STIFFNESS, gt=-1, le=0.499)
+
+    @property
+    def lame(self) -> tuple[float, float]:
+        """(λ, η); converts (E, ν) when those are given."""
+        if self.young is not None:
+            e, nu = self.young, self.poisson
+            return e * nu / ((1 + nu) * (1 - 2 * nu)), e / (2 * (1 + nu))
+        return self.lame_lambda, self.lame_mu
+
+
+class Contact(Section):
+    """Normal compliance p, soft-layer thickness g, friction μ, wear κ, contact direction ν (a unit vector)."""
+
+    law: Literal["linear", "power"] = key("linear", "compliance p: `linear` L r₊, `power` L r₊^e", reuse=Level.NOTHING)
+    stiffness: Number = key(10.0, "L", reuse=Level.NOTHING, gt=0)
+    exponent: Number = key(1.0, "e (power law only)", reuse=Level.NOTHING, ge=1, le=10)
+    gap: Number = key(0.2, "g, thickness of the soft layer", reuse=Level.NOTHING, gt=0)
+    friction: Number = key(0.0, "μ", reuse=Level.NOTHING, ge=0)
+    wear: Number = key(0.0, "κ", reuse=Level.NOTHING, ge=0)
+    direction: Vector | None = key(None, "ν, the contact direction (outward normal of a flat Γ_C)",
+                                   reuse=Level.DIRECTION, shown="(0, −1) / (0, 0, −1)", allowed="non-zero vector")
+
+    @field_validator("direction")
+    @classmethod
+    def _unit(cls, direction: Vector | None) -> Vector | None:
+        """ν is stored as a unit vector."""
+        norm = math.sqrt(sum(v * v for v in direction)) if direction else 1.0
+        if norm == 0:
+            raise SceneError(f"contact.direction: must be a non-zero vector (got {list(direction)})")
+        return tuple(v / norm for v in direction) if direction else direction
+
+
+class Foundation(Section):
+    """Foundation velocity v*(x, t) = s(t) (ω × (x − c) + velocity), s piecewise linear through ``speed_table``."""
+
+    velocity: Vector | None = key(None, "v₀, the foundation's translation velocity", reuse=Level.NOTHING,
+                                  shown="(1, 0) / (1, 0, 0)", allowed="d numbers")
+    angular_velocity: Vector | Number | None = key(
+        None, "ω, the counterface's rotation (a disc): v* = s(t)(ω × (x − c) + v₀); a number in 2D",
+        reuse=Level.NOTHING, shown="0", allowed="3 numbers (3D), a number (2D)")
+    center: Vector | None = key(None, "c, a point on the rotation axis", reuse=Level.NOTHING, shown="origin",
+                                allowed="d numbers")
+    speed_table: Table = key((), "v*(x, t) scaled by s(t), piecewise linear through [[t, s], …]", reuse=Level.NOTHING,
+                             shown="[] (s = 1)", allowed="covers [0, T]")
+
+
+class Plate(Section):
+    """A rigid backing plate on a named boundary B, pressed by a force (force control).
+
+    B moves rigidly: δ along ν (one unknown fixed by the force balance), tangentially held at 0;
+    with ``tilt`` also rotating about the two axes ⟂ ν through B's centroid, at zero moment.
+    """
+
+    boundary: str = key(..., "the boundary B the plate is bonded to", reuse=Level.SPACE,
+                        shown="—", allowed="a named boundary, not clamped, not `contact`")
+    force: Vector = key(..., "force on the plate, scaled by `loads.time_table`; its component along ν presses "
+                        "the body on the foundation", reuse=Level.LOADS, shown="—", allowed="d numbers")
+    tilt: Flag = key(False, "let the plate tilt (two rotations ⟂ ν in 3D, one in 2D) at zero moment",
+                     reuse=Level.DIRECTION)
+
+
+class Loads(Section):
+    """Tractions per named boundary, a body force and a plate force, all scaled by the piecewise-linear ``time_table``."""
+
+    traction: dict[str, Vector] = key({}, "f_N on a named boundary (`loads.traction.<boundary>`)", reuse=Level.LOADS,
+                                      shown="none", allowed="non-clamped, non-contact boundaries")
+    body_force: Vector | None = key(None, "f₀", reuse=Level.LOADS, shown="none", allowed="d numbers")
+    time_table: Table = key((), "f(t) = f · s(t), piecewise linear", reuse=Level.NOTHING, shown="[] (s = 1)",
+                            allowed="covers [0, T]")
+    plate: Plate | None = Field(None, description="a rigid plate pressed by a force (force control)")
+
+
+class TimeGrid(Section):
+    """Time steps: uniform, t_j = j T / steps, or chosen by an error controller (``adaptive``)."""
+
+    T: Number = key(1.0, "final time", reuse=Level.NOTHING, gt=0)
+    steps: Whole = key(100, "number of steps N (k = T/N); with `time.adaptive` the first step is T/N",
+                       reuse=Level.NOTHING, ge=1, le=1_000_000)
+    adaptive: Flag = key(False, "choose the steps by an error estimate of the wear (see `time.tolerance`)",
+                         reuse=Level.NOTHING)
+    tolerance: Number = key(1e-3, "`adaptive`: the wear error to meet at T, relative to g", reuse=Level.NOTHING,
+                            gt=0, le=0.5)
+    min_step: Number | None = key(None, "`adaptive`: smallest step", reuse=Level.NOTHING, shown="T·1e-8",
+                                  allowed="(0, max_step]")
+    max_step: Number | None = key(None, "`adaptive`: largest step", reuse=Level.NOTHING, shown="T/10",
+                                  allowed="(0, T]")
+
+
+class WearSpec(Section):
+    """Wear integrator: the paper's ``explicit`` (eq. 15), ``implicit`` (backward Euler), ``trapezoidal``."""
+
+    integrator: Literal["explicit", "implicit", "trapezoidal"] = key(
+        "explicit", "`explicit` (paper eq. 15), `implicit` (backward Euler), `trapezoidal`", reuse=Level.NOTHING)
+
+
+class SolverSpec(Section):
+    """Nonlinear solver: ``condensed`` onto the contact points (fast) or ``full`` system (reference)."""
+
+    method: Literal["condensed", "full"] = key(
+        "condensed", "`condensed` (fast) or `full` (straightforward full-system Newton, reference; explicit wear "
+        "only)", reuse=Level.NOTHING)
+    tolerance: Number = key(1e-10, "Newton stopping rule: relative merit", reuse=Level.NOTHING, ge=1e-15, le=1e-2)
+    max_iterations: Whole = key(50, "Newton iterations per step", reuse=Level.NOTHING, ge=1, le=10_000)
+
+
+class Output(Section):
+    """When full fields are written and rendered (by time, whatever the steps), and checkpoints."""
+
+    every: Number | None = key(None, "time between the frames whose full fields are written and rendered "
+                               "(from t = 0, plus the last step)", reuse=Level.NOTHING, shown="T/4",
+                               allowed="(0, T]")
+    times: tuple[Number, ...] | None = key(None, "the frames' times (then `output.every` is not used)",
+                                           reuse=Level.NOTHING, shown="—", allowed="in [0, T], increasing")
+    checkpoint_seconds: Number = key(60.0, "wall time between checkpoints of a run with an output folder "
+                                     "(0: none)", reuse=Level.NOTHING, ge=0)
+
+
+SECTIONS = {"geometry": Geometry, "mesh": MeshSpec, "material": Material, "contact": Contact,
+            "foundation": Foundation, "loads": Loads, "time": TimeGrid, "wear": WearSpec, "solver": SolverSpec,
+            "output": Output}
+
+
+def nested_table(info) -> type[Section] | None:
+    """The section a field holds (``loads.plate``: :class:`Plate`), or None for a key."""
+    for candidate in (info.annotation, *get_args(info.annotation)):
+        if isinstance(candidate, type) and issubclass(candidate, Section):
+            return candidate
+    return None
+
+
+def declared_keys():
+    """(dotted name, declaration) of every scene key, in file order, the keys of nested tables included."""
+    def walk(model, prefix):
+        for name, info in model.model_fields.items():
+            table = nested_table(info)
+            if table is None:
+                yield f"{prefix}{name}", info
+            else:
+                yield from walk(table, f"{prefix}{name}.")
+
+    for section, model in SECTIONS.items():
+        yield from walk(model, f"{section}.")

@@ -1,0 +1,226 @@
+"""The built-in part kinds: their sizes, rules and OpenCASCADE shapes with named boundaries.
+
+The body is the region ``body``; its contact face/edge is named ``contact``.  All shapes have Γ_C at and
+above x_d = 0, touching it:
+
+* ``strip`` [0,Lx]×[0,Ly]: boundaries left, right, top, contact (y = 0);
+* ``box`` [0,Lx]×[0,Ly]×[0,Lz]: left, right, front, back, top, contact (z = 0);
+* ``half_disk``: the lower half of the disk of radius R centred at (0, R), a section of a half-cylinder
+  (plane strain): ``top`` the flat edge y = R, ``contact`` the arc, which touches y = 0 at its lowest
+  point.  The arc is four OCC edges split at x = ±zone and at x = 0, so the lowest point is always a
+  mesh vertex and the zone (``mesh.contact_zone``) can be refined on its own;
+* ``pad``: the annular sector r_i ≤ r ≤ r_o, |φ| ≤ angle/2, 0 ≤ z ≤ thickness of a disc brake pad on a
+  disc turning about the z axis: contact (z = 0), back (z = thickness), inner, outer, leading
+  (φ = −angle/2, where a point of a disc turning with ω_z > 0 enters) and trailing;
+* ``pin``: a cylinder of radius a about the vertical line through ``geometry.position``, from z = 0 to
+  z = length: contact (the flat end, or a spherical cap of radius R touching z = 0), back, side.
+
+Every feature of a part (a side, the pad's inner arc, the pin's cap) must be at least
+:data:`~ngwear.model.kinds.FEATURE` of its largest dimension: thinner ones cannot be built or meshed.
+``mesh.contact_maxh`` sets the element size on Γ_C.
+"""
+from __future__ import annotations
+
+import math
+
+from netgen.occ import ArcOfCircle, Axis, Box, Face, Pnt, Rectangle, Segment, Wire, X, Y, Z
+
+from .keys import SceneError
+from .kinds import FEATURE, Kind, register
+
+
+def _features(name: str, size, features: dict[str, float], extent: float) -> None:
+    """Refuse a part whose thinnest feature is below FEATURE × its largest dimension."""
+    what, thinnest = min(features.items(), key=lambda item: item[1])
+    if thinnest < FEATURE * extent:
+        raise SceneError(f"{name}: the part's {what} ({thinnest:.3g}) must be at least {FEATURE:g} × its largest "
+                         f"dimension {extent:.3g} (got {list(size)})")
+
+
+def _refine_contact(face, mesh) -> None:
+    if mesh.contact_maxh is not None:
+        face.maxh = mesh.contact_maxh
+
+
+# ---------------------------------------------------------------- strip and box
+
+
+def _check_sides(g) -> None:
+    _features("geometry.size", g.size, {"shortest side": min(g.size)}, max(g.size))
+
+
+def _strip(geometry, mesh):
+    lx, ly = geometry.size
+    body = Rectangle(lx, ly).Face()
+    body.faces.name = "body"
+    body.edges.Min(X).name = "left"
+    body.edges.Max(X).name = "right"
+    body.edges.Max(Y).name = "top"
+    body.edges.Min(Y).name = "contact"
+    _refine_contact(body.edges.Min(Y), mesh)
+    return body
+
+
+def _box(geometry, mesh):
+    lx, ly, lz = geometry.size
+    body = Box(Pnt(0, 0, 0), Pnt(lx, ly, lz))
+    body.solids.name = "body"
+    for name, face in (("left", body.faces.Min(X)), ("right", body.faces.Max(X)),
+                       ("front", body.faces.Min(Y)), ("back", body.faces.Max(Y)),
+                       ("top", body.faces.Max(Z)), ("contact", body.faces.Min(Z))):
+        face.name = name
+    _refine_contact(body.faces.Min(Z), mesh)
+    return body
+
+
+register(Kind("strip", "`strip` [0,Lx]×[0,Ly] (2D)", 2, (3.0, 1.0), "`strip` [Lx, Ly]",
+              ("left", "right", "top", "contact"), ("left",), check=_check_sides, build=_strip))
+register(Kind("box", "`box` [0,Lx]×[0,Ly]×[0,Lz]", 3, (1.0, 0.5, 0.5), "`box` [Lx, Ly, Lz]",
+              ("left", "right", "front", "back", "top", "contact"), ("left",), check=_check_sides, build=_box))
+
+
+# ---------------------------------------------------------------- half disk
+
+
+def _half_disk(geometry, mesh):
+    """Lower half of the disk |x − (0, R)| ≤ R: flat edge ``top`` at y = R, arc ``contact``."""
+    radius = geometry.size[0]
+    zone = mesh.contact_zone if mesh.contact_zone is not None else radius / 4
+    quarter = math.pi / 2
+    theta = min(math.asin(min(zone / radius, 1.0)), quarter)
+
+    def at(phi):  # point of the arc at angle phi from the downward vertical, positive towards +x
+        return Pnt(radius * math.sin(phi), radius * (1 - math.cos(phi)), 0)
+
+    def arc(a, b):
+        return ArcOfCircle(at(a), at((a + b) / 2), at(b))
+
+    zone_arcs = [arc(-theta, 0.0), arc(0.0, theta)]
+    full = theta >= quarter * (1 - 1e-9)
+    arcs = zone_arcs if full else [arc(-quarter, -theta), *zone_arcs, arc(theta, quarter)]
+    body = Face(Wire([*arcs, Segment(at(quarter), at(-quarter))]))
+    body.faces.name = "body"
+    body.edges.name = "contact"
+    body.edges.Max(Y).name = "top"
+    for edge in body.edges:
+        if edge.name == "contact" and abs(edge.center.x) < zone:
+            _refine_contact(edge, mesh)
+    return body
+
+
+register(Kind("half_disk", "`half_disk` the lower half of the disk of radius R centred at (0, R) (2D)", 2, (1.0,),
+              "`half_disk` [R]", ("top", "contact"), ("top",), build=_half_disk,
+              options=("mesh.contact_zone",)))
+
+
+# ---------------------------------------------------------------- brake pad
+
+
+def _pad_extent(size) -> float:
+    return max(size[1], size[3])
+
+
+def _check_pad(g) -> None:
+    inner, outer, angle, thickness = g.size
+    if not (inner < outer and angle < 360):
+        raise SceneError("geometry.size: must be [r_inner, r_outer, angle_deg, thickness] with r_inner < r_outer "
+                         f"and angle_deg < 360 (got {list(g.size)})")
+    _features("geometry.size", g.size, {"radial width": outer - inner, "thickness": thickness,
+                                        "inner arc": inner * math.radians(angle)}, _pad_extent(g.size))
+
+
+def _pad(geometry, mesh):
+    """The annular sector r_i ≤ r ≤ r_o, |φ| ≤ angle/2 in the plane z = 0, extruded to z = thickness."""
+    inner, outer, angle, thickness = geometry.size
+    half = math.radians(angle) / 2
+
+    def at(r, phi):
+        return Pnt(r * math.cos(phi), r * math.sin(phi), 0)
+
+    sector = Wire([Segment(at(inner, -half), at(outer, -half)), ArcOfCircle(at(outer, -half), at(outer, 0), at(outer, half)),
+                   Segment(at(outer, half), at(inner, half)), ArcOfCircle(at(inner, half), at(inner, 0), at(inner, -half))])
+    body = Face(sector).Extrude(thickness)
+    body.solids.name = "body"
+    body.faces.Min(Z).name, body.faces.Max(Z).name = "contact", "back"
+    sides = [f for f in body.faces if f.name not in ("contact", "back")]
+    ends = sorted((f for f in sides if abs(f.center.y) > 1e-9 * outer), key=lambda f: f.center.y)
+    arcs = sorted((f for f in sides if abs(f.center.y) <= 1e-9 * outer), key=lambda f: f.mass)
+    for face, name in zip([*ends, *arcs], ("leading", "trailing", "inner", "outer")):
+        face.name = name
+    _refine_contact(body.faces.Min(Z), mesh)
+    return body
+
+
+register(Kind("pad", "`pad` an annular-sector brake pad r_i ≤ r ≤ r_o, |φ| ≤ angle/2, 0 ≤ z ≤ thickness (faces "
+              "contact z = 0, back, inner, outer, leading φ = −angle/2, trailing)", 3, (0.6, 1.0, 60.0, 0.15),
+              "`pad` [r_inner, r_outer, angle_deg, thickness]",
+              ("contact", "back", "inner", "outer", "leading", "trailing"), check=_check_pad, extent=_pad_extent,
+              build=_pad))
+
+
+# ---------------------------------------------------------------- pin
+
+
+def _cap(radius: float, end_radius: float) -> float:
+    """Height of the spherical cap of radius R over a disc of radius a."""
+    return end_radius - math.sqrt(end_radius ** 2 - radius ** 2)
+
+
+def _pin_defaults(g: dict) -> None:
+    g.setdefault("position", [1.0, 0.0])
+    g.setdefault("end", "flat")
+    if g["end"] == "sphere" and isinstance(g.get("size"), list) and g["size"]:
+        g.setdefault("end_radius", g["size"][0])
+
+
+def _check_pin(g) -> None:
+    radius, length = g.size
+    if g.position is None or len(g.position) != 2:
+        raise SceneError(f"geometry.position: must be a list of 2 numbers (got {list(g.position or ())})")
+    _features("geometry.size", g.size, {"shortest side": min(g.size)}, max(g.size))
+    if g.end != "sphere":
+        if g.end_radius is not None:
+            raise SceneError("geometry.end_radius: only for geometry.end = 'sphere'")
+        return
+    largest = radius ** 2 / (2 * FEATURE * max(g.size)) + FEATURE * max(g.size) / 2   # where the cap is FEATURE thin
+    if not radius <= g.end_radius <= largest:
+        raise SceneError(f"geometry.end_radius: must be in [a, {largest:.4g}] (a = {radius}; a flatter cap cannot be "
+                         f"meshed: use geometry.end = 'flat') (got {g.end_radius})")
+    cap = _cap(radius, g.end_radius)
+    if cap >= length:
+        raise SceneError(f"geometry.size: the pin's length must exceed its cap's height {cap:.4g} (got {list(g.size)})")
+
+
+def _pin(geometry, mesh):
+    """A cylinder of radius a on the disc at ``position``, flat or with a spherical cap of radius R below.
+
+    Its profile in a half-plane through the axis, revolved about the axis (robust, unlike booleans of
+    a sphere and a cylinder): the axis, the back, the side down to the cap's rim, the end to the tip.
+    """
+    radius, length = geometry.size
+    x, y = geometry.position
+
+    def at(r, z):
+        return Pnt(x + r, y, z)
+
+    if geometry.end == "sphere":
+        cap_radius = geometry.end_radius
+        cap = _cap(radius, cap_radius)
+        half = 0.5 * math.asin(radius / cap_radius)
+        end = ArcOfCircle(at(radius, cap), at(cap_radius * math.sin(half), cap_radius * (1 - math.cos(half))),
+                          at(0, 0))
+    else:
+        cap, end = 0.0, Segment(at(radius, 0), at(0, 0))
+    profile = Wire([Segment(at(0, 0), at(0, length)), Segment(at(0, length), at(radius, length)),
+                    Segment(at(radius, length), at(radius, cap)), end])
+    body = Face(profile).Revolve(Axis(Pnt(x, y, 0), Z), 360)
+    body.solids.name = "body"
+    body.faces.name = "side"
+    body.faces.Min(Z).name, body.faces.Max(Z).name = "contact", "back"
+    _refine_contact(body.faces.Min(Z), mesh)
+    return body
+
+
+register(Kind("pin", "`pin` a cylinder of radius a from z = 0 up to z = length (faces contact, back, side)", 3,
+              (0.1, 0.3), "`pin` [a, length]", ("contact", "back", "side"), check=_check_pin,
+              defaults=_pin_defaults, build=_pin, options=("geometry.position", "geometry.end", "geometry.end_radius")))

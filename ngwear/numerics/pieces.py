@@ -1,0 +1,217 @@
+"""The pieces of a scene's discrete problem, each depending on the scene keys of one level and on the pieces before it.
+
+* :class:`Body` (:attr:`~ngwear.model.keys.Level.MESH`, ``SPACE``): the mesh, the finite element space with
+  its clamping, the contact points;
+* :class:`Elastic` (``STIFFNESS``): K and its factorisation (with the Schur complement for the dense
+  contact solve);
+* :class:`Condensation` (``DIRECTION``): ν, the normal evaluation N = ν·P, the initial distance d₀, the rows
+  ν·G of the contact compliance and the rigid plate's modes and coupling;
+* :class:`Loads` (``LOADS``): the load vector f and K⁻¹f at unit time factor.
+
+Their members are built on first use and kept; :class:`~ngwear.numerics.discrete.Discretization` decides
+which pieces a new scene may keep.
+"""
+from __future__ import annotations
+
+from functools import cached_property
+
+import ngsolve as ngs
+import numpy as np
+import scipy.sparse as sp
+
+from ..model.scene import Scene
+from .condense import ElasticOperator
+from .forms import contact_points, displacement_space, elastic_form, initial_distance, load_form
+from .plate import PlateCoupling, plate_modes
+
+
+class Body:
+    """Mesh, displacement space (clamped on the Dirichlet and plate boundaries) and contact points."""
+
+    def __init__(self, scene: Scene, mesh: ngs.Mesh):
+        self.mesh = mesh
+        self.fes = displacement_space(mesh, scene)
+        self.free = np.array(list(self.fes.FreeDofs()), dtype=bool)
+        self.points = contact_points(self.fes, scene.dim, scene.mesh.order)
+
+    @cached_property
+    def contact_dofs(self) -> np.ndarray:
+        """The free DOFs the contact points see (sorted)."""
+        dofs = np.unique(self.points.P.indices)
+        return dofs[self.free[dofs]]
+
+    @cached_property
+    def _in_body(self) -> np.ndarray:
+        return np.array([el.mat == "body" for el in self.mesh.Elements(ngs.VOL)])
+
+    def locate(self, points: np.ndarray, inward: np.ndarray, scale: float):
+        """NGSolve mesh points of reference points in the body (Γ_C points are taken from the body side, −ν)."""
+        points = np.asarray(points, dtype=float)
+        mips = self.mesh(*points.T)
+        outside = (mips["nr"] < 0) | ~self._in_body[np.maximum(mips["nr"], 0)]
+        for nudge in (1e-8, 1e-6, 1e-4):
+            if not outside.any():
+                break
+            again = self.mesh(*(points[outside] + nudge * scale * inward).T)
+            found = (again["nr"] >= 0) & self._in_body[np.maximum(again["nr"], 0)]
+            idx = np.flatnonzero(outside)[found]
+            mips[idx] = again[found]
+            outside[idx] = False
+        if outside.any():
+            raise ValueError(f"points: {points[outside][0].tolist()} is not in the body")
+        return mips
+
+    def gridfunction(self, u: np.ndarray) -> ngs.GridFunction:
+        gf = ngs.GridFunction(self.fes)
+        gf.vec.FV().NumPy()[:] = u
+        return gf
+
+    def set_nodal(self, gf: ngs.GridFunction, values: np.ndarray) -> None:
+        """A scalar GridFunction of the contact form's space with the given values at the contact points."""
+        gf.vec.FV().NumPy()[:] = self.points.Q @ values
+
+
+class Elastic:
+    """The stiffness K of the scene's material on the body, and its factorisation.
+
+    ``schur``: factorise with the Schur complement on the contact DOFs (the dense contact solve).
+    """
+
+    def __init__(self, scene: Scene, body: Body, schur: bool):
+        self.scene, self.body, self.schur = scene, body, schur
+
+    @cached_property
+    def stiffness(self) -> sp.csr_matrix:
+        a = elastic_form(self.body.fes, self.scene)
+        a.Assemble()
+        vals, cols, ptr = a.mat.CSR()
+        n = self.body.fes.ndof
+        return _complete_symmetric(sp.csr_matrix((np.array(vals), np.array(cols), np.array(ptr)), shape=(n, n)))
+
+    @cached_property
+    def operator(self) -> ElasticOperator:
+        """K's factorisation; for the dense contact solve with the Schur complement on the contact DOFs."""
+        return ElasticOperator(self.stiffness, self.body.free, self.body.contact_dofs, schur=self.schur)
+
+
+class Condensation:
+    """What the contact direction ν adds to the factorised body: N, d₀, the rows ν·G and the plate's coupling."""
+
+    def __init__(self, scene: Scene, body: Body, elastic: Elastic):
+        self.scene, self.body, self.elastic = scene, body, elastic
+        self.nu = np.array(scene.contact.direction)
+        points = body.points
+        self.N = sp.csr_matrix(sp.kron(sp.eye(points.n), self.nu[None, :]) @ points.P)
+        self.d0 = initial_distance(points.coords, self.nu)
+
+    @cached_property
+    def normal_rows(self) -> np.ndarray:
+        """R_ijb = ν·G_ij·e_b, shape (n, n, d): the ν rows of the point compliance G = P K⁻¹ Pᵀ.
+
+        Only these enter the contact law, so G (n d × n d) is never formed: R = (P_c S⁻¹ N_cᵀ)ᵀ, one
+        solve with the Schur complement's Cholesky factor for the n columns N_cᵀ (n_c² n flops).
+        """
+        op, P = self.elastic.operator, self.body.points.P
+        columns = op.contact_solve(self.N[:, op.contact_dofs].T.toarray())
+        n, d = self.body.points.n, len(self.nu)
+        return np.ascontiguousarray((P[:, op.contact_dofs] @ columns).T).reshape(n, n, d)
+
+    @cached_property
+    def normal_compliance(self) -> np.ndarray:
+        """H = ν·G·ν."""
+        return self.normal_rows @ self.nu
+
+    def friction_compliance(self, n_star: np.ndarray) -> np.ndarray:
+        """F_ij = ν·G_ij·n*_j: normal displacement at x_i per unit tangential force along n*_j at x_j."""
+        return np.einsum("ijb,jb->ij", self.normal_rows, n_star)
+
+    @cached_property
+    def compliance_estimate(self) -> np.ndarray:
+        """h_i = 1/(ν·K_ii·ν) ≤ H_ii, the point's compliance with its neighbours held (no solve needed)."""
+        stiffness = self.N.multiply(self.N) @ np.where(self.body.free, self.elastic.stiffness.diagonal(), 0.0)
+        return np.divide(1.0, stiffness, out=np.zeros_like(stiffness), where=stiffness > 0)
+
+    @cached_property
+    def plate_modes(self) -> np.ndarray | None:
+        """E: the rigid motions of the plate's boundary (None without a plate); see :mod:`ngwear.numerics.plate`."""
+        plate = self.scene.loads.plate
+        return None if plate is None else plate_modes(self.body.fes, plate.boundary, self.nu, plate.tilt)
+
+    @property
+    def plate_modes_count(self) -> int:
+        """r: 0 without a plate, 1 for a plate that only translates, 2 (2D) or 3 (3D) with tilt."""
+        return 0 if self.plate_modes is None else self.plate_modes.shape[1]
+
+    @cached_property
+    def plate(self) -> PlateCoupling | None:
+        """D, S, Φ, Ψ of the plate (None without a plate): one more back-substitution per mode."""
+        if self.plate_modes is None:
+            return None
+        return PlateCoupling.of(self.plate_modes, self.elastic.stiffness, self.elastic.operator.solve,
+                                self.body.points.P, self.N)
+
+    @cached_property
+    def full_basis(self) -> sp.csc_matrix:
+        """T = [free DOFs | plate modes E]: the full-system path's unknowns are u = T x."""
+        free = self.body.free
+        columns = sp.eye(self.body.fes.ndof, format="csc")[:, np.flatnonzero(free)]
+        return sp.hstack([columns, sp.csc_matrix(self.plate_modes)] if self.plate_modes_count else [columns],
+                         format="csc")
+
+    @cached_property
+    def rigid_translation(self) -> np.ndarray:
+        """The translation u = ν of the whole body in the full-system path's coordinates x (u = T x)."""
+        gf = ngs.GridFunction(self.body.fes)
+        gf.Set(ngs.CF(tuple(self.nu)))
+        free = int(self.body.free.sum())
+        rigid = np.zeros(self.full_basis.shape[1])
+        rigid[:free] = gf.vec.FV().NumPy()[self.body.free]
+        rigid[free] = 1.0
+        return rigid
+
+
+class Loads:
+    """The loads at unit time factor: f, K⁻¹f, its normal part at the points, and their work on the plate."""
+
+    def __init__(self, scene: Scene, body: Body, elastic: Elastic, condensation: Condensation):
+        self.scene, self.body, self.elastic, self.condensation = scene, body, elastic, condensation
+
+    @cached_property
+    def load(self) -> np.ndarray:
+        """Load vector at unit time factor."""
+        f = load_form(self.body.fes, self.scene)
+        f.Assemble()
+        return f.vec.FV().NumPy().copy()
+
+    @cached_property
+    def u_load(self) -> np.ndarray:
+        """K⁻¹ f at unit time factor."""
+        return self.elastic.operator.solve(self.load)
+
+    @cached_property
+    def s_load(self) -> np.ndarray:
+        return self.condensation.N @ self.u_load
+
+    @property
+    def plate_force(self) -> np.ndarray:
+        """F_B = (F·ν, 0, …): the plate force's work on the plate modes at unit time factor (tilts: no moment)."""
+        force = np.zeros(self.condensation.plate_modes_count)
+        if len(force):
+            force[0] = float(np.dot(self.scene.loads.plate.force, self.condensation.nu))
+        return force
+
+    @cached_property
+    def plate_load(self) -> np.ndarray:
+        """f_B + F_B = Dᵀ f + F_B at unit time factor: the loads' and the plate force's work on the modes."""
+        plate = self.condensation.plate
+        return np.zeros(0) if plate is None else plate.response.T @ self.load + self.plate_force
+
+
+def _complete_symmetric(K: sp.csr_matrix) -> sp.csr_matrix:
+    """Both triangles of K, whether NGSolve handed back one triangle or the whole matrix."""
+    upper, lower = sp.triu(K, 1), sp.tril(K, -1)
+    if upper.nnz == 0 and lower.nnz:
+        return (K + lower.T).tocsr()
+    if lower.nnz == 0 and upper.nnz:
+        return (K + upper.T).tocsr()
+    return K
