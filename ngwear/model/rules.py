@@ -180,8 +180,8 @@ def _reach(scene) -> float:
     return center + offset + 2 * g.extent
 
 
-BIG = 1e200
-"""Largest sliding speed, and largest κ‖v*‖·L·T, a scene may give: beyond them products of the run overflow."""
+BIG = 1e150
+"""Largest sliding speed, and largest κ‖v*‖·L·T, a scene may give: their squares and products in a run stay finite."""
 
 
 def _check_table(table, name: str, T: float) -> None:
