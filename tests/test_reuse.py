@@ -13,6 +13,7 @@ from conftest import ROOT
 
 import ngwear
 from ngwear.model.keys import Level, level_of
+from ngwear.model.kinds import KINDS
 from ngwear.model.sections import declared_keys
 from ngwear.numerics.discrete import Discretization
 
@@ -70,6 +71,8 @@ CHANGES = {
     "geometry.end": lambda s: geometry(s, end="flat", end_radius=None) if s.geometry.kind == "pin" else None,
     "geometry.end_radius": lambda s: {"geometry.end_radius": 1.2 * s.geometry.end_radius}
     if s.geometry.end == "sphere" else None,
+    "geometry.backing": lambda s: {"geometry.backing": 0.25 * s.geometry.size[KINDS[s.geometry.kind].thickness]}
+    if KINDS[s.geometry.kind].thickness is not None else None,
     "geometry.file": lambda s: {"geometry.file": str(copy_of(s.geometry.file))} if s.geometry.file else None,
     "mesh.maxh": lambda s: {"mesh.maxh": 0.9 * s.mesh.maxh} if s.mesh.maxh else None,
     "mesh.order": lambda s: {"mesh.order": 2},
@@ -79,6 +82,8 @@ CHANGES = {
     "mesh.grading": lambda s: {"mesh.grading": 0.5} if s.mesh.maxh else None,
     "material.lame_lambda": lambda s: {"material.lame_lambda": 2.0} if s.material.lame_lambda is not None else None,
     "material.lame_mu": lambda s: {"material.lame_mu": 1.5} if s.material.lame_mu is not None else None,
+    "material.regions": lambda s: {"material.regions": {"body": {"lame_mu": 2.0} if s.material.lame_mu else
+                                                         {"young": 2 * s.material.young, "poisson": 0.2}}},
     "material.young": lambda s: {"material.young": 1.5 * s.material.young} if s.material.young else None,
     "material.poisson": lambda s: {"material.poisson": 0.1} if s.material.young else None,
     "contact.law": lambda s: {"contact.law": "power"},

@@ -132,6 +132,9 @@ def _field(loc: tuple, scene_model) -> tuple[str, FieldInfo | None, type[BaseMod
     model, info, used = scene_model, None, []
     for part in names:
         used.append(part)
+        if isinstance(model, _DictOf):         # the name of an entry of a table of tables (a region)
+            model, info = model.value, None
+            continue
         if model is None:                      # an entry of a dict-valued key: declared by the key
             break
         info = model.model_fields.get(part)
@@ -141,11 +144,19 @@ def _field(loc: tuple, scene_model) -> tuple[str, FieldInfo | None, type[BaseMod
         if isinstance(base, type) and issubclass(base, BaseModel):
             model, info = base, None
         elif get_origin(base) is dict:
-            model = None
+            value = get_args(base)[1]
+            model = _DictOf(value) if isinstance(value, type) and issubclass(value, BaseModel) else None
         else:
             break
     owner = model if info is None else None
     return ".".join(used) or "scene", info, owner
+
+
+class _DictOf:
+    """The entries of a table of tables (``material.regions``): each a table of the model ``value``."""
+
+    def __init__(self, value: type[BaseModel]):
+        self.value = value
 
 
 def _what(info: FieldInfo, name: str, data: Any) -> tuple[str, str]:

@@ -11,14 +11,14 @@ import math
 from pathlib import Path
 
 from .keys import SceneError
-from .kinds import KINDS, owners
+from .kinds import KINDS, check_features, owners
 from .laws import largest_slope
 
 
 def check(scene) -> None:
     """Every rule of this module, in the order a reader fixes a scene: geometry first, time last."""
     _check_geometry(scene)
-    _check_material(scene.material)
+    _check_material(scene)
     _check_contact(scene)
     _check_motion(scene)
     _check_loads(scene)
@@ -98,22 +98,41 @@ def _check_size(g, kind) -> None:
         raise SceneError(f"geometry.size: every length must be > 0 (got {list(g.size)})")
     if kind.check is not None:
         kind.check(g)
+    if g.backing is not None:
+        check_features("geometry.backing", g.backing, {"backing": g.backing}, g.extent)
 
 
 # ---------------------------------------------------------------- material and contact
 
 
-def _check_material(mat) -> None:
+def _check_material(scene) -> None:
+    """Each region's material (its table over ``[material]``) is complete and consistent; regions exist."""
+    material, regions = scene.material, scene.geometry.regions
+    for name in material.regions:
+        if name not in regions:
+            raise SceneError(f"material.regions.{name}: unknown region (the part's regions: {', '.join(regions)})")
+    if not material.given:
+        bare = [r for r in regions if r not in material.regions or not material.regions[r].given]
+        if bare:
+            raise SceneError(f"material.regions.{bare[0]}: missing (give its constants, or constants in [material] "
+                             "for every region without a table)")
+    if material.given:
+        _check_constants(material, "material")
+    for name, table in material.by_region(regions).items():
+        _check_constants(table, f"material.regions.{name}" if name in material.regions else "material")
+
+
+def _check_constants(mat, prefix: str) -> None:
     lame = [k for k in ("lame_lambda", "lame_mu") if getattr(mat, k) is not None]
     engineering = [k for k in ("young", "poisson") if getattr(mat, k) is not None]
     if lame and engineering:
-        raise SceneError(f"material.{engineering[0]}: cannot be combined with material.{lame[0]} "
+        raise SceneError(f"{prefix}.{engineering[0]}: cannot be combined with {prefix}.{lame[0]} "
                          "(give either lame_lambda and lame_mu, or young and poisson)")
     missing = [k for k in (("young", "poisson") if engineering else ("lame_lambda", "lame_mu"))
                if getattr(mat, k) is None]
     if missing:
         together = "young and poisson" if engineering else "lame_lambda and lame_mu"
-        raise SceneError(f"material.{missing[0]}: missing ({together} go together)")
+        raise SceneError(f"{prefix}.{missing[0]}: missing ({together} go together)")
 
 
 def _check_contact(scene) -> None:

@@ -186,8 +186,8 @@ def _prepared(data: dict[str, Any]) -> dict[str, Any]:
     _default(data, "contact", "direction", [0.0] * (dim - 1) + [-1.0])
     _default(data, "foundation", "velocity", [1.0] + [0.0] * (dim - 1))
     material = data.get("material", {})
-    if isinstance(material, dict) and not {"young", "poisson"} & set(material):
-        _default(data, "material", "lame_lambda", 1.0)
+    if isinstance(material, dict) and not {"young", "poisson"} & set(material) and not material.get("regions"):
+        _default(data, "material", "lame_lambda", 1.0)         # the paper's dimensionless λ = η = 1
         _default(data, "material", "lame_mu", 1.0)
     time = data.get("time", {}) if isinstance(data.get("time", {}), dict) else {}
     final = time.get("T", 1.0)

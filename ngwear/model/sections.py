@@ -8,7 +8,7 @@
 from __future__ import annotations
 
 import math
-from typing import Literal, get_args
+from typing import Literal, get_args, get_origin
 
 from pydantic import Field, field_validator
 
@@ -39,6 +39,9 @@ class Geometry(Section):
                                     shown="a", allowed="[a, a²/(2·10⁻³ size)]: a cap at least 10⁻³ of the pin deep")
     file: str | None = key(None, "`step`, `mesh`: the part file (relative to the scene file); its named "
                            "boundaries, one of them `contact`", reuse=Level.MESH, shown="—", allowed="an existing file")
+    backing: Number | None = key(None, "`strip`, `box`, `pad`, `pin`: thickness t_b of a second region `backing` "
+                                 "glued onto the face opposite Γ_C (a backing plate); the face between them is "
+                                 "`interface`", reuse=Level.MESH, shown="none", allowed="> 0", gt=0)
 
     @property
     def part(self) -> cad.Part | None:
@@ -55,8 +58,18 @@ class Geometry(Section):
 
     @property
     def extent(self) -> float:
-        """The part's largest dimension (the bound of ``mesh.maxh``)."""
-        return self.part.extent if self.file is not None else KINDS[self.kind].extent(self.size)
+        """The part's largest dimension, its backing included (the bound of ``mesh.maxh``)."""
+        if self.file is not None:
+            return self.part.extent
+        kind, size = KINDS[self.kind], list(self.size)
+        if self.backing is not None:
+            size[kind.thickness] += self.backing
+        return kind.extent(size)
+
+    @property
+    def regions(self) -> tuple[str, ...]:
+        """The names of the part's regions: ``body`` (which carries Γ_C) and ``backing``, or the file's."""
+        return ("body", "backing") if self.backing is not None else ("body",)
 
 
 class MeshSpec(Section):
@@ -75,8 +88,8 @@ class MeshSpec(Section):
                                  ge=0.1, le=1.0)
 
 
-class Material(Section):
-    """Hooke's law σ = 2η ε + λ tr(ε) I, from Lamé (λ, η) or from Young's modulus E and Poisson ν."""
+class MaterialLaw(Section):
+    """One material: Hooke's law σ = 2η ε + λ tr(ε) I, from Lamé (λ, η) or from Young's modulus E and Poisson ν."""
 
     lame_lambda: Number | None = key(None, "Lamé λ (Hooke: σ = 2η ε + λ tr ε I)", reuse=Level.STIFFNESS, shown="1",
                                      ge=0)
@@ -92,6 +105,35 @@ class Material(Section):
             e, nu = self.young, self.poisson
             return e * nu / ((1 + nu) * (1 - 2 * nu)), e / (2 * (1 + nu))
         return self.lame_lambda, self.lame_mu
+
+    @property
+    def given(self) -> bool:
+        """Whether the table gives any elastic constant."""
+        return any(getattr(self, name) is not None for group in PARAMETRISATIONS for name in group)
+
+
+PARAMETRISATIONS = (("lame_lambda", "lame_mu"), ("young", "poisson"))
+"""The ways to give a material's constants; a region's table that uses one drops the default's others."""
+
+
+class Material(MaterialLaw):
+    """``[material]``, the material of every region; ``[material.regions.NAME]`` (the same keys) overrides it."""
+
+    regions: dict[str, MaterialLaw] = key({}, "`material.regions.<region>`: the material of one region (a table of "
+                                          "the keys above), merged over `[material]` (constants given another way "
+                                          "than `[material]`'s replace them)", reuse=Level.STIFFNESS, shown="none",
+                                          allowed="the part's regions (`body`, `backing`, a file's)")
+
+    def by_region(self, names) -> dict[str, MaterialLaw]:
+        """The material of each of the regions ``names``: its own table merged over this default."""
+        default = self.model_dump(exclude_none=True, exclude={"regions"})
+        out = {}
+        for name in names:
+            own = self.regions[name].model_dump(exclude_none=True) if name in self.regions else {}
+            used = [group for group in PARAMETRISATIONS if set(group) & set(own)]
+            dropped = {k for group in PARAMETRISATIONS if used and group not in used for k in group}
+            out[name] = MaterialLaw.model_validate({**{k: v for k, v in default.items() if k not in dropped}, **own})
+        return out
 
 
 class Contact(Section):
@@ -207,7 +249,9 @@ SECTIONS = {"geometry": Geometry, "mesh": MeshSpec, "material": Material, "conta
 
 
 def nested_table(info) -> type[Section] | None:
-    """The section a field holds (``loads.plate``: :class:`Plate`), or None for a key."""
+    """The section a field holds (``loads.plate``: :class:`Plate`), or None for a key (a table of tables too)."""
+    if get_origin(info.annotation) is dict:
+        return None
     for candidate in (info.annotation, *get_args(info.annotation)):
         if isinstance(candidate, type) and issubclass(candidate, Section):
             return candidate

@@ -52,18 +52,19 @@ def contact_ds(dim: int, order: int):
 
 
 def displacement_space(mesh: ngs.Mesh, scene: Scene) -> ngs.FESpace:
-    """Vector H1 of the scene's order on the body, clamped on the Dirichlet boundaries and the plate's."""
+    """Vector H1 of the scene's order on the body (every region), clamped on the Dirichlet boundaries and the plate's."""
     plate = scene.loads.plate
     clamped = (*scene.geometry.dirichlet, *((plate.boundary,) if plate else ()))
-    return ngs.VectorH1(mesh, order=scene.mesh.order, definedon="body", dirichlet="|".join(clamped))
+    return ngs.VectorH1(mesh, order=scene.mesh.order, dirichlet="|".join(clamped))
 
 
 def elastic_integrand(fes: ngs.FESpace, scene: Scene):
-    """σ(ε(u)) : ε(v) dx."""
-    lam, eta = scene.material.lame
+    """Σ_regions ∫ σ_r(ε(u)) : ε(v) dx over each region r with its material's law."""
     u, v = fes.TnT()
-    strain = ngs.Sym(ngs.Grad(u))
-    return ngs.InnerProduct(hooke_stress(strain, lam, eta, scene.dim), ngs.Sym(ngs.Grad(v))) * ngs.dx("body")
+    strain, test = ngs.Sym(ngs.Grad(u)), ngs.Sym(ngs.Grad(v))
+    terms = [ngs.InnerProduct(hooke_stress(strain, *material.lame, scene.dim), test) * ngs.dx(region)
+             for region, material in scene.material.by_region(scene.geometry.regions).items()]
+    return sum(terms[1:], terms[0])
 
 
 def elastic_form(fes: ngs.FESpace, scene: Scene) -> ngs.BilinearForm:
@@ -76,7 +77,7 @@ def load_form(fes: ngs.FESpace, scene: Scene) -> ngs.LinearForm:
     v = fes.TestFunction()
     f = ngs.LinearForm(fes)
     if scene.loads.body_force is not None:
-        f += ngs.InnerProduct(ngs.CF(scene.loads.body_force), v) * ngs.dx("body")
+        f += ngs.InnerProduct(ngs.CF(scene.loads.body_force), v) * ngs.dx
     for name, vec in scene.loads.traction.items():
         f += ngs.InnerProduct(ngs.CF(vec), v) * ngs.ds(name)
     return f
@@ -96,7 +97,7 @@ class ContactForm:
 def contact_form(fes: ngs.FESpace, scene: Scene, law: Compliance, with_elastic: bool) -> ContactForm:
     """The nonlinear boundary integrator (residual by ``Apply``, Jacobian by ``AssembleLinearization``)."""
     dim, order = scene.dim, scene.mesh.order
-    scal = ngs.H1(fes.mesh, order=order, definedon="body")
+    scal = ngs.H1(fes.mesh, order=order)
     w, d0 = ngs.GridFunction(scal), ngs.GridFunction(scal)
     friction = ngs.Parameter(scene.contact.friction)
     n_star = [ngs.GridFunction(scal) for _ in range(dim)]
@@ -249,7 +250,7 @@ def _bubble_scale(mesh: ngs.Mesh, dim: int, edge_ends: dict) -> dict:
 
     From f = |x|²: f(mid) − (f(a)+f(b))/2 = −|b−a|²/4 = β_e c_e, with c_e the interpolant's edge DOF.
     """
-    scal = ngs.H1(mesh, order=2, definedon="body")
+    scal = ngs.H1(mesh, order=2)
     gf = ngs.GridFunction(scal)
     gf.Set(sum(c * c for c in (ngs.x, ngs.y, ngs.z)[:dim]))
     coef = gf.vec.FV().NumPy()

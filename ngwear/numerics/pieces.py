@@ -40,20 +40,16 @@ class Body:
         dofs = np.unique(self.points.P.indices)
         return dofs[self.free[dofs]]
 
-    @cached_property
-    def _in_body(self) -> np.ndarray:
-        return np.array([el.mat == "body" for el in self.mesh.Elements(ngs.VOL)])
-
     def locate(self, points: np.ndarray, inward: np.ndarray, scale: float):
         """NGSolve mesh points of reference points in the body (Γ_C points are taken from the body side, −ν)."""
         points = np.asarray(points, dtype=float)
         mips = self.mesh(*points.T)
-        outside = (mips["nr"] < 0) | ~self._in_body[np.maximum(mips["nr"], 0)]
+        outside = mips["nr"] < 0
         for nudge in (1e-8, 1e-6, 1e-4):
             if not outside.any():
                 break
             again = self.mesh(*(points[outside] + nudge * scale * inward).T)
-            found = (again["nr"] >= 0) & self._in_body[np.maximum(again["nr"], 0)]
+            found = again["nr"] >= 0
             idx = np.flatnonzero(outside)[found]
             mips[idx] = again[found]
             outside[idx] = False
