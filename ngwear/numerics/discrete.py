@@ -215,15 +215,17 @@ class Discretization:
 
 
 def layer_ratio(scene: Scene, body: Body) -> float:
-    """ρ = p'(g) t / E: the layer's stiffness against the body's (t its extent along ν, E Young's modulus).
+    """ρ = p'(g) t / E: the layer's stiffness against the body's (t: the body's extent along ν, E: along ν).
+
+    E is the smallest Young's modulus of the regions that carry Γ_C.
 
     The Newton matrix of the contact problem is I + A diag(m p') on the points in contact, and the
     largest eigenvalue of A diag(m p') is of the order of ρ: for ρ < 1 a Krylov solve converges in a few
     products (from scratch: the brake pad, ρ = 0.12, about 11 per step; box3d, ρ = 2, about 35; with the
     products remembered across the run, ``numerics/recycle.py``: 0.5 and 22 per step).
     """
-    lam, eta = scene.material.lame
-    young = eta * (3 * lam + 2 * eta) / (lam + eta)
+    materials = scene.material.by_region(body.contact_regions)
+    young = min(eta * (3 * lam + 2 * eta) / (lam + eta) for lam, eta in (m.lame for m in materials.values()))
     heights = body.mesh.ngmesh.Coordinates() @ np.array(scene.contact.direction)
     return largest_slope(scene.contact) * np.ptp(heights) / young
 

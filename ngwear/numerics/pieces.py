@@ -35,6 +35,12 @@ class Body:
         self.points = contact_points(self.fes, scene.dim, scene.mesh.order)
 
     @cached_property
+    def contact_regions(self) -> tuple[str, ...]:
+        """The regions (materials) whose elements carry Γ_C."""
+        touching = self.mesh.Boundaries("contact").Neighbours(ngs.VOL).Mask()
+        return tuple(name for i, name in enumerate(self.mesh.GetMaterials()) if touching[i])
+
+    @cached_property
     def contact_dofs(self) -> np.ndarray:
         """The free DOFs the contact points see (sorted)."""
         dofs = np.unique(self.points.P.indices)
