@@ -41,6 +41,16 @@ class Compliance:
         return self.stiffness * ngs.IfPos(r, r ** self.exponent, 0)   # pow inside: its derivative at 0 is 0, not NaN
 
 
+    def energy_cf(self, r: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
+        """Its primitive P(r) = ∫₀^r p = stiffness · r₊^(exponent+1) / (exponent + 1), so P' = :meth:`cf`.
+
+        For the linear law P'' = L at r = 0 too (the r ≥ 0 branch is taken there, as in :meth:`derivative`).
+        """
+        if self.exponent == 1.0:
+            return 0.5 * self.stiffness * ngs.IfPos(-r, 0, r * r)
+        return self.stiffness / (self.exponent + 1) * ngs.IfPos(r, r ** (self.exponent + 1), 0)
+
+
 def compliance_from(contact) -> Compliance:
     """The compliance law a scene's ``[contact]`` table describes."""
     return Compliance(contact.stiffness, contact.exponent if contact.law == "power" else 1.0)
