@@ -31,7 +31,7 @@ def state_away_from_kink(disc, rng):
 def test_taylor_jacobian_matches_residual(disc, friction):
     """‖R(u + εδ) − R(u) − ε J δ‖ = O(ε²): the remainder drops by ~4 when ε halves."""
     rng = np.random.default_rng(1)
-    cf = contact_form(disc.fes, disc.scene.replace(**{"contact.friction": friction}), disc.law, with_elastic=True)
+    cf = contact_form(disc.fes, disc.scene.replace(**{"contact.friction": friction}), disc.law, disc.elastic.laws)
     u, w = state_away_from_kink(disc, rng)
     disc.set_nodal(cf.w, w)
     for gf, component in zip(cf.n_star, disc.n_star(0.0).T):
@@ -56,7 +56,7 @@ def test_taylor_jacobian_matches_residual(disc, friction):
 def test_contact_form_is_nodal(disc):
     """Apply of the contact form alone equals Pᵀ f_c with f_i = m_i p_i (ν + μ n*)."""
     rng = np.random.default_rng(2)
-    cf = contact_form(disc.fes, disc.scene, disc.law, with_elastic=False)
+    cf = contact_form(disc.fes, disc.scene, disc.law, None)
     u, w = state_away_from_kink(disc, rng)
     disc.set_nodal(cf.w, w)
     for gf, component in zip(cf.n_star, disc.n_star(0.0).T):

@@ -63,3 +63,30 @@ def test_bad_regions_are_one_line_naming_the_key(paper_scene, changes, field, fr
         paper_scene.replace(**changes)
     message = str(info.value)
     assert message.startswith(f"{field}:") and fragment in message and "\n" not in message
+
+
+@pytest.mark.parametrize("axis, modulus", [([0.0, 0.0, -1.0], "young_axis"), ([1.0, 0.0, 0.0], "young_plane"),
+                                           ([0.0, 1.0, 0.0], "young_plane"), (None, "young_axis")])
+def test_transversely_isotropic_column_recovers_its_moduli(axis, modulus):
+    """A transversely isotropic column with ν_p = ν_ap = 0 is strained by σ/E along z: δ = σ (h/E + 1/L), exact.
+
+    E = E_a when the axis is z (given, or the default: ν), E_p when the axis lies in the plane.
+    """
+    constants = {"law": "transversely_isotropic", "young_plane": 3e3, "young_axis": 1e3, "poisson_plane": 0.0,
+                 "poisson_axis": 0.0, "shear_axis": 500.0, **({"axis": axis} if axis else {})}
+    result = ngwear.simulate(ngwear.Scene.from_dict({**COLUMN, "material": constants}), progress=False)
+    expected = 200.0 * (0.3 / constants[modulus] + 1 / 5e3)
+    assert result.plate_displacement[-1, 0] == pytest.approx(expected, rel=1e-10)
+
+
+def test_transversely_isotropic_pad_is_softer_through_its_thickness():
+    """A pad twice as stiff in-plane as through its thickness sinks between the isotropic pads of E_a and E_p."""
+    pad = ngwear.load_scene(ROOT / "geometries" / "brake_pad.toml").replace(**{
+        "mesh.maxh": 0.02, "time.steps": 1, "time.T": 1.0, "output.every": 1.0, "contact.wear": 0.0})
+    sink = {}
+    for name, material in (("soft", {"young": 1e9, "poisson": 0.25}), ("stiff", {"young": 2e9, "poisson": 0.25}),
+                           ("ti", {"law": "transversely_isotropic", "young_plane": 2e9, "young_axis": 1e9,
+                                   "poisson_plane": 0.25, "poisson_axis": 0.25, "shear_axis": 0.4e9})):
+        result = ngwear.simulate(pad.replace(**{"material": material}), progress=False)
+        sink[name] = result.plate_displacement[-1, 0] - 3000 / (result.weights.sum() * 1e10)   # minus the layer's
+    assert sink["stiff"] < sink["ti"] < sink["soft"]

@@ -28,7 +28,7 @@ from functools import reduce
 
 import numpy as np
 
-from .scene import SceneError
+from .keys import SceneError
 
 MAX_LENGTH = 1000
 """Longest expression text accepted (characters)."""

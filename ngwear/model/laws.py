@@ -65,11 +65,6 @@ def largest_slope(contact) -> float:
         return math.inf
 
 
-def hooke_stress(strain: ngs.CoefficientFunction, lam: float, eta: float, dim: int):
-    """σ = 2η ε + λ tr(ε) I."""
-    return 2 * eta * strain + lam * ngs.Trace(strain) * ngs.Id(dim)
-
-
 def piecewise_linear(table, t: float) -> float:
     """Value at t of the piecewise-linear function through ``[(t, f), ...]`` (1 for an empty table)."""
     if not table:

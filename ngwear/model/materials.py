@@ -30,7 +30,7 @@ import ngsolve as ngs
 import numpy as np
 
 from . import mandel
-from .scene import SceneError
+from .keys import SceneError
 
 log = logging.getLogger(__name__)
 
@@ -387,3 +387,62 @@ def _reference_mesh(dim: int) -> ngs.Mesh:
     else:
         mesh.Add(Element3D(1, nodes))
     return ngs.Mesh(mesh)
+
+
+LAW_KEYS = {
+    # law: (the ways to give its constants (one of them, whole), keys it may also take)
+    "linear": ((("lame_lambda", "lame_mu"), ("young", "poisson")), ()),
+    "transversely_isotropic": ((("young_plane", "young_axis", "poisson_plane", "poisson_axis", "shear_axis"),),
+                               ("axis",)),
+    "compaction": ((("lame_lambda", "lame_mu", "compaction_modulus"), ("young", "poisson", "compaction_modulus")),
+                   ()),
+    "energy": ((("energy",),), ()),
+}
+"""What each ``material.law`` needs; any other constant is refused."""
+
+
+def check_table(table, key: str) -> None:
+    """Refuse a material table whose constants do not fit its law: one line naming the key (``key.young``)."""
+    law = table.kind
+    ways, optional = LAW_KEYS[law]
+    given = {name for name in type(table).model_fields if name not in ("law",) and getattr(table, name) is not None}
+    allowed = {k for way in ways for k in way} | set(optional)
+    choices = "either " + ", or ".join(_listing(way) for way in ways) if len(ways) > 1 else _listing(ways[0])
+    stray = sorted(given - allowed)
+    if stray:
+        raise SceneError(f"{key}.{stray[0]}: not a constant of material.law = {law!r} (give {choices})")
+    used = [way for way in ways if set(way) & given]
+    if len(used) > 1:
+        first, second = (next(k for k in way if k in given) for way in used[:2])
+        raise SceneError(f"{key}.{second}: cannot be combined with {key}.{first} (give {choices})")
+    way = used[0] if used else ways[0]
+    missing = [name for name in way if name not in given]
+    if missing:
+        raise SceneError(f"{key}.{missing[0]}: missing ({_listing(way)} go together)")
+
+
+def _listing(names) -> str:
+    """``a``, ``a and b``, ``a, b and c``."""
+    return " and ".join([", ".join(names[:-1]), names[-1]] if len(names) > 1 else names)
+
+
+def law_of(table, dim: int, direction, key: str = "material"):
+    """The law of a checked material table (``direction``: the default axis of a transversely isotropic one)."""
+    law = table.kind
+    if law == "linear":
+        return Isotropic(*table.lame, dim, key=key)
+    if law == "compaction":
+        return Compaction(*table.lame, table.compaction_modulus, dim, key=key)
+    if law == "transversely_isotropic":
+        return TransverselyIsotropic(table.young_plane, table.young_axis, table.poisson_plane, table.poisson_axis,
+                                     table.shear_axis, tuple(table.axis or direction), key=key)
+    from .functions import resolve
+    return Energy(resolve(table.energy, f"{key}.energy"), dim, key=key)
+
+
+def region_laws(scene) -> dict:
+    """{region: law} of a scene: each region's table over ``[material]``, the axis defaulting to ν."""
+    material, direction = scene.material, scene.contact.direction
+    return {name: law_of(table, scene.dim, direction, f"material.regions.{name}" if name in material.regions
+                         else "material")
+            for name, table in material.by_region(scene.geometry.regions).items()}

@@ -13,6 +13,7 @@ from pathlib import Path
 from .keys import SceneError
 from .kinds import KINDS, check_features, owners
 from .laws import largest_slope
+from .materials import check_table, law_of
 
 
 def check(scene) -> None:
@@ -106,7 +107,7 @@ def _check_size(g, kind) -> None:
 
 
 def _check_material(scene) -> None:
-    """Each region's material (its table over ``[material]``) is complete and consistent; regions exist."""
+    """Each region's material (its table over ``[material]``) fits its law and is positive definite; regions exist."""
     material, regions = scene.material, scene.geometry.regions
     for name in material.regions:
         if name not in regions:
@@ -116,23 +117,15 @@ def _check_material(scene) -> None:
         if bare:
             raise SceneError(f"material.regions.{bare[0]}: missing (give its constants, or constants in [material] "
                              "for every region without a table)")
-    if material.given:
-        _check_constants(material, "material")
-    for name, table in material.by_region(regions).items():
-        _check_constants(table, f"material.regions.{name}" if name in material.regions else "material")
-
-
-def _check_constants(mat, prefix: str) -> None:
-    lame = [k for k in ("lame_lambda", "lame_mu") if getattr(mat, k) is not None]
-    engineering = [k for k in ("young", "poisson") if getattr(mat, k) is not None]
-    if lame and engineering:
-        raise SceneError(f"{prefix}.{engineering[0]}: cannot be combined with {prefix}.{lame[0]} "
-                         "(give either lame_lambda and lame_mu, or young and poisson)")
-    missing = [k for k in (("young", "poisson") if engineering else ("lame_lambda", "lame_mu"))
-               if getattr(mat, k) is None]
-    if missing:
-        together = "young and poisson" if engineering else "lame_lambda and lame_mu"
-        raise SceneError(f"{prefix}.{missing[0]}: missing ({together} go together)")
+    tables = ({"material": material} if material.given else {}) | {
+        f"material.regions.{name}" if name in material.regions else "material": table
+        for name, table in material.by_region(regions).items()}
+    for key, table in tables.items():
+        check_table(table, key)
+        if table.kind != "energy":
+            law_of(table, scene.dim, scene.contact.direction or (0.0,) * (scene.dim - 1) + (-1.0,), key)
+        if table.axis is not None:
+            vector(table.axis, f"{key}.axis", scene.dim)
 
 
 def _check_contact(scene) -> None:

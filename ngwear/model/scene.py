@@ -23,6 +23,7 @@ from . import cad, messages, rules
 from .keys import Level, SceneError, Section, key, level_of
 from .kinds import KINDS
 from .sections import (
+    PARAMETRISATIONS,
     Contact,
     Foundation,
     Geometry,
@@ -186,7 +187,8 @@ def _prepared(data: dict[str, Any]) -> dict[str, Any]:
     _default(data, "contact", "direction", [0.0] * (dim - 1) + [-1.0])
     _default(data, "foundation", "velocity", [1.0] + [0.0] * (dim - 1))
     material = data.get("material", {})
-    if isinstance(material, dict) and not {"young", "poisson"} & set(material) and not material.get("regions"):
+    others = {k for group in PARAMETRISATIONS for k in group} - {"lame_lambda", "lame_mu", "compaction_modulus"}
+    if isinstance(material, dict) and not others & set(material) and not material.get("regions"):
         _default(data, "material", "lame_lambda", 1.0)         # the paper's dimensionless λ = η = 1
         _default(data, "material", "lame_mu", 1.0)
     time = data.get("time", {}) if isinstance(data.get("time", {}), dict) else {}

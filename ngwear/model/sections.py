@@ -89,18 +89,44 @@ class MeshSpec(Section):
 
 
 class MaterialLaw(Section):
-    """One material: Hooke's law σ = 2η ε + λ tr(ε) I, from Lamé (λ, η) or from Young's modulus E and Poisson ν."""
+    """One material: its ``law`` and constants (σ = F(ε), paper H(F)); see :mod:`ngwear.model.materials`."""
 
+    law: Literal["linear", "transversely_isotropic", "compaction", "energy"] | None = key(
+        None, "`linear` Hooke σ = 2η ε + λ tr ε I; `transversely_isotropic` (the `*_plane`, `*_axis` keys); "
+        "`compaction` Hooke stiffened in compression, σ += β min(tr ε, 0) I; `energy` σ = ∂ψ/∂ε of a Python "
+        "function ψ(ε) (`material.energy`)", reuse=Level.STIFFNESS, shown="linear")
     lame_lambda: Number | None = key(None, "Lamé λ (Hooke: σ = 2η ε + λ tr ε I)", reuse=Level.STIFFNESS, shown="1",
                                      ge=0)
     lame_mu: Number | None = key(None, "Lamé η", reuse=Level.STIFFNESS, shown="1", gt=0)
     young: Number | None = key(None, "Young's modulus E (instead of Lamé, with `material.poisson`)",
                                reuse=Level.STIFFNESS, gt=0)
     poisson: Number | None = key(None, "Poisson's ratio ν", reuse=Level.STIFFNESS, gt=-1, le=0.499)
+    young_plane: Number | None = key(None, "`transversely_isotropic`: E_p, Young's modulus in the plane ⟂ axis",
+                                     reuse=Level.STIFFNESS, gt=0)
+    young_axis: Number | None = key(None, "`transversely_isotropic`: E_a, Young's modulus along the axis",
+                                    reuse=Level.STIFFNESS, gt=0)
+    poisson_plane: Number | None = key(None, "`transversely_isotropic`: ν_p, of a strain in the plane under stress "
+                                       "in the plane", reuse=Level.STIFFNESS, allowed="|ν_p| < 1")
+    poisson_axis: Number | None = key(None, "`transversely_isotropic`: ν_ap, of a strain in the plane under stress "
+                                      "along the axis", reuse=Level.STIFFNESS,
+                                      allowed="ν_ap² < (1 − ν_p) E_a / (2 E_p)")
+    shear_axis: Number | None = key(None, "`transversely_isotropic`: G_a, the shear modulus of planes containing "
+                                    "the axis", reuse=Level.STIFFNESS, gt=0)
+    axis: Vector | None = key(None, "`transversely_isotropic`: the symmetry axis", reuse=Level.STIFFNESS,
+                              shown="`contact.direction`", allowed="non-zero vector of d numbers")
+    compaction_modulus: Number | None = key(None, "`compaction`: β, the extra bulk stiffness in compression "
+                                            "(σ = 2η ε + λ tr ε I + β min(tr ε, 0) I)", reuse=Level.STIFFNESS, ge=0)
+    energy: str | None = key(None, "`energy` (Python only): a function ψ(ε) of the strain tensor returning an "
+                             "NGSolve expression", reuse=Level.STIFFNESS, shown="—", allowed="a Python function")
+
+    @property
+    def kind(self) -> str:
+        """The law (``linear`` when none is given)."""
+        return self.law or "linear"
 
     @property
     def lame(self) -> tuple[float, float]:
-        """(λ, η); converts (E, ν) when those are given."""
+        """(λ, η) of the isotropic constants; converts (E, ν) when those are given."""
         if self.young is not None:
             e, nu = self.young, self.poisson
             return e * nu / ((1 + nu) * (1 - 2 * nu)), e / (2 * (1 + nu))
@@ -108,31 +134,37 @@ class MaterialLaw(Section):
 
     @property
     def given(self) -> bool:
-        """Whether the table gives any elastic constant."""
+        """Whether the table gives any constant (or ψ)."""
         return any(getattr(self, name) is not None for group in PARAMETRISATIONS for name in group)
 
 
-PARAMETRISATIONS = (("lame_lambda", "lame_mu"), ("young", "poisson"))
-"""The ways to give a material's constants; a region's table that uses one drops the default's others."""
+PARAMETRISATIONS = (("lame_lambda", "lame_mu"), ("young", "poisson"),
+                    ("young_plane", "young_axis", "poisson_plane", "poisson_axis", "shear_axis", "axis"),
+                    ("compaction_modulus",), ("energy",))
+"""The ways to give a material's constants.  A region's table that gives constants of other ways than
+``[material]`` (or another ``law``) replaces ``[material]``'s constants and law."""
+_CONSTANT_KEYS = {k for group in PARAMETRISATIONS for k in group}
 
 
 class Material(MaterialLaw):
     """``[material]``, the material of every region; ``[material.regions.NAME]`` (the same keys) overrides it."""
 
     regions: dict[str, MaterialLaw] = key({}, "`material.regions.<region>`: the material of one region (a table of "
-                                          "the keys above), merged over `[material]` (constants given another way "
-                                          "than `[material]`'s replace them)", reuse=Level.STIFFNESS, shown="none",
+                                          "the keys above), merged over `[material]`; another law, or constants "
+                                          "given another way, replace `[material]`'s", reuse=Level.STIFFNESS,
+                                          shown="none",
                                           allowed="the part's regions (`body`, `backing`, a file's)")
 
     def by_region(self, names) -> dict[str, MaterialLaw]:
         """The material of each of the regions ``names``: its own table merged over this default."""
         default = self.model_dump(exclude_none=True, exclude={"regions"})
+        mine = {k for group in PARAMETRISATIONS if set(group) & set(default) for k in group}
         out = {}
         for name in names:
             own = self.regions[name].model_dump(exclude_none=True) if name in self.regions else {}
-            used = [group for group in PARAMETRISATIONS if set(group) & set(own)]
-            dropped = {k for group in PARAMETRISATIONS if used and group not in used for k in group}
-            out[name] = MaterialLaw.model_validate({**{k: v for k, v in default.items() if k not in dropped}, **own})
+            alien = {k for k in own if k in _CONSTANT_KEYS and k not in mine}
+            replaced = own.get("law", default.get("law")) != default.get("law") or alien
+            out[name] = MaterialLaw.model_validate(own if replaced else {**default, **own})
         return out
 
 

@@ -209,7 +209,7 @@ class Discretization:
     @cached_property
     def full_form(self):
         """Elastic + contact terms as one NGSolve form (for the full-system reference path)."""
-        cf = contact_form(self.fes, self.scene, self.law, with_elastic=True)
+        cf = contact_form(self.fes, self.scene, self.law, self.elastic.laws)
         cf.d0.vec.FV().NumPy()[:] = self.points.Q @ self.condensation.d0
         return cf
 

@@ -21,7 +21,7 @@ import numpy as np
 import scipy.sparse as sp
 from ngsolve.fem import NODE_TYPE
 
-from ..model.laws import Compliance, hooke_stress
+from ..model.laws import Compliance
 from ..model.scene import Scene
 
 NODAL_WEIGHTS = {
@@ -58,18 +58,17 @@ def displacement_space(mesh: ngs.Mesh, scene: Scene) -> ngs.FESpace:
     return ngs.VectorH1(mesh, order=scene.mesh.order, dirichlet="|".join(clamped))
 
 
-def elastic_integrand(fes: ngs.FESpace, scene: Scene):
-    """Σ_regions ∫ σ_r(ε(u)) : ε(v) dx over each region r with its material's law."""
+def elastic_integrand(fes: ngs.FESpace, laws: dict):
+    """Σ_r ∫_r σ_r(ε(u)) : ε(v) dx over the regions r with their laws ``{region: law}`` (nonlinear in u for some)."""
     u, v = fes.TnT()
-    strain, test = ngs.Sym(ngs.Grad(u)), ngs.Sym(ngs.Grad(v))
-    terms = [ngs.InnerProduct(hooke_stress(strain, *material.lame, scene.dim), test) * ngs.dx(region)
-             for region, material in scene.material.by_region(scene.geometry.regions).items()]
+    terms = [law.elastic_integrand(u, v) * ngs.dx(region) for region, law in laws.items()]
     return sum(terms[1:], terms[0])
 
 
-def elastic_form(fes: ngs.FESpace, scene: Scene) -> ngs.BilinearForm:
-    """a(u, v) = ∫ σ(ε(u)) : ε(v) dx (symmetric, constant in time)."""
-    return ngs.BilinearForm(elastic_integrand(fes, scene), symmetric=True)
+def elastic_form(fes: ngs.FESpace, laws: dict) -> ngs.BilinearForm:
+    """a(u, v) = Σ_r ∫_r D_r(0) ε(u) : ε(v) dx: the stiffness K₀, the laws' tangents at ε = 0 (symmetric, constant)."""
+    return ngs.BilinearForm(elastic_integrand(fes, {r: law.tangent_at_zero() for r, law in laws.items()}),
+                            symmetric=True)
 
 
 def load_form(fes: ngs.FESpace, scene: Scene) -> ngs.LinearForm:
@@ -94,8 +93,11 @@ class ContactForm:
     n_star: list
 
 
-def contact_form(fes: ngs.FESpace, scene: Scene, law: Compliance, with_elastic: bool) -> ContactForm:
-    """The nonlinear boundary integrator (residual by ``Apply``, Jacobian by ``AssembleLinearization``)."""
+def contact_form(fes: ngs.FESpace, scene: Scene, law: Compliance, laws: dict | None) -> ContactForm:
+    """The nonlinear boundary integrator (residual by ``Apply``, Jacobian by ``AssembleLinearization``).
+
+    With ``laws`` ({region: law}) the elastic terms too: the whole residual of the full-system path.
+    """
     dim, order = scene.dim, scene.mesh.order
     scal = ngs.H1(fes.mesh, order=order)
     w, d0 = ngs.GridFunction(scal), ngs.GridFunction(scal)
@@ -104,8 +106,8 @@ def contact_form(fes: ngs.FESpace, scene: Scene, law: Compliance, with_elastic: 
     nu = ngs.CF(scene.contact.direction)
     u, v = fes.TnT()
     form = ngs.BilinearForm(fes)
-    if with_elastic:
-        form += elastic_integrand(fes, scene)
+    if laws is not None:
+        form += elastic_integrand(fes, laws)
     compression = ngs.InnerProduct(u, nu) - d0 - w
     direction = nu + friction * ngs.CF(tuple(n_star))
     form += law.cf(compression) * ngs.InnerProduct(direction, v) * contact_ds(dim, order)

@@ -19,6 +19,7 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
+from ..model.materials import region_laws
 from ..model.scene import Scene
 from .condense import ElasticOperator
 from .forms import contact_points, displacement_space, elastic_form, initial_distance, load_form
@@ -74,17 +75,24 @@ class Body:
 
 
 class Elastic:
-    """The stiffness K of the scene's material on the body, and its factorisation.
+    """The laws of the body's regions, the stiffness K₀ (their tangents at ε = 0) and its factorisation.
 
-    ``schur``: factorise with the Schur complement on the contact DOFs (the dense contact solve).
+    ``schur``: factorise with the Schur complement on the contact DOFs (the dense contact solve).  For linear
+    laws K₀ is the stiffness; for nonlinear ones the fixed operator of the step solver.
     """
 
     def __init__(self, scene: Scene, body: Body, schur: bool):
         self.scene, self.body, self.schur = scene, body, schur
+        self.laws = region_laws(scene)
+
+    @property
+    def linear(self) -> bool:
+        """Whether every region's law is linear (then K₀ is the stiffness and a step is one contact solve)."""
+        return all(law.is_linear for law in self.laws.values())
 
     @cached_property
     def stiffness(self) -> sp.csr_matrix:
-        a = elastic_form(self.body.fes, self.scene)
+        a = elastic_form(self.body.fes, self.laws)
         a.Assemble()
         vals, cols, ptr = a.mat.CSR()
         n = self.body.fes.ndof
