@@ -34,7 +34,8 @@ def test_taylor_jacobian_matches_residual(disc, friction):
     cf = contact_form(disc.fes, disc.scene.replace(**{"contact.friction": friction}), disc.law, disc.elastic.laws)
     u, w = state_away_from_kink(disc, rng)
     disc.set_nodal(cf.w, w)
-    for gf, component in zip(cf.n_star, disc.n_star(0.0).T):
+    disc.set_nodal(cf.stiffness, disc.coefficients.stiffness)
+    for gf, component in zip(cf.friction, disc.friction_directions(0.0).T):
         disc.set_nodal(gf, component)
     delta = u.vec.CreateVector()
     delta.FV().NumPy()[:] = rng.standard_normal(disc.fes.ndof) * disc.body.free
@@ -59,7 +60,8 @@ def test_contact_form_is_nodal(disc):
     cf = contact_form(disc.fes, disc.scene, disc.law, None)
     u, w = state_away_from_kink(disc, rng)
     disc.set_nodal(cf.w, w)
-    for gf, component in zip(cf.n_star, disc.n_star(0.0).T):
+    disc.set_nodal(cf.stiffness, disc.coefficients.stiffness)
+    for gf, component in zip(cf.friction, disc.friction_directions(0.0).T):
         disc.set_nodal(gf, component)
     res = u.vec.CreateVector()
     cf.form.Apply(u.vec, res)

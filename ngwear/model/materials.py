@@ -411,9 +411,10 @@ def check_table(table, key: str) -> None:
     stray = sorted(given - allowed)
     if stray:
         raise SceneError(f"{key}.{stray[0]}: not a constant of material.law = {law!r} (give {choices})")
-    used = [way for way in ways if set(way) & given]
+    common = set.intersection(*(set(way) for way in ways))
+    used = [way for way in ways if (set(way) - common) & given]
     if len(used) > 1:
-        first, second = (next(k for k in way if k in given) for way in used[:2])
+        first, second = (next(k for k in way if k in given and k not in common) for way in used[:2])
         raise SceneError(f"{key}.{second}: cannot be combined with {key}.{first} (give {choices})")
     way = used[0] if used else ways[0]
     missing = [name for name in way if name not in given]
@@ -446,3 +447,10 @@ def region_laws(scene) -> dict:
     return {name: law_of(table, scene.dim, direction, f"material.regions.{name}" if name in material.regions
                          else "material")
             for name, table in material.by_region(scene.geometry.regions).items()}
+
+
+def young_along(law, direction) -> float:
+    """E_n = 1 / (n⊗n : S : n⊗n), S = D(0)⁻¹: the modulus of a uniaxial stress along the unit vector n."""
+    n = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
+    dyad = mandel.to_mandel(np.outer(n, n)[None])[0]
+    return float(1.0 / (dyad @ np.linalg.solve(law.tangent_at_zero().matrix, dyad)))

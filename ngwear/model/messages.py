@@ -11,9 +11,8 @@ from typing import Annotated, Any, Literal, get_args, get_origin
 from pydantic import BaseModel
 from pydantic.fields import FieldInfo
 
-from .keys import SceneError, Table, Vector
+from .keys import SceneError, Table, Vector, range_text
 from .kinds import KINDS
-from .rules import range_text
 from .sections import declared_keys
 
 NAME_RULE = "a plain name of at most 100 letters, digits, '.', '_', '-' or spaces, not a path"

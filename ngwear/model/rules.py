@@ -10,7 +10,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from .keys import SceneError
+from .coefficients import bound, describe
+from .keys import SceneError, range_text
 from .kinds import KINDS, check_features, owners
 from .laws import largest_slope
 from .materials import check_table, law_of
@@ -27,17 +28,6 @@ def check(scene) -> None:
     if scene.solver.method == "full" and scene.wear.integrator != "explicit":
         raise SceneError(f"solver.method: 'full' supports only wear.integrator = 'explicit' "
                          f"(got {scene.wear.integrator!r}; use solver.method = 'condensed')")
-
-
-def range_text(lo=None, hi=None, lo_open=False, hi_open=False) -> str:
-    """``> 0``, ``>= 1``, ``<= 2`` or ``in (0, 3.0]``."""
-    if lo is not None and hi is not None:
-        return f"in {'(' if lo_open else '['}{lo}, {hi}{')' if hi_open else ']'}"
-    if lo is not None:
-        return f"{'>' if lo_open else '>='} {lo}"
-    if hi is not None:
-        return f"{'<' if hi_open else '<='} {hi}"
-    return ""
 
 
 def vector(value, name: str, dim: int) -> tuple[float, ...]:
@@ -133,9 +123,10 @@ def _check_contact(scene) -> None:
     vector(c.direction, "contact.direction", scene.dim)
     if c.law == "linear" and c.exponent != 1:
         raise SceneError(f"contact.exponent: must be 1 with contact.law = 'linear' (got {c.exponent!r})")
-    if not largest_slope(c) <= BIG:
+    slope = largest_slope(c)
+    if slope is not None and not slope <= BIG:
         raise SceneError(f"contact.stiffness: the layer's largest slope L·e·g^(e−1) must be <= {BIG:g} (got L = "
-                         f"{c.stiffness:g}, e = {c.exponent:g}, g = {c.gap:g})")
+                         f"{describe(c.stiffness)}, e = {c.exponent:g}, g = {c.gap:g})")
 
 
 # ---------------------------------------------------------------- foundation motion
@@ -157,11 +148,11 @@ def _check_motion(scene) -> None:
     tangential = math.hypot(*(v - vn * n for v, n in zip(velocity, nu)))
     # a rotation slides Γ_C over the foundation when its axis is not parallel to the contact plane
     spin = abs(omega or 0.0) if scene.dim == 2 else abs(sum(a * b for a, b in zip(omega or (0, 0, 0), nu)))
-    if c.friction > 0 and tangential <= 1e-12 * speed and spin == 0:
+    if (bound(c.friction) or 0) > 0 and tangential <= 1e-12 * speed and spin == 0:
         raise SceneError("foundation.velocity: must have a non-zero part tangential to contact.direction "
                          "(or give foundation.angular_velocity about an axis along it) when contact.friction > 0 "
                          f"(got {list(velocity)})")
-    if c.wear > 0 and speed == 0 and spin == 0:
+    if (bound(c.wear) or 0) > 0 and speed == 0 and spin == 0:
         raise SceneError("foundation.velocity: must be non-zero (or give foundation.angular_velocity) when "
                          f"contact.wear > 0 (got {list(velocity)})")
     _check_rates(scene)
@@ -178,10 +169,11 @@ def _check_rates(scene) -> None:
     if not slide <= BIG:
         name = "foundation.angular_velocity" if rotation > translation else "foundation.velocity"
         raise SceneError(f"{name}: the foundation's largest speed at the part, {slide:.3g}, must be <= {BIG:g}")
-    rate = c.wear * slide * largest_slope(c) * scene.time.T
-    if not rate <= BIG:
+    wear, slope = bound(c.wear), largest_slope(c)
+    rate = None if wear is None or slope is None else wear * slide * slope * scene.time.T
+    if rate is not None and not rate <= BIG:
         raise SceneError(f"contact.wear: κ‖v*‖·L·T = {rate:.3g} must be <= {BIG:g} (the wear of a run this fast "
-                         f"overflows; κ = {c.wear:g})")
+                         f"overflows; κ = {describe(c.wear)})")
 
 
 def _reach(scene) -> float:

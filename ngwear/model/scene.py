@@ -19,7 +19,7 @@ from typing import Any
 
 from pydantic import ConfigDict, ValidationError, model_validator
 
-from . import cad, messages, rules
+from . import cad, functions, messages, rules
 from .keys import Level, SceneError, Section, key, level_of
 from .kinds import KINDS
 from .sections import (
@@ -169,6 +169,10 @@ def json_schema() -> dict[str, Any]:
 def _prepared(data: dict[str, Any]) -> dict[str, Any]:
     """The raw tables with a Python part stored, the part file read and the defaults that depend on other keys."""
     data = {name: dict(v) if isinstance(v, dict) else v for name, v in data.items()}
+    if isinstance(data.get("material", {}).get("regions"), dict):
+        data["material"]["regions"] = {k: dict(v) if isinstance(v, dict) else v
+                                       for k, v in data["material"]["regions"].items()}
+    functions.tokenised(data)
     g = data.get("geometry", {})
     if isinstance(g, dict) and "shape" in g:
         _store_shape(g)

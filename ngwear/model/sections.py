@@ -13,10 +13,12 @@ from typing import Literal, get_args, get_origin
 from pydantic import Field, field_validator
 
 from . import cad, shapes  # noqa: F401 - they register the part kinds
+from .coefficients import normalised
 from .keys import Flag, Level, Number, SceneError, Section, Table, Vector, Whole, key
 from .kinds import KINDS, ordered
 
 KindName = Literal[tuple(kind.name for kind in ordered())]
+Coefficient = float | str | tuple[float, ...]
 
 
 class Geometry(Section):
@@ -172,13 +174,25 @@ class Contact(Section):
     """Normal compliance p, soft-layer thickness g, friction μ, wear κ, contact direction ν (a unit vector)."""
 
     law: Literal["linear", "power"] = key("linear", "compliance p: `linear` L r₊, `power` L r₊^e", reuse=Level.NOTHING)
-    stiffness: Number = key(10.0, "L", reuse=Level.NOTHING, gt=0)
+    stiffness: Coefficient = key(10.0, "L, a number or a field over Γ_C (as `contact.friction`)", reuse=Level.NOTHING,
+                                 allowed="> 0 at every contact point")
     exponent: Number = key(1.0, "e (power law only)", reuse=Level.NOTHING, ge=1, le=10)
     gap: Number = key(0.2, "g, thickness of the soft layer", reuse=Level.NOTHING, gt=0)
-    friction: Number = key(0.0, "μ", reuse=Level.NOTHING, ge=0)
-    wear: Number = key(0.0, "κ", reuse=Level.NOTHING, ge=0)
+    friction: Coefficient = key(0.0, "μ: a number, or a field over Γ_C: an expression in x, y, z with + − * / **, "
+                                "sqrt, exp, log, sin, cos, atan2, hypot, abs, min, max, pi and where(condition, a, b) "
+                                "(e.g. `where(hypot(x, y) < 0.12, 0.3, 0.45)`); in Python also an array over the "
+                                "contact points or a function of them", reuse=Level.NOTHING,
+                                allowed=">= 0 at every contact point")
+    wear: Coefficient = key(0.0, "κ, a number or a field over Γ_C (as `contact.friction`)", reuse=Level.NOTHING,
+                            allowed=">= 0 at every contact point")
     direction: Vector | None = key(None, "ν, the contact direction (outward normal of a flat Γ_C)",
                                    reuse=Level.DIRECTION, shown="(0, −1) / (0, 0, −1)", allowed="non-zero vector")
+
+    @field_validator("friction", "wear", "stiffness", mode="before")
+    @classmethod
+    def _coefficient(cls, value, info):
+        """A number, an expression (its syntax checked), a function's token or an array; ranges where known."""
+        return normalised(value, info.field_name)
 
     @field_validator("direction")
     @classmethod

@@ -84,13 +84,13 @@ def load_form(fes: ngs.FESpace, scene: Scene) -> ngs.LinearForm:
 
 @dataclass
 class ContactForm:
-    """φ(w, u, ·) as an NGSolve form; ``w``, ``d0`` and the components of ``n_star`` are nodal GridFunctions."""
+    """φ(w, u, ·) as an NGSolve form; ``w``, ``d0``, ``stiffness`` L and ``friction`` μ n* are nodal GridFunctions."""
 
     form: ngs.BilinearForm
     w: ngs.GridFunction
     d0: ngs.GridFunction
-    friction: ngs.Parameter
-    n_star: list
+    stiffness: ngs.GridFunction
+    friction: list
 
 
 def contact_form(fes: ngs.FESpace, scene: Scene, law: Compliance, laws: dict | None) -> ContactForm:
@@ -100,18 +100,17 @@ def contact_form(fes: ngs.FESpace, scene: Scene, law: Compliance, laws: dict | N
     """
     dim, order = scene.dim, scene.mesh.order
     scal = ngs.H1(fes.mesh, order=order)
-    w, d0 = ngs.GridFunction(scal), ngs.GridFunction(scal)
-    friction = ngs.Parameter(scene.contact.friction)
-    n_star = [ngs.GridFunction(scal) for _ in range(dim)]
+    w, d0, stiffness = ngs.GridFunction(scal), ngs.GridFunction(scal), ngs.GridFunction(scal)
+    friction = [ngs.GridFunction(scal) for _ in range(dim)]
     nu = ngs.CF(scene.contact.direction)
     u, v = fes.TnT()
     form = ngs.BilinearForm(fes)
     if laws is not None:
         form += elastic_integrand(fes, laws)
     compression = ngs.InnerProduct(u, nu) - d0 - w
-    direction = nu + friction * ngs.CF(tuple(n_star))
-    form += law.cf(compression) * ngs.InnerProduct(direction, v) * contact_ds(dim, order)
-    return ContactForm(form, w, d0, friction, n_star)
+    direction = nu + ngs.CF(tuple(friction))
+    form += law.cf(compression, stiffness) * ngs.InnerProduct(direction, v) * contact_ds(dim, order)
+    return ContactForm(form, w, d0, stiffness, friction)
 
 
 def initial_distance(coords: np.ndarray, nu) -> np.ndarray:

@@ -131,9 +131,9 @@ class Condensation:
         """H = ν·G·ν."""
         return self.normal_rows @ self.nu
 
-    def friction_compliance(self, n_star: np.ndarray) -> np.ndarray:
-        """F_ij = ν·G_ij·n*_j: normal displacement at x_i per unit tangential force along n*_j at x_j."""
-        return np.einsum("ijb,jb->ij", self.normal_rows, n_star)
+    def friction_compliance(self, friction: np.ndarray) -> np.ndarray:
+        """F_ij = ν·G_ij·(μ n*)_j: normal displacement at x_i per unit pressure's friction force μ_j n*_j at x_j."""
+        return np.einsum("ijb,jb->ij", self.normal_rows, friction)
 
     @cached_property
     def compliance_estimate(self) -> np.ndarray:

@@ -13,6 +13,9 @@ reads off a part, one value per step, with m_i the nodal weights of the contact 
 * ``contact_area``  Σ m_i over the points with p_i + λ_i > 0;
 * ``wear_volume``  Σ m_i w_i, the worn volume (area in 2D).
 
+The contact coefficients at the points, shape (n_c,): ``friction_coefficient`` μ_i, ``wear_coefficient`` κ_i and
+``contact_stiffness`` L_i (numbers or fields of the scene, as evaluated there).
+
 Full displacement fields are kept for the frames (``stored_steps``): the steps nearest to the
 output times (``output.every`` apart from t = 0, or ``output.times``) and the last step, so that the
 number of frames does not grow with the number of steps.  ``save(dir)`` writes ``result.npz``
@@ -38,6 +41,7 @@ from .history import History
 
 ARRAYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces", "plate_displacement")
 PART = ("normal_force", "torque", "contact_area", "wear_volume")
+COEFFICIENTS = ("friction_coefficient", "wear_coefficient", "contact_stiffness")
 
 
 @dataclass
@@ -54,6 +58,9 @@ class Result:
     reaction: np.ndarray
     forces: np.ndarray
     plate_displacement: np.ndarray
+    friction_coefficient: np.ndarray = field(default=None, repr=False)
+    wear_coefficient: np.ndarray = field(default=None, repr=False)
+    contact_stiffness: np.ndarray = field(default=None, repr=False)
     newton: list[NewtonRecord] = field(default_factory=list)
     status: str = "completed"
     warnings: list[str] = field(default_factory=list)
@@ -70,9 +77,10 @@ class Result:
 
         The public arrays are views of the completed rows (:mod:`ngwear.results.history`).
         """
-        shapes = row_shapes(scene, disc)
+        shapes, coefficients = row_shapes(scene, disc), disc.coefficients
         result = cls(scene, disc.points.coords, disc.points.weights,
-                     *(np.zeros((0, *shapes[name])) for name in ARRAYS), discretization=disc)
+                     *(np.zeros((0, *shapes[name])) for name in ARRAYS), coefficients.friction, coefficients.wear,
+                     coefficients.stiffness, discretization=disc)
         result.history = History.empty(shapes, scene.time.steps + 1, folder)
         return result
 
@@ -129,7 +137,7 @@ class Result:
         """Friction moment about the counterface's axis per step (negative when it brakes a rotation)."""
         slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
         signs = np.sign([slip.factor(t) for t in self.times])
-        return self.scene.contact.friction * signs * (self.pressure @ (slip.moment_arms() * self.weights))
+        return signs * (self.pressure @ (self.friction_coefficient * slip.moment_arms() * self.weights))
 
     @property
     def contact_area(self) -> np.ndarray:
@@ -212,7 +220,8 @@ class Result:
 
     def header(self) -> dict[str, np.ndarray]:
         """Everything of the run but its per-step rows: points, weights, Newton records, status."""
-        return {"contact_points": self.contact_points, "weights": self.weights, **records_to_arrays(self.newton),
+        return {"contact_points": self.contact_points, "weights": self.weights,
+                **{name: getattr(self, name) for name in COEFFICIENTS}, **records_to_arrays(self.newton),
                 "status": np.array(self.status), "wall_time": np.array(self.wall_time),
                 "rejected": np.array(self.rejected), "warnings": np.array(self.warnings, dtype=str)}
 
@@ -261,7 +270,10 @@ def from_arrays(scene: Scene, data, disc, history: History | None = None) -> Res
         history = History({name: np.array(data[name]) for name in ARRAYS})
     count = len(history.buffers["times"]) if history.folder is None else int(data["rows"])
     rows = (history.buffers[name][:count] for name in ARRAYS)
-    return Result(scene, data["contact_points"], data["weights"], *rows, newton=records_from_arrays(data),
+    n = len(data["weights"])
+    coefficients = (np.array(data[name]) if name in data else np.full(n, float(getattr(scene.contact, key)))
+                    for name, key in zip(COEFFICIENTS, ("friction", "wear", "stiffness")))   # before fields: numbers
+    return Result(scene, data["contact_points"], data["weights"], *rows, *coefficients, newton=records_from_arrays(data),
                   status=str(data["status"]), wall_time=float(data["wall_time"]),
                   warnings=[str(w) for w in data["warnings"]], rejected=int(data["rejected"]),
                   discretization=disc, history=history)

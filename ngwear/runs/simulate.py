@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.coefficients import bound, describe
 from ..model.scene import Scene
 from ..numerics.discrete import Discretization
 from ..numerics.recycle import ComplianceMemory, Recycler
@@ -281,17 +282,17 @@ class _Stepper:
         disc, cond = self.disc, self.disc.condensation
         if self._full:
             return _full_system(disc, t, load_factor, integrator)
-        n_star, mu = disc.n_star(t), self.scene.contact.friction
+        friction = disc.friction_directions(t)                              # μ_i n*_i
         if disc.matrix_free:
-            key = ("krylov", (cond.nu[None, :] + mu * n_star).tobytes())    # A's force directions ν + μ n*
+            key = ("krylov", (cond.nu[None, :] + friction).tobytes())        # A's force directions ν + μ n*
             if key not in self._matrices:
-                self._matrices = {key: _recycler(disc, n_star)}
-            return _krylov_system(disc, self._matrices[key], n_star, load_factor, law)
-        key = n_star.tobytes()
+                self._matrices = {key: _recycler(disc, friction)}
+            return _krylov_system(disc, self._matrices[key], friction, load_factor, law)
+        key = friction.tobytes()
         if key not in self._matrices:
             H = cond.normal_compliance
-            A = H + mu * cond.friction_compliance(n_star) if mu > 0 and n_star.any() else H
-            directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + mu * n_star)
+            A = H + cond.friction_compliance(friction) if friction.any() else H
+            directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + friction)
             self._matrices = {key: (A, directed)}
             self._factors = {}
         A, directed = self._matrices[key]
@@ -306,23 +307,23 @@ def _remedy(scene: Scene, record) -> str:
         return f"the merit stalled at round-off: raise solver.tolerance above {last:.1e}"
     tips = [f"more time.steps (now {scene.time.steps})",
             f"solver.max_iterations > {scene.solver.max_iterations}"]
-    if scene.contact.friction > 0:
-        tips.append(f"a smaller contact.friction (μ = {scene.contact.friction:g} may exceed the smallness "
+    if bound(scene.contact.friction) != 0:
+        tips.append(f"a smaller contact.friction (μ = {describe(scene.contact.friction)} may exceed the smallness "
                     f"bound (H_S): see `ngwear verify`)")
     return "try " + ", ".join(tips)
 
 
-def _recycler(disc: Discretization, n_star) -> Recycler:
-    """The products with A = H + μF (this n*) and H remembered for the run, and the Newton basis built on them."""
-    directions = disc.condensation.nu[None, :] + disc.scene.contact.friction * n_star
+def _recycler(disc: Discretization, friction) -> Recycler:
+    """The products with A = H + F(μ n*) (this μ n*) and H remembered for the run, and the Newton basis built on them."""
+    directions = disc.condensation.nu[None, :] + friction
     respond = lambda directed, normal: disc.normal_response(normal, directed, directions)  # noqa: E731
     return Recycler(ComplianceMemory(respond, disc.points.n))
 
 
-def _krylov_system(disc: Discretization, recycler: Recycler, n_star, load_factor: float, law) -> KrylovSystem:
+def _krylov_system(disc: Discretization, recycler: Recycler, friction, load_factor: float, law) -> KrylovSystem:
     """The condensed system applied matrix-free (large contact surfaces, see :class:`Discretization`)."""
     cond = disc.condensation
-    directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + disc.scene.contact.friction * n_star)
+    directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + friction)
     return KrylovSystem(recycler, cond.compliance_estimate, disc.points.weights, load_factor * disc.loads.s_load, cond.d0,
                         disc.scene.contact.gap, law, disc.scene.solver.tolerance, _plate_rows(disc, directed, load_factor))
 
@@ -338,8 +339,7 @@ def _full_system(disc: Discretization, t: float, load_factor: float, integrator:
     """The reference system: NGSolve form with w, μ, n* of this step (explicit wear: w = a, see the scene's rules)."""
     cf, cond = disc.full_form, disc.condensation
     disc.set_nodal(cf.w, integrator.a)
-    cf.friction.Set(disc.scene.contact.friction)
-    for gf, component in zip(cf.n_star, disc.n_star(t).T):
+    for gf, component in zip(cf.friction, disc.friction_directions(t).T):
         disc.set_nodal(gf, component)
     load = cond.full_basis.T @ disc.loads.load
     load[len(load) - cond.plate_modes_count:] += disc.loads.plate_force
