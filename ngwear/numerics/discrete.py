@@ -24,11 +24,14 @@ from ..model.laws import compliance_from, piecewise_linear
 from ..model.materials import region_laws, young_along
 from ..model.rules import BIG
 from ..model.scene import Scene
+from .bulk import Anderson, Remainder, change
 from .condense import DENSE_LIMIT, SOFT_LIMIT
 from .forms import contact_form
 from .pieces import Body, Condensation, Elastic, Loads
 
 CONTACT_SOLVES = ("auto", "dense", "krylov")
+BULK_RECOVERY = 500
+"""Most iterations of a nonlinear material's displacement recovered from its contact forces (K₀ contracts)."""
 
 
 @dataclass(frozen=True)
@@ -127,6 +130,13 @@ class Discretization:
         kept = [piece if rebuilt > level else None for piece, level in
                 ((self.elastic, Level.STIFFNESS), (self.condensation, Level.DIRECTION), (self.loads, Level.LOADS))]
         new._assemble(self.body if rebuilt > Level.SPACE else Body(scene, self.body.mesh), *kept)
+        return new
+
+    def tangent(self, state: np.ndarray) -> Discretization:
+        """The discretization with K the laws' tangent at the displacement ``state`` (a new factorisation)."""
+        new = Discretization.__new__(Discretization)
+        new.scene, new.contact_solve = self.scene, self.contact_solve
+        new._assemble(self.body, Elastic(self.scene, self.body, self.elastic.schur, state))
         return new
 
     def stages(self) -> list[tuple[str, callable]]:
@@ -230,11 +240,27 @@ class Discretization:
         b = nu[None, :] + self.friction_directions(t)
         return m[:, None] * (pressure[:, None] * b + reaction[:, None] * nu[None, :])
 
-    def recover(self, forces: np.ndarray, t: float, plate: np.ndarray) -> np.ndarray:
-        """Displacement DOF vector u = s_F(t) K⁻¹ f + D δ − K⁻¹ Pᵀ f_c (one back-substitution)."""
+    def recover(self, forces: np.ndarray, t: float, plate: np.ndarray, nonlinear: bool = True) -> np.ndarray:
+        """Displacement DOF vector under the point forces f_c: u = s_F(t) K⁻¹ f + D δ − K⁻¹ Pᵀ f_c.
+
+        One back-substitution for a linear body (or ``nonlinear=False``: the part a step solver adds to); with a
+        nonlinear material the fixed point u = that − K⁻¹ n(u) (:mod:`ngwear.numerics.bulk`), solved to the
+        Newton tolerance.
+        """
         u = self.load_factor(t) * self.loads.u_load - self.elastic.operator.solve(self.points.P.T @ forces.ravel())
         coupling = self.condensation.plate
-        return u if coupling is None else u + coupling.response @ plate
+        u = u if coupling is None else u + coupling.response @ plate
+        if not nonlinear or self.elastic.linear:
+            return u
+        remainder = Remainder(self.fes, self.elastic.laws, self.elastic.stiffness)
+        mixing, v, tolerance = Anderson(), u, self.scene.solver.tolerance
+        for _ in range(BULK_RECOVERY):
+            image = u - self.elastic.operator.solve(remainder(v))
+            if change(v, image) <= tolerance:
+                return image
+            v = mixing(v, image)
+        raise ArithmeticError(f"the displacement of the nonlinear material did not converge in {BULK_RECOVERY} "
+                              "iterations")
 
     @cached_property
     def full_form(self):

@@ -21,6 +21,7 @@ import numpy as np
 import scipy.sparse as sp
 from ngsolve.fem import NODE_TYPE
 
+from ..model import mandel
 from ..model.laws import Compliance
 from ..model.scene import Scene
 
@@ -69,6 +70,15 @@ def elastic_form(fes: ngs.FESpace, laws: dict) -> ngs.BilinearForm:
     """a(u, v) = Σ_r ∫_r D_r(0) ε(u) : ε(v) dx: the stiffness K₀, the laws' tangents at ε = 0 (symmetric, constant)."""
     return ngs.BilinearForm(elastic_integrand(fes, {r: law.tangent_at_zero() for r, law in laws.items()}),
                             symmetric=True)
+
+
+def tangent_form(fes: ngs.FESpace, laws: dict, state: ngs.GridFunction) -> ngs.BilinearForm:
+    """k(u, v) = Σ_r ∫_r D_r(ε(state)) ε(u) : ε(v) dx with the laws' tangents D_r at the displacement ``state``."""
+    u, v = fes.TnT()
+    eps = ngs.Sym(ngs.Grad(state))
+    terms = [ngs.InnerProduct(law.tangent(eps) * mandel.vector_cf(ngs.Sym(ngs.Grad(u))),
+                              mandel.vector_cf(ngs.Sym(ngs.Grad(v)))) * ngs.dx(region) for region, law in laws.items()]
+    return ngs.BilinearForm(sum(terms[1:], terms[0]), symmetric=True)
 
 
 def load_form(fes: ngs.FESpace, scene: Scene) -> ngs.LinearForm:

@@ -22,7 +22,7 @@ import scipy.sparse as sp
 from ..model.materials import region_laws
 from ..model.scene import Scene
 from .condense import ElasticOperator
-from .forms import contact_points, displacement_space, elastic_form, initial_distance, load_form
+from .forms import contact_points, displacement_space, elastic_form, initial_distance, load_form, tangent_form
 from .plate import PlateCoupling, plate_modes
 
 
@@ -75,14 +75,15 @@ class Body:
 
 
 class Elastic:
-    """The laws of the body's regions, the stiffness K₀ (their tangents at ε = 0) and its factorisation.
+    """The laws of the body's regions, a stiffness K and its factorisation.
 
-    ``schur``: factorise with the Schur complement on the contact DOFs (the dense contact solve).  For linear
-    laws K₀ is the stiffness; for nonlinear ones the fixed operator of the step solver.
+    K is the laws' tangent at ε = 0 (K₀: for linear laws the stiffness), or with ``state`` their tangent at that
+    displacement (a nonlinear law's step solver refactorises there when a step was slow).  ``schur``: factorise with the
+    Schur complement on the contact DOFs (the dense contact solve).
     """
 
-    def __init__(self, scene: Scene, body: Body, schur: bool):
-        self.scene, self.body, self.schur = scene, body, schur
+    def __init__(self, scene: Scene, body: Body, schur: bool, state: np.ndarray | None = None):
+        self.scene, self.body, self.schur, self.state = scene, body, schur, state
         self.laws = region_laws(scene)
 
     @property
@@ -92,7 +93,10 @@ class Elastic:
 
     @cached_property
     def stiffness(self) -> sp.csr_matrix:
-        a = elastic_form(self.body.fes, self.laws)
+        if self.state is None:
+            a = elastic_form(self.body.fes, self.laws)
+        else:
+            a = tangent_form(self.body.fes, self.laws, self.body.gridfunction(self.state))
         a.Assemble()
         vals, cols, ptr = a.mat.CSR()
         n = self.body.fes.ndof

@@ -45,13 +45,18 @@ class ConvergenceError(RuntimeError):
 
 @dataclass
 class NewtonRecord:
-    """History of one step's Newton solve."""
+    """History of one step's Newton solve.
+
+    A nonlinear material's step: ``bulk`` iterations of its fixed point, ``tangents`` factorised in the run so far.
+    """
 
     converged: bool = False
     iterations: int = 0
     residuals: list[float] = field(default_factory=list)
     active: int = 0
     damped: int = 0
+    bulk: int = 0
+    tangents: int = 0
 
 
 MEMORY = 5

@@ -91,6 +91,24 @@ class Result:
             setattr(self, name, self.history.put(name, j, value))
         self.newton.append(record)
 
+    def keep_field(self, u: np.ndarray) -> None:
+        """Keep the displacement u of the step just recorded (a nonlinear body's: recovering it needs an iteration).
+
+        The previous step's goes unless it may be a frame (an output time within half a step of it).
+        """
+        j = self.steps
+        previous = j - 1
+        if previous in self.fields and not self._frame_candidate(previous):
+            del self.fields[previous]
+        self.fields[j] = u.copy()
+
+    def _frame_candidate(self, j: int) -> bool:
+        out, t = self.scene.output, self.times[j]
+        half = 0.5 * max(t - self.times[j - 1] if j else 0.0, self.times[j + 1] - t if j + 1 < len(self.times) else 0.0)
+        wanted = np.asarray(out.times) if out.times is not None else np.arange(0.0, self.scene.time.T + out.every / 2,
+                                                                             out.every)
+        return bool(np.any(np.abs(wanted - t) <= half * (1 + 1e-9)))
+
     def keep_in(self, folder) -> None:
         """Move the rows into mapped files of a new history folder in ``folder`` (to checkpoint there)."""
         rows = len(self.times)
@@ -294,6 +312,8 @@ def records_to_arrays(newton: list[NewtonRecord]) -> dict[str, np.ndarray]:
             "newton_converged": np.array([r.converged for r in newton], dtype=bool),
             "newton_active": np.array([r.active for r in newton], dtype=int),
             "newton_damped": np.array([r.damped for r in newton], dtype=int),
+            "newton_bulk": np.array([r.bulk for r in newton], dtype=int),
+            "newton_tangents": np.array([r.tangents for r in newton], dtype=int),
             "newton_lengths": np.array([len(r.residuals) for r in newton], dtype=int),
             "newton_residuals": np.array([v for r in newton for v in r.residuals], dtype=float)}
 
@@ -302,9 +322,12 @@ def records_from_arrays(data) -> list[NewtonRecord]:
     """The Newton records that :func:`records_to_arrays` flattened."""
     bounds = np.concatenate([[0], np.cumsum(data["newton_lengths"])])
     residuals = data["newton_residuals"]
-    return [NewtonRecord(bool(c), int(i), [float(v) for v in residuals[a:b]], int(act), int(dmp))
-            for i, c, act, dmp, a, b in zip(data["newton_iterations"], data["newton_converged"], data["newton_active"],
-                                            data["newton_damped"], bounds[:-1], bounds[1:])]
+    zero = np.zeros(len(data["newton_iterations"]), dtype=int)
+    bulk, tangents = (data[name] if name in data else zero for name in ("newton_bulk", "newton_tangents"))
+    return [NewtonRecord(bool(c), int(i), [float(v) for v in residuals[a:b]], int(act), int(dmp), int(blk), int(tan))
+            for i, c, act, dmp, blk, tan, a, b in zip(data["newton_iterations"], data["newton_converged"],
+                                                      data["newton_active"], data["newton_damped"], bulk, tangents,
+                                                      bounds[:-1], bounds[1:])]
 
 
 @contextmanager

@@ -21,12 +21,12 @@ import numpy as np
 from ..model.coefficients import bound, describe
 from ..model.scene import Scene
 from ..numerics.discrete import Discretization
-from ..numerics.recycle import ComplianceMemory, Recycler
-from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, KrylovSystem, PlateRows, semismooth_newton
+from ..numerics.solver import ConvergenceError
 from ..numerics.wear import WearIntegrator, explicit_stability
 from ..results.checkpoint import Checkpoint, write_checkpoint
 from ..results.result import Result
 from .clock import Clock
+from .stepper import Stepper
 
 log = logging.getLogger(__name__)
 
@@ -71,7 +71,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
     clock = Clock(scene, disc.largest_alpha(), result.rejected)
     if resume is not None:
         clock.step, result.continuation = saved.step, (saved.x, saved.lam, saved.step)
-    stepper = _Stepper(disc)
+    stepper = Stepper(disc)
     if resume is None:
         x, lam = stepper.unknowns(), np.zeros(disc.points.n)
     integrator = WearIntegrator(scene.wear.integrator, disc.law, disc.points.n)
@@ -137,6 +137,9 @@ def _record(result: Result, stepper, t: float, attempt: _Attempt) -> None:
     disc = stepper.disc
     result.append(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam,
                   disc.contact_forces(attempt.pressure, attempt.lam, t), attempt.delta, attempt.record)
+    displacement = stepper.displacement(attempt.x)
+    if displacement is not None:          # a nonlinear body's field is kept for the frames and the last step
+        result.keep_field(displacement)
 
 
 def _failed(result: Result, scene: Scene, j: int, t: float, err: Exception) -> None:
@@ -220,86 +223,6 @@ class _Saver:
             self.last = time.perf_counter()
 
 
-class _Stepper:
-    """Solves one step; on a Newton failure it retries from a load continuation (cut-back).
-
-    The cut-back does not change the scheme: it solves the same step's problem (wear law, v*) at
-    the loads s_F = s_prev + θ (s_F(t) − s_prev), θ = 1/m … 1, each warm-starting the next, with
-    m = 2, 4, 8; s_prev is the previous step's load factor, or 0 (the unloaded state) at step 0.
-    """
-
-    CUTBACKS = (2, 4, 8)
-
-    def __init__(self, disc: Discretization):
-        self.disc, self.scene = disc, disc.scene
-        self._matrices: dict = {}
-        self._factors: dict = {}
-
-    @property
-    def _full(self) -> bool:
-        return self.scene.solver.method == "full"
-
-    def unknowns(self) -> np.ndarray:
-        """The unknowns at rest: s at the contact points (condensed) or the free DOFs (full), then δ."""
-        disc = self.disc
-        size = disc.condensation.full_basis.shape[1] if self._full else disc.points.n + disc.condensation.plate_modes_count
-        return np.zeros(size)
-
-    def normal(self, x):
-        """The normal displacements s = ν·u at the contact points."""
-        return self.disc.condensation.N @ (self.disc.condensation.full_basis @ x) if self._full else x[:self.disc.points.n]
-
-    def plate(self, x):
-        """δ, the plate's displacement (and tilts)."""
-        return x[len(x) - self.disc.condensation.plate_modes_count:]
-
-    def solve(self, t, t_prev, law, x, lam, integrator):
-        target = self.disc.load_factor(t)
-        try:
-            return self._newton(t, target, law, x, lam, integrator)
-        except ConvergenceError as first:
-            start = 0.0 if t_prev is None else self.disc.load_factor(t_prev)
-            if t_prev is None:
-                x, lam = np.zeros_like(x), np.zeros_like(lam)
-            for m in self.CUTBACKS:
-                try:
-                    xs, ls = x, lam
-                    for theta in np.arange(1, m + 1) / m:
-                        xs, ls, record = self._newton(t, start + theta * (target - start), law, xs, ls,
-                                                      integrator)
-                    log.info("t = %.4g: converged after cutting the load step into %d", t, m)
-                    return xs, ls, record
-                except ConvergenceError:
-                    continue
-            raise first
-
-    def _newton(self, t, load_factor, law, x, lam, integrator):
-        sc = self.scene.solver
-        system = self._system(t, load_factor, law, integrator)
-        return semismooth_newton(system, x, lam, sc.tolerance, sc.max_iterations)
-
-    def _system(self, t, load_factor, law, integrator):
-        disc, cond = self.disc, self.disc.condensation
-        if self._full:
-            return _full_system(disc, t, load_factor, integrator)
-        friction = disc.friction_directions(t)                              # μ_i n*_i
-        if disc.matrix_free:
-            key = ("krylov", (cond.nu[None, :] + friction).tobytes())        # A's force directions ν + μ n*
-            if key not in self._matrices:
-                self._matrices = {key: _recycler(disc, friction)}
-            return _krylov_system(disc, self._matrices[key], friction, load_factor, law)
-        key = friction.tobytes()
-        if key not in self._matrices:
-            H = cond.normal_compliance
-            A = H + cond.friction_compliance(friction) if friction.any() else H
-            directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + friction)
-            self._matrices = {key: (A, directed)}
-            self._factors = {}
-        A, directed = self._matrices[key]
-        return CondensedSystem(cond.normal_compliance, A, disc.points.weights, load_factor * disc.loads.s_load, cond.d0,
-                               self.scene.contact.gap, law, self._factors, _plate_rows(disc, directed, load_factor))
-
-
 def _remedy(scene: Scene, record) -> str:
     """What to try after a Newton failure, from the failure's history."""
     last = record.residuals[-1] if record.residuals else np.inf
@@ -311,42 +234,6 @@ def _remedy(scene: Scene, record) -> str:
         tips.append(f"a smaller contact.friction (μ = {describe(scene.contact.friction)} may exceed the smallness "
                     f"bound (H_S): see `ngwear verify`)")
     return "try " + ", ".join(tips)
-
-
-def _recycler(disc: Discretization, friction) -> Recycler:
-    """The products with A = H + F(μ n*) (this μ n*) and H remembered for the run, and the Newton basis built on them."""
-    directions = disc.condensation.nu[None, :] + friction
-    respond = lambda directed, normal: disc.normal_response(normal, directed, directions)  # noqa: E731
-    return Recycler(ComplianceMemory(respond, disc.points.n))
-
-
-def _krylov_system(disc: Discretization, recycler: Recycler, friction, load_factor: float, law) -> KrylovSystem:
-    """The condensed system applied matrix-free (large contact surfaces, see :class:`Discretization`)."""
-    cond = disc.condensation
-    directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + friction)
-    return KrylovSystem(recycler, cond.compliance_estimate, disc.points.weights, load_factor * disc.loads.s_load, cond.d0,
-                        disc.scene.contact.gap, law, disc.scene.solver.tolerance, _plate_rows(disc, directed, load_factor))
-
-
-def _plate_rows(disc: Discretization, directed, load_factor: float) -> PlateRows | None:
-    """The plate's rows of a step (None without a plate), ``directed`` = b_i·Φ_i for this step's force directions."""
-    plate = disc.condensation.plate
-    return None if plate is None else PlateRows(plate.normal, directed, plate.stiffness,
-                                                load_factor * disc.loads.plate_load)
-
-
-def _full_system(disc: Discretization, t: float, load_factor: float, integrator: WearIntegrator) -> FullSystem:
-    """The reference system: NGSolve form with w, μ, n* of this step (explicit wear: w = a, see the scene's rules)."""
-    cf, cond = disc.full_form, disc.condensation
-    disc.set_nodal(cf.w, integrator.a)
-    for gf, component in zip(cf.friction, disc.friction_directions(t).T):
-        disc.set_nodal(gf, component)
-    load = cond.full_basis.T @ disc.loads.load
-    load[len(load) - cond.plate_modes_count:] += disc.loads.plate_force
-    floating = cond.plate_modes_count and not disc.scene.geometry.dirichlet
-    return FullSystem(cf, cond.full_basis, load_factor * load, cond.N, disc.points.weights, cond.d0,
-                      disc.scene.contact.gap, disc.elastic.stiffness, integrator.point_law(),
-                      cond.rigid_translation if floating else None)
 
 
 def _progress(scene: Scene, result: Result):
