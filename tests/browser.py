@@ -8,6 +8,7 @@ from __future__ import annotations
 import base64
 import io
 import os
+import re
 import signal
 import socket
 import subprocess
@@ -56,6 +57,11 @@ def server(argv: list[str], port: int, log: Path, env: dict | None = None, timeo
                 except subprocess.TimeoutExpired:
                     os.killpg(process.pid, signal.SIGKILL)
                     process.wait()
+
+
+def app_url(log: Path) -> str:
+    """The URL (with its token) that ``ngwear explore`` printed into ``log``."""
+    return re.search(r"at (http://127\.0\.0\.1:\d+/\S*)", log.read_text()).group(1)
 
 
 def _listening(port: int) -> bool:
