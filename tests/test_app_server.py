@@ -34,7 +34,7 @@ PICTURE = "img.ngwear-picture"
 def explore(port: int, tmp_path: Path, *flags):
     argv = [sys.executable, "-m", "ngwear.cli", "explore", str(PAPER), "--port", str(port),
             "--out", str(tmp_path / "saved"), *flags]
-    return server(argv, port, tmp_path / "server.log", ready="?token=")
+    return server(argv, port, tmp_path / "server.log", ready="(ready after")
 
 
 def get(port: int, path: str, **headers) -> tuple[int, dict, str]:
@@ -219,11 +219,11 @@ def test_misbehaving_websocket_clients_neither_grow_nor_block_the_server(tmp_pat
 
 def test_kernels_are_capped_and_those_of_unopened_pages_end(tmp_path):
     port, cap = free_port(), 2
-    with explore(port, tmp_path, "--max-kernels", str(cap)) as app:
-        token = app_url(tmp_path / "server.log").split("?token=")[1]
+    with explore(port, tmp_path, "--max-kernels", str(cap), "--no-token") as app:
+        assert app_url(tmp_path / "server.log") == f"http://127.0.0.1:{port}/"
         answers, counts = [], []
-        for _ in range(cap + 2):  # plain GETs: nobody opens these pages
-            answers.append(get(port, f"/?token={token}"))
+        for _ in range(cap + 2):  # plain GETs (no token needed with --no-token): nobody opens these pages
+            answers.append(get(port, "/"))
             time.sleep(2)
             counts.append(len(kernels_of(app.pid)))
         assert [a[0] for a in answers] == [200] * cap + [503] * 2 and max(counts) <= cap
@@ -231,4 +231,5 @@ def test_kernels_are_capped_and_those_of_unopened_pages_end(tmp_path):
         pages = kernels_of(app.pid)
         wait_until(lambda: not any(alive(pid) for pid in pages), 60, "the kernels of the unopened pages have ended")
         wait_until(lambda: len(kernels_of(app.pid)) == 1, 60, "a new spare kernel has started")
-        assert get(port, f"/?token={token}")[0] == 200
+        assert get(port, "/")[0] == 200
+    assert f"ngwear: warning: --no-token: anyone who can reach port {port}" in (tmp_path / "server.log").read_text()

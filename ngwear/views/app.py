@@ -185,6 +185,7 @@ def _config(port: int, token: str, kernel_timeout: int, max_kernels: int, origin
                                "multi_kernel_manager_class": AppKernelManager,
                                "extension_denylist": ["@voila-dashboards/jupyterlab-preview"]},
         "AppKernelManager": {"max_kernels": max_kernels},
+        "PasswordIdentityProvider": {"allow_password_change": False},  # it would write a Jupyter config file
         "MappingKernelManager": {"cull_idle_timeout": kernel_timeout,
                                  "cull_interval": max(1, min(10, kernel_timeout // 2))},
         "KernelManager": {"transport": "ipc"},
