@@ -70,14 +70,14 @@ def _listening(port: int) -> bool:
 
 
 @contextmanager
-def chromium():
-    """A Playwright Chromium browser (Debian's), closed at the end."""
+def chromium(*flags: str):
+    """A Playwright Chromium browser (Debian's) with further command-line ``flags``, closed at the end."""
     from playwright.sync_api import sync_playwright
 
     if not CHROMIUM.is_file():
         raise RuntimeError(f"{CHROMIUM} is missing: run scripts/bootstrap.sh as root (apt-get install chromium)")
     with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_FLAGS, headless=True)
+        browser = p.chromium.launch(executable_path=str(CHROMIUM), args=[*CHROMIUM_FLAGS, *flags], headless=True)
         try:
             yield browser
         finally:

@@ -115,7 +115,9 @@ def rss_mb(pid: int) -> float:
 
 def test_only_the_token_host_and_origin_are_served_and_saves_stay_in_the_folder(tmp_path):
     port, shots = free_port(), Shots("test_app_server")
-    with explore(port, tmp_path, "--allow-origin", PROXY) as app, chromium() as browser:
+    named = f"http://ngwear.example.org:{port}"  # the app under a name, as behind a proxy that keeps the Host
+    resolve = "--host-resolver-rules=MAP evil.example 127.0.0.1, MAP ngwear.example.org 127.0.0.1"
+    with explore(port, tmp_path, "--allow-origin", PROXY, "--allow-origin", named) as app, chromium(resolve) as browser:
         url = app_url(tmp_path / "server.log")
         token = url.split("?token=")[1]
         here = f"127.0.0.1:{port}"
@@ -135,6 +137,14 @@ def test_only_the_token_host_and_origin_are_served_and_saves_stay_in_the_folder(
             status, _, body = get(port, f"/?token={token}", Host=f"evil.example:{port}",
                                   Origin=f"http://evil.example:{port}")  # the request, now with the token
             assert status == 403
+            rebound = browser.new_page()  # a name that resolves to 127.0.0.1 (DNS rebinding), token and all
+            assert rebound.goto(f"http://evil.example:{port}/?token={token}").status == 403
+            rebound.close()
+            allowed = browser.new_page()  # the allowed name: the whole app works, websockets included
+            allowed.goto(f"{named}/?token={token}")
+            allowed.wait_for_function(f"() => {{ const i = document.querySelector('{PICTURE}');"
+                                      " return i && i.complete && i.naturalWidth > 0; }", timeout=90_000)
+            allowed.close()
             page.goto(url)
             page.wait_for_function(f"() => {{ const i = document.querySelector('{PICTURE}');"
                                    " return i && i.complete && i.naturalWidth > 0; }", timeout=90_000)
