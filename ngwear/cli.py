@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import secrets
 import sys
 from pathlib import Path
 
@@ -56,6 +57,14 @@ def _parser() -> argparse.ArgumentParser:
     _overrides(exp)
     exp.add_argument("--kernel-timeout", type=int, default=60, metavar="SECONDS",
                      help="end the kernel of a closed page once idle this long (default: 60)")
+    exp.add_argument("--max-kernels", type=int, default=4, metavar="N",
+                     help="most kernels at once, ~500 MB each, the preheated one included: a page beyond gets "
+                          "'busy' (default: 4)")
+    exp.add_argument("--allow-origin", action="append", default=[], metavar="ORIGIN",
+                     help="also serve requests from ORIGIN and for its host, e.g. https://ngwear.example.org "
+                          "behind a reverse proxy (may be given several times)")
+    exp.add_argument("--no-token", action="store_true",
+                     help="no token in the URL: anyone who can reach the port can use the app (not recommended)")
     stress = sub.add_parser("stress", help="run the stability stress matrix and write its report")
     stress.add_argument("args", nargs=argparse.REMAINDER, help="passed on (see `ngwear stress -- --help`)")
     return parser
@@ -223,13 +232,25 @@ def explore(args) -> int:
     scene, _ = _scene(args)
     if args.kernel_timeout < 1:
         raise SceneError(f"--kernel-timeout: must be >= 1 s (got {args.kernel_timeout})")
+    if args.port is not None and not 1 <= args.port <= 65535:
+        raise SceneError(f"--port: must be in 1..65535 (got {args.port})")
+    if args.max_kernels < 1:
+        raise SceneError(f"--max-kernels: must be >= 1 (got {args.max_kernels})")
+    try:
+        origins = tuple(app.check_origin(origin) for origin in args.allow_origin)
+    except ValueError as err:
+        raise SceneError(f"--allow-origin: {err}") from None
     try:
         port = app.free_port(args.port)
     except OSError as err:
         print(f"ngwear: --port: {err}", file=sys.stderr)
         return 2
     folder = Path(args.out or Path("out") / f"{scene.name}-explore")
-    return app.serve(scene, port=port, folder=folder, kernel_timeout=args.kernel_timeout)
+    if args.no_token:
+        print(f"ngwear: warning: --no-token: anyone who can reach port {port} (every user of this machine, anyone "
+              f"a reverse proxy lets through) can drive the app and save into {folder}", file=sys.stderr)
+    return app.serve(scene, port=port, folder=folder, token="" if args.no_token else secrets.token_hex(24),
+                     kernel_timeout=args.kernel_timeout, max_kernels=args.max_kernels, origins=origins)
 
 
 def main(argv: list[str] | None = None) -> int:
