@@ -35,13 +35,14 @@ def test_cases_at_every_grid_point_and_groups_by_material():
 
 def test_latin_hypercube_has_one_point_per_stratum_and_is_seeded():
     sample = {"count": 8, "seed": 3, "ranges": {"contact.gap": [0.1, 0.3], "time.steps": [10, 17]}}
-    s = study(sample=sample)
+    s = study(sample=sample, set={"mesh.maxh": 0.2})
     gaps = np.array([c.params["contact.gap"] for c in s.cases])
     assert sorted(np.floor((gaps - 0.1) / 0.2 * 8).astype(int)) == list(range(8))
     assert sorted(c.params["time.steps"] for c in s.cases) == list(range(10, 18))
-    assert [c.params for c in study(sample=sample).cases] == [c.params for c in s.cases]
-    assert [c.params for c in study(sample=dict(sample, seed=4)).cases] != [c.params for c in s.cases]
-    random = study(sample=dict(sample, method="random", count=50)).cases
+    assert [c.params for c in study(sample=sample, set={"mesh.maxh": 0.2}).cases] == [c.params for c in s.cases]
+    assert [c.params for c in study(sample=dict(sample, seed=4), set={"mesh.maxh": 0.2}).cases] != [
+        c.params for c in s.cases]
+    random = study(sample=dict(sample, method="random", count=50), set={"mesh.maxh": 0.2}).cases
     assert all(0.1 <= c.params["contact.gap"] <= 0.3 and isinstance(c.params["time.steps"], int) for c in random)
 
 
