@@ -20,12 +20,12 @@ DEATHS = {
 }
 
 
-def simulate_or_die(deaths: dict, scene, group):
+def simulate_or_die(deaths: dict, scene, *args):
     from ngwear.studies.sweep import simulate_case
 
     if scene.contact.friction in deaths:
         DEATHS[deaths[scene.contact.friction]]()
-    return simulate_case(scene, group)
+    return simulate_case(scene, *args)
 
 
 class Deaths(WorkerPlugin):

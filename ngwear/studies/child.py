@@ -5,7 +5,7 @@ with it.  Run in a :class:`Child`, it takes only the child: the call raises :cla
 line naming the signal or the exit status, and the next call starts a new child.  A child runs one call
 at a time and keeps its module state between calls (a study's cached discretizations).
 
-The child is ``python -m ngwear.studies.child``.  It reads calls ``(function, args)``, pickled (functions
+The child runs :func:`main` in a new Python interpreter.  It reads calls ``(function, args)``, pickled (functions
 by reference: importable in the child), from its stdin and writes each outcome, length-prefixed, to a
 copy of its stdout; file descriptor 1 itself goes to stderr, so what C++ code prints cannot corrupt the
 replies.  It ignores SIGINT (its parent decides when it ends) and exits when its stdin closes or its
@@ -41,8 +41,8 @@ class Child:
     def call(self, function: Callable, *args: Any) -> Any:
         """``function(*args)`` in the child: its result, or :class:`ChildError` with one line."""
         if self._process is None or self._process.poll() is not None:
-            self._process = subprocess.Popen([sys.executable, "-m", __name__], stdin=subprocess.PIPE,
-                                             stdout=subprocess.PIPE)
+            self._process = subprocess.Popen([sys.executable, "-c", f"from {__name__} import main; main()"],
+                                             stdin=subprocess.PIPE, stdout=subprocess.PIPE)
         process = self._process
         request = pickle.dumps((function, args))
         try:
@@ -124,7 +124,3 @@ def main() -> None:
         except Exception as err:  # the call's own failure, as one line (an exception may not unpickle)
             reply = pickle.dumps(("error", _line(err)))
         _send(replies, reply)
-
-
-if __name__ == "__main__":
-    main()

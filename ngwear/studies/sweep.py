@@ -141,18 +141,21 @@ def run_case(scene, group: str) -> tuple[dict, dict[str, bytes]]:
         index = next((i for i, (_, last) in enumerate(_IDLE) if last == group), len(_IDLE) - 1)
         child = _IDLE.pop(index)[0] if _IDLE else Child()
     try:
-        row, files = child.call(simulate_case, scene, group)
+        with tempfile.TemporaryDirectory() as tmp:
+            row = child.call(simulate_case, scene, group, tmp)
+            files = {p.relative_to(tmp).as_posix(): p.read_bytes() for p in sorted(Path(tmp).rglob("*"))
+                     if p.is_file()}
     finally:
         with _IDLE_LOCK:
             _IDLE.append((child, group))
     return row | {"worker": _worker()}, files
 
 
-def simulate_case(scene, group: str) -> tuple[dict, dict[str, bytes]]:
-    """Run one case in this process, reusing the discretization of its group; (row, saved files).
+def simulate_case(scene, group: str, folder: str) -> dict:
+    """Run one case in this process, reusing the discretization of its group, and save it into ``folder``.
 
-    The row holds every output of :data:`~ngwear.studies.outputs.OUTPUTS`; the files are the result
-    folder of ``Result.save`` as {relative path: bytes}.  A case process runs one case at a time.
+    Returns the row: every output of :data:`~ngwear.studies.outputs.OUTPUTS` and the bookkeeping.  A
+    case process runs one case at a time.
     """
     with _quiet():
         start = perf_counter()
@@ -161,22 +164,18 @@ def simulate_case(scene, group: str) -> tuple[dict, dict[str, bytes]]:
         try:
             result = simulate(scene, discretization=cached, progress=False)
         except SceneError as err:
-            return _row(status="rejected", error=str(err), wall_time=perf_counter() - start, factorised=False), {}
+            return _row(status="rejected", error=str(err), wall_time=perf_counter() - start, factorised=False)
         disc = result.discretization
         operator = disc.__dict__.get("operator")
         _CACHE[group] = disc
         _CACHE.move_to_end(group)
         while len(_CACHE) > CACHED_GROUPS:
             _CACHE.popitem(last=False)
-        with tempfile.TemporaryDirectory() as tmp:
-            result.save(tmp)
-            files = {p.relative_to(tmp).as_posix(): p.read_bytes() for p in sorted(Path(tmp).rglob("*"))
-                     if p.is_file()}
-        row = _row(**outputs(result), status="completed" if result.completed else "stopped",
+        result.save(folder)
+        return _row(**outputs(result), status="completed" if result.completed else "stopped",
                    error=None if result.completed else result.status,
                    warnings="; ".join(result.warnings) or None, wall_time=perf_counter() - start,
                    factorised=operator is not None and operator is not before)
-    return row, files
 
 
 @contextmanager
