@@ -251,7 +251,7 @@ def _refuse_conflicts(given: list[tuple[str, str]]) -> None:
         for w, k in earlier:
             if (w, where) != ("set", "--set") and not w == where == "cases":
                 label = f"--set {key}" if where == "--set" else where if key == k else f"{where}.{key}"
-                raise StudyError(f"{w}.{k}: also {'fixed' if 'set' in where else 'varied'} by {label}")
+                raise StudyError(f"{w}.{k}: also {'fixed' if where in ('set', '--set') else 'varied'} by {label}")
         exact.setdefault(key, []).append((where, key))
         for p in prefixes:
             inside.setdefault(p, []).append((where, key))

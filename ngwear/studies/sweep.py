@@ -173,9 +173,9 @@ def simulate_case(scene, group: str, folder: str) -> dict:
             _CACHE.popitem(last=False)
         result.save(folder)
         return _row(**outputs(result), status="completed" if result.completed else "stopped",
-                   error=None if result.completed else result.status,
-                   warnings="; ".join(result.warnings) or None, wall_time=perf_counter() - start,
-                   factorised=operator is not None and operator is not before)
+                    error=None if result.completed else result.status,
+                    warnings="; ".join(result.warnings) or None, wall_time=perf_counter() - start,
+                    factorised=operator is not None and operator is not before)
 
 
 @contextmanager
