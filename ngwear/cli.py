@@ -16,8 +16,12 @@ import sys
 from pathlib import Path
 
 from .model.scene import SceneError, load_scene, parse_override
+from .results.folder import FolderError
 from .studies.study import StudyError
 from .views.app import DEFAULT_PORT
+
+FLAGS = {"checkpoint": "--out", "resume": "--resume"}
+"""The flag of each Python argument a FolderError may name."""
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -119,17 +123,25 @@ def verify(args) -> int:
 
 
 def run(args) -> int:
+    from .results.folder import hold
+
+    scene, settings = _scene(args, required=args.resume is None)
+    out = Path(args.resume or args.out or Path("out") / scene.name)
+    with hold(out, "--resume" if args.resume else "--out", create=args.resume is None):   # for the whole run
+        return _run(args, scene, settings, out)
+
+
+def _run(args, scene, settings, out: Path) -> int:
     import signal
     import threading
 
+    from .results.folder import NoSpace, no_space
     from .runs.simulate import simulate
 
-    scene, settings = _scene(args, required=args.resume is None)
     if args.resume is not None and scene is None:
         from .results.checkpoint import saved_scene
         scene = saved_scene(args.resume)
         scene = scene.replace(**dict(parse_override(item) for item in settings)) if settings else scene
-    out = Path(args.resume or args.out or Path("out") / scene.name)
     stop, received = threading.Event(), []
 
     def interrupt(number, _frame):      # stop at the next step boundary; a second signal changes nothing
@@ -137,9 +149,20 @@ def run(args) -> int:
         stop.set()
 
     handlers = {sig: signal.signal(sig, interrupt) for sig in (signal.SIGINT, signal.SIGTERM)}
+    result = None
     try:
         result = simulate(scene, progress=not args.quiet, checkpoint=out, resume=args.resume, stop=stop)
         _write(result, out, pictures=not args.no_pictures)
+    except NoSpace as err:
+        print(f"ngwear: --out: {err}" + (f": ngwear run --resume {out}" if err.resumable else ""), file=sys.stderr)
+        return 1
+    except OSError as err:
+        if result is None or not no_space(err):
+            raise
+        print(f"ngwear: --out: no space left on device in {out} for the results; the checkpoint keeps all "
+              f"{result.steps + 1} steps: free space, then write them with: ngwear run --resume {out}",
+              file=sys.stderr)
+        return 1
     finally:
         for sig, handler in handlers.items():
             signal.signal(sig, handler)
@@ -223,6 +246,8 @@ def explore(args) -> int:
     scene, _ = _scene(args)
     if args.kernel_timeout < 1:
         raise SceneError(f"--kernel-timeout: must be >= 1 s (got {args.kernel_timeout})")
+    if args.port is not None and not 1 <= args.port <= 65535:
+        raise SceneError(f"--port: must be in 1-65535 (got {args.port})")
     try:
         port = app.free_port(args.port)
     except OSError as err:
@@ -240,6 +265,9 @@ def main(argv: list[str] | None = None) -> int:
         return stress_main([a for a in args.args if a != "--"])
     try:
         return {"run": run, "verify": verify, "schema": schema, "sweep": sweep, "explore": explore}[args.command](args)
+    except FolderError as err:
+        print(f"ngwear: {err.named(FLAGS.get(err.key, err.key))}", file=sys.stderr)
+        return 2
     except (SceneError, StudyError) as err:
         print(f"ngwear: {err}", file=sys.stderr)
         return 2

@@ -8,12 +8,21 @@ solid (region) of the file is the body.  A ``netgen.occ`` shape or an (NGSolve o
 in Python is written once to a file in the cache, named by a hash of its content, so that a scene
 stays plain data that TOML, JSON and the result folders can hold.  Shapes go to BREP + sidecar, not
 STEP: STEP names a face's geometry, so faces that share it (the ends of an extrusion) lose a name.
+
+Files from outside are read first in a child process (:func:`describe`, cached by path, size and mtime):
+Netgen and OpenCASCADE trust their input, and a damaged file (a ``.vol`` cut short) can crash them, which
+in the child is a :class:`PartError` naming the file instead of the end of the run, the explorer or a
+study's client.  :func:`read_mesh` and :func:`read_shape` read a file in this process only once it has
+been described.
 """
 from __future__ import annotations
 
 import hashlib
 import json
 import os
+import signal
+import subprocess
+import sys
 import tempfile
 from dataclasses import dataclass
 from functools import lru_cache
@@ -42,7 +51,10 @@ class Part:
 
 
 def describe(path: str, kind: str) -> Part:
-    """The dimension, named boundaries and size of a part file (cached by path, size and mtime)."""
+    """The dimension, named boundaries and size of a part file, or a PartError saying why it cannot be read.
+
+    The file is read in a child process (see the module docstring); the answer is cached by path, size and mtime.
+    """
     file = Path(path)
     if not file.is_file():
         raise PartError(f"{path} does not exist")
@@ -55,20 +67,54 @@ def describe(path: str, kind: str) -> Part:
 
 @lru_cache(maxsize=32)
 def _describe(path: str, kind: str, size: int, mtime: int) -> Part:
+    """:func:`_read` in a child process (this file run as a script), whose crash is a PartError."""
+    done = subprocess.run([sys.executable, "-P", __file__, kind, path], capture_output=True, text=True)
+    name = Path(path).name
+    if done.returncode < 0:
+        reader = "OpenCASCADE" if kind == "step" else "Netgen"
+        raise PartError(f"{reader} crashed reading {name} ({signal.Signals(-done.returncode).name}): the file is "
+                        "damaged or cut short")
+    lines = done.stdout.strip().splitlines()
+    if done.returncode or not lines:
+        reason = (done.stderr.strip().splitlines() or ["no answer"])[-1]
+        raise PartError(f"cannot read {name} ({reason})")
+    answer = json.loads(lines[-1])
+    if "error" in answer:
+        raise PartError(answer["error"])
+    return Part(answer["dim"], tuple(answer["boundaries"]), answer["extent"])
+
+
+def _read(path: str, kind: str) -> Part:
+    """Dimension, boundary names and extent of a part file, read in this process."""
     if kind == "step":
-        shape = read_shape(path)
+        shape = _load_shape(path)
+        if not shape.faces:
+            raise PartError(f"{Path(path).name} holds no shape (no faces): empty, or not a STEP / IGES / BREP file")
         lo, hi = (np.array(corner) for corner in shape.bounding_box)
         names = {face.name for face in shape.faces if face.name}
         return Part(3, tuple(sorted(names)), float(np.linalg.norm(hi - lo)))
-    mesh = read_mesh(path)
+    mesh = _load_mesh(path)
     points = np.array([p.p for p in mesh.Points()])
+    if not len(points):
+        raise PartError(f"{Path(path).name} holds no mesh (no points): empty, or not a Netgen .vol / Gmsh .msh file")
     names = set(ngs.Mesh(mesh).GetBoundaries())
-    extent = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))) if len(points) else 0.0
+    extent = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
     return Part(mesh.dim, tuple(sorted(n for n in names if n)), extent)
 
 
 def read_shape(path: str) -> TopoDS_Shape:
-    """The OCC shape of a STEP / IGES / BREP file (a BREP's face names from its sidecar)."""
+    """The OCC shape of a STEP / IGES / BREP file (a BREP's face names from its sidecar), once described."""
+    describe(path, "step")
+    return _load_shape(path)
+
+
+def read_mesh(path: str) -> netgen.meshing.Mesh:
+    """The Netgen mesh of a ``.vol`` or Gmsh ``.msh`` file, every region renamed ``body``, once described."""
+    describe(path, "mesh")
+    return _load_mesh(path)
+
+
+def _load_shape(path: str) -> TopoDS_Shape:
     try:
         shape = OCCGeometry(str(path)).shape
     except Exception as err:  # Netgen raises its own exception type with the reader's message
@@ -84,8 +130,7 @@ def read_shape(path: str) -> TopoDS_Shape:
     return shape
 
 
-def read_mesh(path: str) -> netgen.meshing.Mesh:
-    """The Netgen mesh of a ``.vol`` or Gmsh ``.msh`` file, every region renamed ``body``."""
+def _load_mesh(path: str) -> netgen.meshing.Mesh:
     try:
         if Path(path).suffix.lower() == ".msh":
             from netgen.read_gmsh import ReadGmsh
@@ -131,3 +176,10 @@ def _fingerprint(shape: TopoDS_Shape, names: list) -> str:
     faces = [(round(f.mass, 12), *(round(c, 12) for c in (f.center.x, f.center.y, f.center.z))) for f in shape.faces]
     vertices = sorted(tuple(round(c, 12) for c in (v.p.x, v.p.y, v.p.z)) for v in shape.vertices)
     return hashlib.sha256(json.dumps([faces, vertices, names]).encode()).hexdigest()[:16]
+
+
+if __name__ == "__main__":        # the child of _describe: ``python -P cad.py KIND PATH`` prints the Part as JSON
+    try:
+        print(json.dumps(_read(sys.argv[2], sys.argv[1]).__dict__))
+    except PartError as err:
+        print(json.dumps({"error": str(err)}))

@@ -193,6 +193,9 @@ def _connect(client, workers):
     if isinstance(client, str):
         try:
             remote = Client(client, timeout=CONNECT_TIMEOUT)
+        except ValueError as err:             # not an address: distributed says why
+            raise StudyError(f"scheduler: {client!r} is not a Dask scheduler address ({err}); e.g. "
+                             "tcp://host:8786") from None
         except OSError as err:
             raise StudyError(f"scheduler: cannot connect to {client} ({err})") from None
         with remote:
