@@ -88,28 +88,37 @@ class History:
         if not np.prod(shape, dtype=int):          # no columns (δ of a run without a plate): nothing to keep
             return np.zeros((capacity, *shape))
         path = self.folder / f"{name}.f64"
-        with open(path, "ab") as file:
-            os.posix_fallocate(file.fileno(), 0, capacity * 8 * int(np.prod(shape, dtype=int)))
+        _reserve(path, capacity * 8 * int(np.prod(shape, dtype=int)))
         return np.memmap(path, dtype=np.float64, mode="r+", shape=(capacity, *shape))
 
     def put(self, name: str, row: int, value) -> np.ndarray:
-        """Write ``value`` into ``row`` (doubling the capacity when full); the rows up to it."""
+        """Write ``value`` into ``row`` (doubling the capacity of every array when full); the rows up to it."""
+        if len(self.buffers[name]) <= row:
+            self._grow(2 * (row + 1))
         buffer = self.buffers[name]
-        if len(buffer) <= row:
-            buffer = self._grown(name, 2 * (row + 1))
         buffer[row] = value
         return buffer[:row + 1]
 
-    def _grown(self, name: str, capacity: int) -> np.ndarray:
-        old = self.buffers[name]
-        if not isinstance(old, np.memmap):
-            new = np.zeros((capacity, *old.shape[1:]))
-            new[:len(old)] = old
-        else:
-            old.flush()
-            new = self._mapped(name, old.shape[1:], capacity)
-        self.buffers[name] = new
-        return new
+    def _grow(self, capacity: int) -> None:
+        """Room for ``capacity`` rows in every array: on disk for all files first, or (a full disk) for none."""
+        short = {name: buffer for name, buffer in self.buffers.items() if len(buffer) < capacity}
+        files = {name: self.folder / f"{name}.f64" for name, buffer in short.items() if isinstance(buffer, np.memmap)}
+        sizes = {name: path.stat().st_size for name, path in files.items()}
+        try:
+            for name, path in files.items():
+                _reserve(path, capacity * 8 * int(np.prod(short[name].shape[1:], dtype=int)))
+        except OSError:                             # give back what was reserved: the checkpoint still fits
+            for name, path in files.items():
+                os.truncate(path, sizes[name])
+            raise
+        for name, old in short.items():
+            if name in files:
+                old.flush()
+                new = np.memmap(files[name], dtype=np.float64, mode="r+", shape=(capacity, *old.shape[1:]))
+            else:
+                new = np.zeros((capacity, *old.shape[1:]))
+                new[:len(old)] = old
+            self.buffers[name] = new
 
     def flush(self) -> None:
         """Write the mapped rows to their files."""
@@ -137,6 +146,12 @@ class History:
         for name, buffer in self.buffers.items():
             copy.buffers[name][:rows] = buffer[:rows]
         return copy
+
+
+def _reserve(path: Path, size: int) -> None:
+    """Allocate the first ``size`` bytes of ``path`` on disk (created or extended, never cut): ENOSPC or room."""
+    with open(path, "ab") as file:
+        os.posix_fallocate(file.fileno(), 0, size)
 
 
 def remove_others(folder, keep: Path) -> None:
