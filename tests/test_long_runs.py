@@ -200,7 +200,8 @@ def test_a_second_run_into_a_folder_in_use_is_refused_and_the_first_goes_on(unin
     out = tmp_path / "shared"
     first = started(out)
     try:
-        for args, flag in ((["run", PAPER, "--out", out, "--set", *SETTINGS], "--out"), (["run", "--resume", out], "--resume")):
+        for args, flag in ((["run", PAPER, "--out", out, "--set", *SETTINGS], "--out"),
+                           (["run", "--resume", out], "--resume")):
             second = ngwear_cli(*args, "--quiet", "--no-pictures")
             second.wait(timeout=120)
             assert one_line(second, 2) == f"ngwear: {flag}: {out} is in use by ngwear (PID {first.pid})"
