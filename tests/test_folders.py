@@ -117,3 +117,24 @@ def test_rows_that_cannot_grow_stop_the_run_and_it_resumes_to_the_same_bits(smal
     resumed = ng.simulate(scene, progress=False, resume=disk / "run")
     assert np.array_equal(resumed.times, full.times) and np.array_equal(resumed.wear, full.wear)
     assert [r.residuals for r in resumed.newton] == [r.residuals for r in full.newton]
+
+
+def test_a_new_run_in_a_folder_checkpoints_its_own_mesh(tmp_path, monkeypatch):
+    """A run on another mesh into an old run's folder, stopped before it saves its result, resumes on its own mesh."""
+    ng.simulate(small(), progress=False, checkpoint=tmp_path)
+    other = small(**{"mesh.maxh": 0.25, "output.checkpoint_seconds": 0.0})
+    stop, calls, append = threading.Event(), [], ng.Result.append
+
+    def counting(result, *args):
+        append(result, *args)
+        calls.append(1)
+        if len(calls) == 11:
+            stop.set()
+
+    monkeypatch.setattr(ng.Result, "append", counting)
+    part = ng.simulate(other, progress=False, checkpoint=tmp_path, stop=stop)
+    monkeypatch.undo()
+    assert part.status == "interrupted" and part.steps == 10
+    resumed = ng.simulate(None, progress=False, resume=tmp_path)
+    direct = ng.simulate(other, progress=False)
+    assert resumed.weights.size == direct.weights.size != 16 and np.array_equal(resumed.wear, direct.wear)

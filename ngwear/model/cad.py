@@ -74,11 +74,11 @@ def _describe(path: str, kind: str, size: int, mtime: int) -> Part:
         reader = "OpenCASCADE" if kind == "step" else "Netgen"
         raise PartError(f"{reader} crashed reading {name} ({signal.Signals(-done.returncode).name}): the file is "
                         "damaged or cut short")
-    lines = done.stdout.strip().splitlines()
-    if done.returncode or not lines:
+    answers = [line for line in done.stdout.splitlines() if line.startswith("{")]   # the readers print too
+    if done.returncode or not answers:
         reason = (done.stderr.strip().splitlines() or ["no answer"])[-1]
         raise PartError(f"cannot read {name} ({reason})")
-    answer = json.loads(lines[-1])
+    answer = json.loads(answers[-1])
     if "error" in answer:
         raise PartError(answer["error"])
     return Part(answer["dim"], tuple(answer["boundaries"]), answer["extent"])
