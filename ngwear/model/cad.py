@@ -29,7 +29,6 @@ from functools import lru_cache
 from pathlib import Path
 
 import netgen.meshing
-import ngsolve as ngs
 import numpy as np
 from netgen.occ import OCCGeometry, TopoDS_Shape
 
@@ -97,7 +96,7 @@ def _read(path: str, kind: str) -> Part:
     points = np.array([p.p for p in mesh.Points()])
     if not len(points):
         raise PartError(f"{Path(path).name} holds no mesh (no points): empty, or not a Netgen .vol / Gmsh .msh file")
-    names = set(ngs.Mesh(mesh).GetBoundaries())
+    names = set(mesh.GetRegionNames(codim=1))
     extent = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
     return Part(mesh.dim, tuple(sorted(n for n in names if n)), extent)
 
