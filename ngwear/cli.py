@@ -5,8 +5,9 @@ Also ``ngwear explore`` (the explorer as a web app), ``ngwear verify``, ``ngwear
 ``ngwear sweep STUDY.toml [--out DIR] [--scheduler ADDRESS] [--workers N]`` (a parameter study on
 Dask, see :mod:`ngwear.studies.sweep`).
 
-Bad input exits with status 2 and one line naming the field; a run that stops part-way writes the
-steps it completed and exits with status 1.
+Bad input exits with status 2 and one line naming the field (also an output folder in use by another
+run, or a damaged file of one); a run that stops part-way writes the steps it completed and exits with
+status 1, as does a run stopped by a full disk (one line saying what its checkpoint keeps).
 """
 from __future__ import annotations
 

@@ -74,7 +74,7 @@ def hold(folder, key: str, create: bool = True):
     folder = Path(folder)
     if create:
         folder.mkdir(parents=True, exist_ok=True)
-    elif not os.access(folder, os.W_OK):
+    elif not folder.is_dir() or not os.access(folder, os.W_OK):
         yield folder
         return
     path, me = folder.resolve(), threading.get_ident()
@@ -112,6 +112,7 @@ def _take(folder: Path, key: str):
     file.truncate()
     file.write(f"{os.getpid()} {socket.gethostname()}\n")
     file.flush()
+    os.fsync(file.fileno())                         # on NFS: to the server, where a refused run reads it
     return file
 
 
