@@ -3,15 +3,18 @@
 ``checkpoint.npz`` holds the result so far but its per-step rows (:meth:`Result.header`: Newton records,
 status), how many rows count and the folder of the files that hold them (``steps-<id>``, see
 :mod:`ngwear.results.history`), the solver's warm start (x, λ), the adaptive clock's next step and the
-scene (as JSON); the mesh is the folder's ``mesh.vol``, so a resumed run needs no meshing.  A checkpoint
+scene (as JSON), the CRC-32 of the counted rows and the SHA-256 of the mesh, which is the folder's
+``mesh.vol``, so a resumed run needs no meshing.  A checkpoint
 costs what the rows since the last one cost to write, not the whole run.  Resumed, a run computes the same numbers,
 to the last bit, as if it had never stopped: every step starts from values that the checkpoint holds
 exactly.  A resumed scene may differ from the checkpoint's only in ``time.T`` (growing, to extend a
-run; with uniform steps ``time.steps`` grows with it, k = T/N kept) and in ``output.*``.
+run; with uniform steps ``time.steps`` grows with it, k = T/N kept) and in ``output.*``.  Each file of the
+folder is checked before a resume uses it (:class:`Checkpoint`); :class:`Saver` writes a run's checkpoints.
 """
 from __future__ import annotations
 
 import json
+import time
 import zipfile
 import zlib
 from pathlib import Path
@@ -19,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model.scene import Scene, SceneError
-from .folder import FolderError
+from .folder import FolderError, no_space
 from .history import History, remove_others
 from .result import Result, checked_mesh, from_arrays, keep_mesh, replacing, row_shapes
 
@@ -148,3 +151,41 @@ def _value(scene: Scene, key: str):
     for part in key.split("."):
         node = node.get(part) if isinstance(node, dict) else None
     return node
+
+
+class Saver:
+    """A run's checkpoints into ``folder`` (None: none): every ``seconds`` of wall time (0: never) and at its end.
+
+    A checkpoint that finds the disk full is not written (the last one stays) and ends the run (``full``).
+    """
+
+    def __init__(self, folder, seconds: float):
+        self.folder, self.seconds, self.last = folder, seconds, time.perf_counter()
+        self.full: OSError | None = None
+        self.rows = 0                       # the steps the last checkpoint written keeps
+
+    def maybe(self, result: Result) -> bool:
+        """Checkpoint if it is time; whether the run may go on."""
+        if self.folder is not None and self.seconds > 0 and time.perf_counter() - self.last >= self.seconds:
+            self.write(result)
+        return self.full is None
+
+    def write(self, result: Result) -> None:
+        if self.folder is not None and result.continuation is not None:
+            try:
+                write_checkpoint(self.folder, result)
+            except OSError as err:
+                if not no_space(err):
+                    raise
+                self.full = err
+                return
+            self.last, self.rows = time.perf_counter(), len(result.times)
+
+    def kept(self, result: Result) -> str:
+        """What a run stopped by a full disk keeps, in one line."""
+        t = result.times[-1] if len(result.times) else 0.0
+        stopped = f"no space left on device in {self.folder}: the run stopped after step {result.steps} (t = {t:.4g})"
+        if not self.rows:
+            return f"{stopped}; no checkpoint fitted: free space and run again"
+        return (f"{stopped}; its checkpoint keeps steps 0-{self.rows - 1} (t <= {result.times[self.rows - 1]:.4g}): "
+                "free space, then resume from it")

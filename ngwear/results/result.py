@@ -34,7 +34,7 @@ from ..model.kinematics import Slip
 from ..model.scene import Scene
 from ..numerics.forms import initial_distance
 from ..numerics.solver import NewtonRecord
-from .folder import FolderError, digest
+from .folder import FolderError, NoSpace, digest, no_space
 from .history import History
 
 ARRAYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces", "plate_displacement")
@@ -70,12 +70,20 @@ class Result:
     def empty(cls, scene: Scene, disc, folder=None) -> Result:
         """A result with room for the scene's steps, in memory or (``folder``) in mapped files there.
 
-        The public arrays are views of the completed rows (:mod:`ngwear.results.history`).
+        The public arrays are views of the completed rows (:mod:`ngwear.results.history`); NoSpace when the
+        folder has no room for them.
         """
         shapes = row_shapes(scene, disc)
         result = cls(scene, disc.points.coords, disc.points.weights,
                      *(np.zeros((0, *shapes[name])) for name in ARRAYS), discretization=disc)
-        result.history = History.empty(shapes, scene.time.steps + 1, folder)
+        try:
+            result.history = History.empty(shapes, scene.time.steps + 1, folder)
+        except OSError as err:
+            if not no_space(err):
+                raise
+            size = (scene.time.steps + 1) * sum(8 * int(np.prod(shape, dtype=int)) for shape in shapes.values())
+            raise NoSpace(f"no space left on device in {folder} for the rows of {scene.time.steps + 1} steps "
+                          f"({size / 1e6:.4g} MB); nothing was computed") from None
         return result
 
     def append(self, t, w, s, p, lam, forces, delta, record: NewtonRecord) -> None:

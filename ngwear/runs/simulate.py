@@ -27,9 +27,9 @@ from ..numerics.discrete import Discretization
 from ..numerics.recycle import ComplianceMemory, Recycler
 from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, KrylovSystem, PlateRows, semismooth_newton
 from ..numerics.wear import WearIntegrator, explicit_stability
-from ..results.checkpoint import Checkpoint, write_checkpoint
+from ..results.checkpoint import Checkpoint, Saver
 from ..results.folder import NoSpace, hold, no_space
-from ..results.result import Result, row_shapes
+from ..results.result import Result
 from .clock import Clock
 
 log = logging.getLogger(__name__)
@@ -82,7 +82,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
             disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene))
         else:
             disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
-        result = _empty(scene, disc, checkpoint)
+        result = Result.empty(scene, disc, checkpoint)
         warning = None if scene.time.adaptive else explicit_stability(scene, disc.largest_alpha())
         if warning:
             log.warning("%s", warning)
@@ -95,7 +95,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
     if resume is None:
         x, lam = stepper.unknowns(), np.zeros(disc.points.n)
     integrator = WearIntegrator(scene.wear.integrator, disc.law, disc.points.n)
-    saver = _Saver(checkpoint, scene.output.checkpoint_seconds)
+    saver = Saver(checkpoint, scene.output.checkpoint_seconds)
     if resume is not None and result.history.is_in(resume):
         saver.rows = len(result.times)          # what the checkpoint read keeps
     bar = _progress(scene, result) if progress else None
@@ -238,57 +238,6 @@ class _Stages:
                     self.run(label, lambda name=name: getattr(disc, name))
         if self.bar is not None:
             self.bar.close()
-
-
-def _empty(scene: Scene, disc: Discretization, folder) -> Result:
-    """:meth:`Result.empty`, or NoSpace when the folder has no room for the rows of the scene's steps."""
-    try:
-        return Result.empty(scene, disc, folder)
-    except OSError as err:
-        if not no_space(err):
-            raise
-        shapes = row_shapes(scene, disc).values()
-        size = (scene.time.steps + 1) * sum(8 * int(np.prod(shape, dtype=int)) for shape in shapes)
-        raise NoSpace(f"no space left on device in {folder} for the rows of {scene.time.steps + 1} steps "
-                      f"({size / 1e6:.4g} MB); nothing was computed") from None
-
-
-class _Saver:
-    """Checkpoints into an output folder: every ``seconds`` of wall time (0: never) and at the end.
-
-    A checkpoint that finds the disk full is not written (the last one stays) and ends the run (``full``).
-    """
-
-    def __init__(self, folder, seconds: float):
-        self.folder, self.seconds, self.last = folder, seconds, time.perf_counter()
-        self.full: OSError | None = None
-        self.rows = 0                       # the steps the last checkpoint written keeps
-
-    def maybe(self, result: Result) -> bool:
-        """Checkpoint if it is time; whether the run may go on."""
-        if self.folder is not None and self.seconds > 0 and time.perf_counter() - self.last >= self.seconds:
-            self.write(result)
-        return self.full is None
-
-    def write(self, result: Result) -> None:
-        if self.folder is not None and result.continuation is not None:
-            try:
-                write_checkpoint(self.folder, result)
-            except OSError as err:
-                if not no_space(err):
-                    raise
-                self.full = err
-                return
-            self.last, self.rows = time.perf_counter(), len(result.times)
-
-    def kept(self, result: Result) -> str:
-        """What a run stopped by a full disk keeps, in one line."""
-        t = result.times[-1] if len(result.times) else 0.0
-        stopped = f"no space left on device in {self.folder}: the run stopped after step {result.steps} (t = {t:.4g})"
-        if not self.rows:
-            return f"{stopped}; no checkpoint fitted: free space and run again"
-        return (f"{stopped}; its checkpoint keeps steps 0-{self.rows - 1} (t <= {result.times[self.rows - 1]:.4g}): "
-                "free space, then resume from it")
 
 
 class _Stepper:
