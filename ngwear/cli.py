@@ -5,8 +5,9 @@ Also ``ngwear explore`` (the explorer as a web app), ``ngwear verify``, ``ngwear
 ``ngwear sweep STUDY.toml [--out DIR] [--scheduler ADDRESS] [--workers N]`` (a parameter study on
 Dask, see :mod:`ngwear.studies.sweep`).
 
-Bad input exits with status 2 and one line naming the field; a run that stops part-way writes the
-steps it completed and exits with status 1.
+Bad input exits with status 2 and one line naming the field (also an output folder in use by another
+run, or a damaged file of one); a run that stops part-way writes the steps it completed and exits with
+status 1, as does a run stopped by a full disk (one line saying what its checkpoint keeps).
 """
 from __future__ import annotations
 
@@ -17,8 +18,12 @@ import sys
 from pathlib import Path
 
 from .model.scene import SceneError, load_scene, parse_override
+from .results.folder import FolderError
 from .studies.study import StudyError
 from .views.app import DEFAULT_PORT
+
+FLAGS = {"checkpoint": "--out", "resume": "--resume"}
+"""The flag of each Python argument a FolderError may name."""
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -128,17 +133,25 @@ def verify(args) -> int:
 
 
 def run(args) -> int:
+    from .results.folder import hold
+
+    scene, settings = _scene(args, required=args.resume is None)
+    out = Path(args.resume or args.out or Path("out") / scene.name)
+    with hold(out, "--resume" if args.resume else "--out", create=args.resume is None):   # for the whole run
+        return _run(args, scene, settings, out)
+
+
+def _run(args, scene, settings, out: Path) -> int:
     import signal
     import threading
 
+    from .results.folder import NoSpace, no_space
     from .runs.simulate import simulate
 
-    scene, settings = _scene(args, required=args.resume is None)
     if args.resume is not None and scene is None:
         from .results.checkpoint import saved_scene
         scene = saved_scene(args.resume)
         scene = scene.replace(**dict(parse_override(item) for item in settings)) if settings else scene
-    out = Path(args.resume or args.out or Path("out") / scene.name)
     stop, received = threading.Event(), []
 
     def interrupt(number, _frame):      # stop at the next step boundary; a second signal changes nothing
@@ -146,9 +159,20 @@ def run(args) -> int:
         stop.set()
 
     handlers = {sig: signal.signal(sig, interrupt) for sig in (signal.SIGINT, signal.SIGTERM)}
+    result = None
     try:
         result = simulate(scene, progress=not args.quiet, checkpoint=out, resume=args.resume, stop=stop)
         _write(result, out, pictures=not args.no_pictures)
+    except NoSpace as err:
+        print(f"ngwear: --out: {err}" + (f": ngwear run --resume {out}" if err.resumable else ""), file=sys.stderr)
+        return 1
+    except OSError as err:
+        if result is None or not no_space(err):
+            raise
+        print(f"ngwear: --out: no space left on device in {out} for the results; the checkpoint keeps all "
+              f"{result.steps + 1} steps: free space, then write them with: ngwear run --resume {out}",
+              file=sys.stderr)
+        return 1
     finally:
         for sig, handler in handlers.items():
             signal.signal(sig, handler)
@@ -261,6 +285,9 @@ def main(argv: list[str] | None = None) -> int:
         return stress_main([a for a in args.args if a != "--"])
     try:
         return {"run": run, "verify": verify, "schema": schema, "sweep": sweep, "explore": explore}[args.command](args)
+    except FolderError as err:
+        print(f"ngwear: {err.named(FLAGS.get(err.key, err.key))}", file=sys.stderr)
+        return 2
     except (SceneError, StudyError) as err:
         print(f"ngwear: {err}", file=sys.stderr)
         return 2

@@ -235,3 +235,26 @@ def test_brake_pad_sliders_force_omega_kappa_mu():
     assert not ex.result.wear.any() and before.wear.any()
     assert ex.disc.elastic.operator is before.discretization.elastic.operator          # no new factorisation for any of them
     ex.close()
+
+
+def test_a_result_is_not_saved_into_a_folder_a_run_holds(explorer, tmp_path):
+    from ngwear.results.folder import hold
+
+    held, done = threading.Event(), threading.Event()
+
+    def run():
+        with hold(tmp_path / "busy", "checkpoint"):
+            held.set()
+            done.wait(60)
+
+    thread = threading.Thread(target=run)
+    thread.start()
+    held.wait(60)
+    try:
+        with pytest.raises(SceneError, match=r"^save into: .*busy is in use by ngwear \(PID \d+, another thread\)$"):
+            explorer.save_result(tmp_path / "busy")
+    finally:
+        done.set()
+        thread.join()
+    assert not (tmp_path / "busy" / "result.npz").exists()
+    assert (explorer.save_result(tmp_path / "busy") / "result.npz").is_file()

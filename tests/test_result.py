@@ -56,3 +56,19 @@ def test_displacement_on_contact_boundary(small):
         j = np.argmin(abs(x - xi))
         if abs(x[j] - xi) < 1e-12:
             assert abs(small.normal_displacement[-1, j] - si) < 1e-6
+
+
+def test_the_frames_draw_every_element_of_the_body(small, tmp_path):
+    """All of the body is in each VTU: as many cells as NGSolve writes for the mesh without a mask."""
+    import re
+
+    import ngsolve as ngs
+
+    small.save(tmp_path)
+    mesh = small.discretization.mesh
+    ngs.VTKOutput(mesh, coefs=[], names=[], filename=str(tmp_path / "all"),
+                  subdivision=small.scene.mesh.order - 1).Do()
+    cells = lambda path: int(re.search(rb'NumberOfCells="(\d+)"', path.read_bytes()).group(1))  # noqa: E731
+    assert cells(tmp_path / "all.vtu") >= mesh.ne
+    for frame in tmp_path.glob("fields*.vtu"):
+        assert cells(frame) == cells(tmp_path / "all.vtu"), frame.name

@@ -9,12 +9,16 @@ fields are recovered (one back-substitution each) only for the steps that are wr
 Nothing is lost on an interrupt: a set ``stop`` event (the CLI's SIGINT/SIGTERM) or Ctrl-C ends the
 run at a step boundary with status ``interrupted`` and every completed step; with an output folder
 the run writes checkpoints there (:mod:`ngwear.results.checkpoint`) from which ``resume`` goes on.
+The run holds its folders (:func:`ngwear.results.folder.hold`); when the disk fills it stops at a step
+boundary, writes what fits and raises :class:`~ngwear.results.folder.NoSpace` saying which steps are kept.
 """
 from __future__ import annotations
 
 import logging
 import time
+from contextlib import ExitStack
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -23,7 +27,8 @@ from ..numerics.discrete import Discretization
 from ..numerics.recycle import ComplianceMemory, Recycler
 from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, KrylovSystem, PlateRows, semismooth_newton
 from ..numerics.wear import WearIntegrator, explicit_stability
-from ..results.checkpoint import Checkpoint, write_checkpoint
+from ..results.checkpoint import Checkpoint, Saver
+from ..results.folder import NoSpace, hold, no_space
 from ..results.result import Result
 from .clock import Clock
 
@@ -47,7 +52,23 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
         extend ``time.T``; ``None`` takes the checkpoint's scene.  Checkpoints go on in that folder.
     stop : threading.Event, optional
         When set, the run stops at the next step boundary with status ``interrupted``.
+
+    Raises
+    ------
+    FolderError
+        ``checkpoint`` or ``resume`` is in use by another run, or a file of ``resume`` is missing or damaged.
+    NoSpace
+        The disk filled: the run stopped, its checkpoint keeps the steps that fit (see the message).
     """
+    with ExitStack() as held:
+        for folder, key in ((checkpoint, "checkpoint"), (resume, "resume")):
+            if folder is not None:
+                new = key == "checkpoint" and (resume is None or Path(folder).resolve() != Path(resume).resolve())
+                held.enter_context(hold(folder, key, create=new))
+        return _simulate(scene, discretization, progress, checkpoint, resume, stop)
+
+
+def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Result:
     start = time.perf_counter()
     stages = _Stages(scene.name if scene is not None else "resume", progress)
     if resume is not None:
@@ -74,7 +95,9 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
     if resume is None:
         x, lam = stepper.unknowns(), np.zeros(disc.points.n)
     integrator = WearIntegrator(scene.wear.integrator, disc.law, disc.points.n)
-    saver = _Saver(checkpoint, scene.output.checkpoint_seconds)
+    saver = Saver(checkpoint, scene.output.checkpoint_seconds)
+    if resume is not None and result.history.is_in(resume):
+        saver.rows = len(result.times)          # what the checkpoint read keeps
     bar = _progress(scene, result) if progress else None
     before = result.wall_time
     try:
@@ -92,10 +115,16 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
             result.continuation = (x, lam, clock.next_step)
             if bar is not None:
                 bar.update(1 if not scene.time.adaptive else result.times[-1] - result.times[-2])
-            saver.maybe(result)
+            if not saver.maybe(result):
+                break
     except KeyboardInterrupt:
         result.settle()
         result.interrupt()
+    except OSError as err:                      # the rows found no room to grow
+        if not no_space(err):
+            raise
+        result.settle()
+        saver.full = err
     result.wall_time, result.rejected = before + time.perf_counter() - start, clock.rejected
     if clock.unmet:
         result.warnings.append(f"time.tolerance: steps at time.min_step = {scene.time.min_step:g} missed the "
@@ -103,6 +132,8 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
     saver.write(result)
     if bar is not None:
         bar.close()
+    if saver.full is not None:
+        raise NoSpace(saver.kept(result), result, resumable=saver.rows > 0)
     if result.status != "completed":
         log.warning("%s: %s", scene.name, result.status)
     return result
@@ -201,22 +232,6 @@ class _Stages:
                 self.run(label, build)
         if self.bar is not None:
             self.bar.close()
-
-
-class _Saver:
-    """Checkpoints into an output folder: every ``seconds`` of wall time (0: never) and at the end."""
-
-    def __init__(self, folder, seconds: float):
-        self.folder, self.seconds, self.last = folder, seconds, time.perf_counter()
-
-    def maybe(self, result: Result) -> None:
-        if self.folder is not None and self.seconds > 0 and time.perf_counter() - self.last >= self.seconds:
-            self.write(result)
-
-    def write(self, result: Result) -> None:
-        if self.folder is not None and result.continuation is not None:
-            write_checkpoint(self.folder, result)
-            self.last = time.perf_counter()
 
 
 class _Stepper:

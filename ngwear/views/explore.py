@@ -255,12 +255,14 @@ class Explorer:
     def save_result(self, directory) -> Path:
         """Write the current run as ``ngwear run`` does: results, checkpoint, VTU/PVD and the pictures."""
         from ..results.checkpoint import write_checkpoint
+        from ..results.folder import hold
         from .pictures import write_pictures
         with self._lock:
             result = self.result
-        out = result.save(directory)
-        write_checkpoint(out, result)
-        write_pictures(result, out)
+        with hold(directory, "save into"):          # a FolderError while another run writes there
+            out = result.save(directory)
+            write_checkpoint(out, result)
+            write_pictures(result, out)
         return out
 
     # ---- views ------------------------------------------------------------------------------

@@ -171,6 +171,9 @@ class _View:
         except OSError as err:
             self._error(f"save into: cannot write {err.filename or path} ({err.strerror or err})")
             return
+        except SceneError as err:                   # the folder is in use by a run
+            self._error(str(err))
+            return
         self.controls["message"].value = _text(f"saved {what}: {written.resolve()}")
 
 
