@@ -217,7 +217,7 @@ def explore(args) -> int:
 
     from .views import app
     if find_spec("voila") is None:
-        print("ngwear: explore needs the optional packages of ngwear[app] (voila is missing): "
+        print("ngwear: explore: needs the optional packages of ngwear[app] (voila is missing): "
               "pip install 'ngwear[app]'", file=sys.stderr)
         return 2
     scene, _ = _scene(args)

@@ -1,6 +1,9 @@
 """`ngwear explore` without a browser: bad input is one line naming the field, and the served page itself."""
 import json
 import socket
+import subprocess
+import sys
+from importlib.util import find_spec
 
 import pytest
 from conftest import PAPER
@@ -9,7 +12,12 @@ from test_cli import assert_one_line_error, ngwear
 import ngwear as ng
 from ngwear.views import app
 
+#: `ngwear explore` serves with Voilà, the optional extra ngwear[app]; the page itself needs only the core packages
+needs_voila = pytest.mark.skipif(find_spec("voila") is None, reason="needs the app extra: pip install 'ngwear[app]'")
+WITHOUT_VOILA = "import sys; sys.modules['voila'] = None; from ngwear.cli import main; sys.exit(main())"
 
+
+@needs_voila
 @pytest.mark.parametrize("args, field", [
     (["missing.toml"], "scene file"),
     ([PAPER, "--set", "contact.gap=-1"], "contact.gap"),
@@ -19,6 +27,7 @@ def test_bad_input_is_one_line_naming_the_field(tmp_path, args, field):
     assert_one_line_error(ngwear("explore", *args, cwd=tmp_path), field)
 
 
+@needs_voila
 def test_a_busy_port_is_refused(tmp_path):
     with socket.socket() as busy:
         busy.bind(("127.0.0.1", 0))
@@ -26,6 +35,15 @@ def test_a_busy_port_is_refused(tmp_path):
         port = busy.getsockname()[1]
         assert_one_line_error(ngwear("explore", PAPER, "--port", port, cwd=tmp_path), "--port")
         assert app.free_port(None) != port
+
+
+def test_without_the_app_extra_explore_says_what_to_install(tmp_path):
+    """Voilà hidden (as when ngwear[app] is not installed): one line naming the extra, status 2."""
+    proc = subprocess.run([sys.executable, "-c", WITHOUT_VOILA, "explore", str(PAPER)], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=120)
+    assert_one_line_error(proc, "explore")
+    assert "needs the optional packages of ngwear[app]" in proc.stderr
+    assert "pip install 'ngwear[app]'" in proc.stderr
 
 
 def test_the_served_notebook_calls_the_page_with_the_scene(tmp_path):
