@@ -65,7 +65,8 @@ class Clock:
             return (j + 1) * self.uniform
         mark = self.marks[np.searchsorted(self.marks, t, side="right")]
         end = t + self.step
-        stretch = 0.0 if self.retrying else 0.2 * self.step       # a step redone smaller is not stretched back
+        # a step redone smaller is not stretched back, nor any step past the ceiling (the stability limit)
+        stretch = 0.0 if self.retrying else min(0.2 * self.step, self.ceiling - self.step)
         return mark if end >= mark - stretch else end
 
     def judge(self, times: list[float], rates: list[np.ndarray]) -> bool:

@@ -9,6 +9,10 @@ fields are recovered (one back-substitution each) only for the steps that are wr
 Nothing is lost on an interrupt: a set ``stop`` event (the CLI's SIGINT/SIGTERM) or Ctrl-C ends the
 run at a step boundary with status ``interrupted`` and every completed step; with an output folder
 the run writes checkpoints there (:mod:`ngwear.results.checkpoint`) from which ``resume`` goes on.
+
+Every step is checked against the invariants (:mod:`ngwear.results.invariants`) before it is recorded:
+the first step that breaks one stops the run (status naming the step, the invariant and by how much),
+keeping the steps before it.
 """
 from __future__ import annotations
 
@@ -24,6 +28,7 @@ from ..numerics.recycle import ComplianceMemory, Recycler
 from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, KrylovSystem, PlateRows, semismooth_newton
 from ..numerics.wear import WearIntegrator, explicit_stability
 from ..results.checkpoint import Checkpoint, write_checkpoint
+from ..results.invariants import StepCheck
 from ..results.result import Result
 from .clock import Clock
 
@@ -70,7 +75,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
     clock = Clock(scene, disc.largest_alpha(), result.rejected)
     if resume is not None:
         clock.step, result.continuation = saved.step, (saved.x, saved.lam, saved.step)
-    stepper = _Stepper(disc)
+    stepper = _Stepper(disc, StepCheck(result))
     if resume is None:
         x, lam = stepper.unknowns(), np.zeros(disc.points.n)
     integrator = WearIntegrator(scene.wear.integrator, disc.law, disc.points.n)
@@ -132,10 +137,19 @@ def _solve(stepper, integrator, t: float, t_prev: float | None, x, lam) -> _Atte
     return _Attempt(x, lam, s, delta, pressure, integrator.wear_at(s - disc.d0), record)
 
 
-def _record(result: Result, stepper, t: float, attempt: _Attempt) -> None:
+def _record(result: Result, stepper, t: float, attempt: _Attempt) -> bool:
+    """Record the step if it keeps the invariants; else stop the run there (False)."""
+    broken = stepper.check(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam)
+    if broken is not None:
+        name, value = broken
+        result.fail(f"step {len(result.times)} (t = {t:.4g}): invariant {name} broken by {value:.3g} "
+                    f"(allowed {stepper.check.checker.allowed[name]:.0e}; see ngwear.results.invariants); "
+                    f"try wear.integrator = 'implicit' or more time.steps", attempt.record)
+        return False
     disc = stepper.disc
     result.append(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam,
                   disc.contact_forces(attempt.pressure, attempt.lam, t), attempt.delta, attempt.record)
+    return True
 
 
 def _failed(result: Result, scene: Scene, j: int, t: float, err: Exception) -> None:
@@ -173,8 +187,7 @@ def _next(stepper, integrator, clock: Clock, result: Result, x, lam):
             _failed(result, stepper.scene, j + 1, t_next, err)
             return None
         if clock.judge([*times, t_next], [*rates, disc.alpha(t_next) * attempt.pressure]):
-            _record(result, stepper, t_next, attempt)
-            return attempt.x, attempt.lam
+            return (attempt.x, attempt.lam) if _record(result, stepper, t_next, attempt) else None
 
 
 class _Stages:
@@ -235,8 +248,8 @@ class _Stepper:
 
     CUTBACKS = (2, 4, 8)
 
-    def __init__(self, disc: Discretization):
-        self.disc, self.scene = disc, disc.scene
+    def __init__(self, disc: Discretization, check: StepCheck):
+        self.disc, self.scene, self.check = disc, disc.scene, check
         self._matrices: dict = {}
         self._factors: dict = {}
 
@@ -266,16 +279,18 @@ class _Stepper:
             start = 0.0 if t_prev is None else self.disc.load_factor(t_prev)
             if t_prev is None:
                 x, lam = np.zeros_like(x), np.zeros_like(lam)
-            for m in self.CUTBACKS:
+            for tried, m in enumerate(self.CUTBACKS, start=1):
                 try:
                     xs, ls = x, lam
                     for theta in np.arange(1, m + 1) / m:
                         xs, ls, record = self._newton(t, start + theta * (target - start), law, xs, ls,
                                                       integrator)
                     log.info("t = %.4g: converged after cutting the load step into %d", t, m)
+                    record.cutbacks = tried
                     return xs, ls, record
                 except ConvergenceError:
                     continue
+            first.record.cutbacks = len(self.CUTBACKS)
             raise first
 
     def _newton(self, t, load_factor, law, x, lam, integrator):
