@@ -47,7 +47,7 @@ def test_catalogue_covers_the_issue():
     assert len(names) >= 30 and len(set(names)) == len(names)
     scenes = {s.name: s.scene() for s in CATALOGUE if s.expect != "rejected"}
     for spec in CATALOGUE:
-        if spec.expect == "rejected":
+        if spec.expect == "rejected" and "rejected_names_steps" not in spec.checks:   # these need the mesh's α
             with pytest.raises(SceneError):
                 spec.scene()
     values = lambda f: {f(sc) for sc in scenes.values()}  # noqa: E731

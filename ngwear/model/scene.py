@@ -239,6 +239,8 @@ class WearSpec(Section):
 
     integrator: Literal["explicit", "implicit", "trapezoidal"] = key(
         "explicit", "`explicit` (paper eq. 15), `implicit` (backward Euler), `trapezoidal`")
+    allow_unstable: Flag = key(False, "run an explicit update known to diverge (k·α·L > 2 at the uniform step, α "
+                               "the largest κ‖v*‖, L the largest slope of p on [0, g]) instead of refusing it")
 
 
 class SolverSpec(Section):

@@ -22,11 +22,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.scene import Scene
+from ..model.scene import Scene, SceneError
 from ..numerics.discrete import Discretization
 from ..numerics.recycle import ComplianceMemory, Recycler
 from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, KrylovSystem, PlateRows, semismooth_newton
-from ..numerics.wear import WearIntegrator, explicit_stability
+from ..numerics.wear import WearIntegrator, diverging, explicit_stability
 from ..results.checkpoint import Checkpoint, write_checkpoint
 from ..results.invariants import StepCheck
 from ..results.result import Result
@@ -66,6 +66,10 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
             disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene))
         else:
             disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
+        refusal = diverging(scene, disc.largest_alpha())
+        if refusal:
+            stages.close()
+            raise SceneError(refusal)
         result = Result.empty(scene, disc, checkpoint)
         warning = None if scene.time.adaptive else explicit_stability(scene, disc.largest_alpha())
         if warning:
@@ -218,6 +222,9 @@ class _Stages:
             for name, label in needed:
                 if name not in disc.__dict__:
                     self.run(label, lambda name=name: getattr(disc, name))
+        self.close()
+
+    def close(self) -> None:
         if self.bar is not None:
             self.bar.close()
 
