@@ -31,6 +31,7 @@ def _parser() -> argparse.ArgumentParser:
                                                          "may extend time.T)")
     run.add_argument("--no-pictures", action="store_true", help="skip the pictures and plots (PNG)")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.add_argument("--no-check", action="store_true", help="skip the uniqueness check (H_S) after the run")
     ver = sub.add_parser("verify", help="convergence study (h and k) and the (H_S) check of a scene")
     ver.add_argument("scene", nargs="?", help="scene TOML file")
     ver.add_argument("--out", help="output directory (default: out/<scene name>-verify)")
@@ -139,10 +140,15 @@ def run(args) -> int:
     handlers = {sig: signal.signal(sig, interrupt) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
         result = simulate(scene, progress=not args.quiet, checkpoint=out, resume=args.resume, stop=stop)
-        _write(result, out, pictures=not args.no_pictures)
+        result.save(out)
+        check = None if args.no_check else _uniqueness(result, stop, progress=not args.quiet)
+        _write(result, out, pictures=not args.no_pictures, check=check)
     finally:
         for sig, handler in handlers.items():
             signal.signal(sig, handler)
+    if result.completed and received:
+        print("ngwear: interrupted during the uniqueness check (H_S); the run is complete and written", file=sys.stderr)
+        return 128 + received[0]
     if result.status == "interrupted":
         t = result.times[-1] if len(result.times) else 0.0
         print(f"ngwear: interrupted after step {result.steps} (t = {t:.4g}); resume with: ngwear run --resume {out}",
@@ -154,9 +160,34 @@ def run(args) -> int:
     return 0
 
 
-def _write(result, out: Path, pictures: bool) -> None:
-    """Save the result and its pictures into ``out`` and print the summary."""
-    result.save(out)
+def _uniqueness(result, stop, progress: bool) -> tuple[str, str] | None:
+    """(label, text) of the summary's (H_S) line for a completed run with friction; None when there is nothing to say.
+
+    Never after an interrupt; a signal during the check aborts it.  It reuses the run's factorisation
+    (:func:`ngwear.studies.theory.uniqueness`), shown as a stage on the progress bar.
+    """
+    disc = result.discretization
+    if not result.completed or stop.is_set() or result.scene.contact.friction == 0 or disc is None:
+        return None
+    from scipy.sparse.linalg import ArpackNoConvergence
+
+    from .runs.simulate import Stages
+    from .studies.theory import uniqueness
+    stages = Stages(result.scene.name, progress)
+    try:
+        check = stages.run(f"uniqueness (H_S): Lanczos on the compliance of {disc.points.n} contact points",
+                           lambda: uniqueness(disc, stop.is_set))
+    except KeyboardInterrupt:
+        return "uniqueness", "(H_S) not evaluated: interrupted"
+    except ArpackNoConvergence as err:
+        return "uniqueness", f"(H_S) not evaluated: Lanczos did not converge ({str(err).splitlines()[0]})"
+    finally:
+        stages.close()
+    return ("uniqueness" if check.holds else "warning"), check.message()
+
+
+def _write(result, out: Path, pictures: bool, check: tuple[str, str] | None = None) -> None:
+    """Write the result's pictures into ``out`` (saved there before) and print the summary."""
     written = []
     if pictures and result.steps >= 0:
         from .views.pictures import write_pictures
@@ -165,16 +196,8 @@ def _write(result, out: Path, pictures: bool) -> None:
     width = max(map(len, summary))
     for key, value in summary.items():
         print(f"{key:<{width}}  {value:.4g}" if isinstance(value, float) else f"{key:<{width}}  {value}")
-    disc = result.discretization
-    if result.scene.contact.friction > 0 and disc is not None:
-        from .numerics.condense import DENSE_LIMIT
-        from .studies.theory import smallness
-        if len(disc.contact_dofs) <= DENSE_LIMIT:
-            check = smallness(disc)
-            print(f"{'uniqueness' if check.holds else 'warning':<{width}}  {check.message()}")
-        else:
-            print(f"{'uniqueness':<{width}}  (H_S) not evaluated: c0 on {len(disc.contact_dofs)} contact DOFs needs a "
-                  "second factorisation of the mesh; ngwear.studies.theory.smallness(discretization) computes it")
+    if check is not None:
+        print(f"{check[0]:<{width}}  {check[1]}")
     for warning in result.warnings:
         print(f"{'warning':<{width}}  {warning}")
     frames = len(result.stored_steps)

@@ -60,6 +60,6 @@ def test_the_served_notebook_calls_the_page_with_the_scene(tmp_path):
 
 def test_a_scene_whose_run_stops_gives_a_page_saying_so(tmp_path):
     scene = ng.load_scene(PAPER).replace(**{"mesh.maxh": 0.2, "time.steps": 20, "contact.stiffness": 1e8,
-                                            "contact.wear": 5.0})
+                                            "contact.wear": 5.0, "wear.allow_unstable": True})
     shown = app.page(scene.to_dict(), str(tmp_path), str(tmp_path / "ready"))
     assert "the scene's run stopped at step" in shown.value and (tmp_path / "ready").exists()

@@ -64,7 +64,7 @@ def test_cut_backs_are_counted_and_saved(paper_scene, tmp_path):
     p = 25 r₊² from the unloaded state: Newton needs more than 10 iterations for step 0 at once, fewer for
     the load cut in 2 and 4 parts.  Files written before the count existed read as 0.
     """
-    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 5, "solver.max_iterations": 10,
+    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 20, "solver.max_iterations": 10,
                                    "contact.law": "power", "contact.exponent": 2.0, "contact.stiffness": 25.0})
     r = ngwear.simulate(scene, progress=False)
     assert r.completed
@@ -82,6 +82,6 @@ def test_cut_backs_are_counted_and_saved(paper_scene, tmp_path):
 
 
 def test_a_stop_after_all_cut_backs_says_how_many(paper_scene):
-    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 5, "solver.max_iterations": 2})
+    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 20, "solver.max_iterations": 2})
     r = ngwear.simulate(scene, progress=False)
     assert not r.completed and r.newton[-1].cutbacks == 3

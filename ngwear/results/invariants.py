@@ -20,6 +20,7 @@ makes exact (to round-off), the solver's tolerance for what Newton's convergence
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -62,62 +63,74 @@ def allowances(scene) -> dict[str, float]:
     return {**dict.fromkeys(exact, TOL), **dict.fromkeys(CONTACT, scene.solver.tolerance)}
 
 
+@dataclass(frozen=True)
+class Row:
+    """The last checked step: its time, wear, wear rate α p and the running maximum of (z)₊ up to it."""
+
+    t: float
+    w: np.ndarray
+    rate: np.ndarray
+    peak: np.ndarray | float
+
+
 class Checker:
-    """The invariants of a run's rows on its discretization: over consecutive rows, vectorised (O(rows · n))."""
+    """The invariants of a run's rows on its discretization, vectorised: O(rows · n)."""
 
     def __init__(self, scene, disc):
-        self.scene, self.disc, self.law = scene, disc, compliance_from(scene.contact)
-        self.g = scene.contact.gap
+        self.disc, self.law, self.g = disc, compliance_from(scene.contact), scene.contact.gap
         self.theta = INTEGRATORS[scene.wear.integrator]
         self.bounded = wear_bounded(scene, disc.largest_alpha())
         self.allowed = allowances(scene)
-        estimate = disc.compliance_estimate * disc.points.weights       # h_i m_i ≤ H_ii m_i: c_i ≥ the solver's
-        self.c = np.divide(1.0, estimate, out=np.full_like(estimate, np.inf), where=estimate > 0)
+        self.inverse_c = disc.compliance_estimate * disc.points.weights   # 1/c_i = h_i m_i ≤ H_ii m_i, the solver's
         self.s_load = 0.0 if scene.solver.method == "full" else float(np.abs(disc.s_load).max(initial=0.0))
+        self.d0 = disc.d0[None, :]
+        self.height = float(np.abs(disc.d0).max(initial=0.0)) + self.g
 
     def scale(self, times: np.ndarray) -> np.ndarray:
         """S_j, the length scale of Newton's merit at t_j."""
         factors = np.abs([self.disc.load_factor(t) for t in times])
         return np.maximum(factors * self.s_load, self.g)
 
-    def violations(self, times, w, s, p, lam, peak: float | np.ndarray = 0.0) -> dict[str, float]:
-        """The invariants over rows (steps × points); ``peak``: max (z)₊ per point before the first row."""
-        arrays = (w, s, p, lam)
-        if not all(np.isfinite(a).all() for a in arrays):
+    def violations(self, times, w, s, p, lam, before: Row | None = None, halves: bool = True) -> dict[str, float]:
+        """The invariants over rows (steps × points); ``before``: the step before the first row (None: none).
+
+        ``halves``: also ``gap`` and ``reaction_sign``, which ``contact`` bounds (|min(a, b)| ≥ a₋, b₋).
+        """
+        if not all(np.isfinite(a).all() for a in (w, s, p, lam)):
             return {"finite": math.inf}
-        g, d0 = self.g, self.disc.d0[None, :]
-        z = s - d0
+        g, z = self.g, s - self.d0
         scale = self.scale(times)[:, None]
-        roundoff = 16 * EPS * (np.abs(s) + np.abs(d0) + g)
-        mixed = np.minimum(lam / self.c, g - z)
-        out = {
-            "finite": 0.0,
-            "contact": _excess(np.abs(mixed), roundoff) / scale,
-            "gap": _excess(np.maximum(z - g, 0), roundoff) / scale,
-            "reaction_sign": _excess(np.maximum(-lam / self.c, 0), roundoff) / scale,
-            "wear_sign": np.maximum(-w, 0) / g,
-            "pressure_law": self._pressure_law(z, w, p),
-        }
-        out = {name: float(np.max(v, initial=0.0)) for name, v in out.items()}
+        roundoff = 16 * EPS * (float(np.abs(s).max(initial=0.0)) + self.height) / scale   # of z, g − z and λ/c
+        out = {"finite": 0.0,
+               "contact": _excess(np.abs(np.minimum(lam * self.inverse_c, g - z)) / scale, roundoff),
+               "wear_sign": max(-float(w.min(initial=0.0)), 0.0) / g,
+               "pressure_law": self._pressure_law(z, w, p)}
+        if halves:
+            out["gap"] = _excess((z - g) / scale, roundoff)
+            out["reaction_sign"] = _excess(-lam * self.inverse_c / scale, roundoff)
+        rate = np.array([self.disc.alpha(t) for t in times]) * p
+        if before is not None:
+            times, w, rate = np.r_[before.t, times], np.vstack([before.w, w]), np.vstack([before.rate, rate])
         if len(times) > 1:
-            out["wear_monotone"] = float(np.maximum(-np.diff(w, axis=0), 0).max(initial=0.0)) / g
-            alpha = np.array([self.disc.alpha(t) for t in times])
-            rate = alpha * p
+            dw = np.diff(w, axis=0)
             old, new = self.theta
             update = np.diff(times)[:, None] * (old * rate[:-1] + new * rate[1:])
-            out["archard"] = float(np.abs(np.diff(w, axis=0) - update).max(initial=0.0)) / g
+            out["wear_monotone"] = max(-float(dw.min(initial=0.0)), 0.0) / g
+            out["archard"] = float(np.abs(dw - update).max(initial=0.0)) / g
         if self.bounded:
+            peak = 0.0 if before is None else before.peak
             reached = np.maximum.accumulate(np.maximum(np.maximum(z, 0), peak), axis=0)
-            out["wear_le_penetration"] = float(np.maximum(w - reached, 0).max(initial=0.0)) / g
+            out["wear_le_penetration"] = max(float((w[len(w) - len(z):] - reached).max(initial=0.0)), 0.0) / g
         return out
 
-    def _pressure_law(self, z, w, p) -> np.ndarray:
-        """|p − p(z − w)| beyond the round-off of z − w, which p amplifies by its slope (a stiff law: L = 1e12)."""
+    def _pressure_law(self, z, w, p) -> float:
+        """The largest |p − p(z − w)| / max p beyond the round-off of z − w, which p amplifies by its slope (L = 1e12)."""
         r = z - w
-        slack = 8 * EPS * (np.abs(z) + np.abs(self.disc.d0[None, :]) + np.abs(w))
-        allowance = slack * self.law.derivative(np.maximum(r, 0) + slack) + 8 * EPS * np.abs(p)
-        excess = np.maximum(np.abs(p - self.law(r)) - allowance, 0)
-        return excess / max(float(p.max(initial=0.0)), float(self.law(r).max(initial=0.0)), np.finfo(float).tiny)
+        expected = self.law(r)
+        slack = 8 * EPS * (float(np.abs(z).max(initial=0.0) + np.abs(w).max(initial=0.0)) + self.height)
+        size = max(float(p.max(initial=0.0)), float(expected.max(initial=0.0)), np.finfo(float).tiny)
+        slope = float(self.law.derivative(np.array(max(float(r.max(initial=0.0)), 0.0) + slack)))
+        return _excess(np.abs(p - expected) / size, (slack * slope + 8 * EPS * size) / size)
 
     def broken(self, violations: dict[str, float]) -> tuple[str, float] | None:
         """The invariant beyond its allowance by the largest factor, or None when all hold."""
@@ -128,8 +141,9 @@ class Checker:
         return name, violations[name]
 
 
-def _excess(values: np.ndarray, roundoff: np.ndarray) -> np.ndarray:
-    return np.maximum(values - roundoff, 0)
+def _excess(values: np.ndarray, roundoff) -> float:
+    """The largest value beyond its round-off (0 if none)."""
+    return max(float((values - roundoff).max(initial=0.0)), 0.0)
 
 
 def invariants(result) -> dict[str, float]:
@@ -148,30 +162,28 @@ def worst(result, violations: dict[str, float]) -> tuple[str, float]:
 
 
 class StepCheck:
-    """The invariants of each step as it is recorded (the time loop): the new row against the last one.
+    """The invariants of each step as it is recorded (the time loop): the new row after the last one, O(n).
 
-    O(n) per step; the running maximum of (z)₊ is carried (read from the rows kept when a run resumes).
+    It carries the last row and the running maximum of (z)₊ (read from the rows kept when a run resumes).
     """
 
     def __init__(self, result):
-        self.checker = Checker(result.scene, result.discretization)
-        z = result.normal_displacement - result.discretization.d0[None, :]
-        self.peak = np.maximum(z, 0).max(axis=0, initial=0.0)
-        self.result = result
+        self.checker = checker = Checker(result.scene, result.discretization)
+        self.last = None
+        if len(result.times):
+            peak = np.maximum(result.normal_displacement - checker.d0, 0).max(axis=0)
+            t = result.times[-1]
+            self.last = Row(t, result.wear[-1], checker.disc.alpha(t) * result.pressure[-1], peak)
 
     def __call__(self, t: float, w, s, p, lam) -> tuple[str, float] | None:
-        """The worst broken invariant of the step ending at t (None: all hold); keeps the running maximum."""
-        r = self.result
-        if len(r.times):
-            rows = (np.array([r.times[-1], t]), *(np.stack([old[-1], new]) for old, new in
-                                                   ((r.wear, w), (r.normal_displacement, s), (r.pressure, p),
-                                                    (r.reaction, lam))))
-            peak = self.peak
-        else:
-            rows, peak = (np.array([t]), w[None, :], s[None, :], p[None, :], lam[None, :]), 0.0
-        broken = self.checker.broken(self.checker.violations(*rows, peak=peak))
+        """The worst broken invariant of the step ending at t (None: all hold, and the step becomes the last)."""
+        checker = self.checker
+        broken = checker.broken(checker.violations(np.array([t]), w[None, :], s[None, :], p[None, :], lam[None, :],
+                                                   self.last, halves=False))
         if broken is None:
-            self.peak = np.maximum(peak, np.maximum(s - self.checker.disc.d0, 0))
+            peak = np.maximum(s - checker.disc.d0, 0)
+            self.last = Row(t, w, checker.disc.alpha(t) * p,
+                            peak if self.last is None else np.maximum(self.last.peak, peak))
         return broken
 
 

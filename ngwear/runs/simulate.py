@@ -54,7 +54,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
         When set, the run stops at the next step boundary with status ``interrupted``.
     """
     start = time.perf_counter()
-    stages = _Stages(scene.name if scene is not None else "resume", progress)
+    stages = Stages(scene.name if scene is not None else "resume", progress)
     if resume is not None:
         saved = stages.run("reading the checkpoint and its mesh", lambda: Checkpoint(resume, scene))
         scene, result, disc = saved.scene, saved.result, saved.result.discretization
@@ -194,8 +194,10 @@ def _next(stepper, integrator, clock: Clock, result: Result, x, lam):
             return (attempt.x, attempt.lam) if _record(result, stepper, t_next, attempt) else None
 
 
-class _Stages:
-    """The set-up before the first step, stage by stage on a progress bar (minutes on large 3D meshes).
+class Stages:
+    """Work outside the time loop, stage by stage on a progress bar.
+
+    The set-up before the first step (minutes on large 3D meshes), the CLI's uniqueness check after the last.
 
     Stages already done (a reused discretization) are skipped; without ``show`` nothing is drawn.
     """
