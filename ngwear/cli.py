@@ -84,35 +84,23 @@ def _scene(args, required: bool = True):
 
 
 def verify(args) -> int:
-    from .numerics.discrete import Discretization
-    from .studies import verify as study
-    from .studies.theory import smallness
+    from .studies import convergence
+    from .studies.verify import StoppedRun
     from .views import plots
 
     scene, _ = _scene(args)
     out = Path(args.out or Path("out") / f"{scene.name}-verify")
     out.mkdir(parents=True, exist_ok=True)
-    h0 = scene.mesh.maxh
-    hs, h_ref = ([4 * h0, 2 * h0, h0], h0 / 2) if args.quick else ([8 * h0, 4 * h0, 2 * h0, h0], h0 / 4)
-    steps = [10, 20, 40] if args.quick else [10, 20, 40, 80]
-    base = scene.replace(**{"time.steps": 20, "output.every": 1.0})
-    h_rows = study.h_study(base, hs, h_ref)
-    sections = [f"# Convergence of {scene.name}\n",
-                f"{smallness(Discretization(scene)).message()}\n",
-                f"## h-refinement (P{scene.mesh.order}, {base.time.steps} steps, reference maxh = {h_ref:g})\n",
-                study.markdown(h_rows, "h"), "\n![h](convergence_h.png)"]
-    k_studies = {}
-    for integrator in ("explicit", "implicit", "trapezoidal"):
-        k_scene = base.replace(**{"wear.integrator": integrator, "mesh.maxh": 2 * h0})
-        k_studies[integrator] = rows = study.k_study(k_scene, steps, 8 * steps[-1])
-        sections += [f"\n## k-refinement, {integrator} wear (maxh = {2 * h0:g}, reference {8 * steps[-1]} steps)\n",
-                     study.markdown(rows, "k")]
-    sections.append("\n![k](convergence_k.png)")
-    plots.convergence({f"P{scene.mesh.order}": h_rows}, "h", out / "convergence_h.png")
-    plots.convergence(k_studies, "k", out / "convergence_k.png", columns=("W_sum",))
-    sections += ["\n## Stability of the wear integrators (overshoot = max (w − u_ν)₊ / g; exact: 0)\n",
-                 study.table(study.stability_study(base.replace(**{"mesh.maxh": 2 * h0}), [30, 15, 10, 6, 3]))]
-    text = "\n".join(sections) + "\n"
+    try:
+        report = convergence.run(scene, quick=args.quick)
+    except StoppedRun as err:
+        print(f"ngwear: verify: a run of the study stopped: {err}", file=sys.stderr)
+        return 1
+    if report.h_rows:
+        plots.convergence({f"P{scene.mesh.order}": report.h_rows}, "h", out / "convergence_h.png")
+    if report.k_rows:
+        plots.convergence(report.k_rows, "k", out / "convergence_k.png", columns=("W_sum",))
+    text = report.markdown()
     (out / "convergence.md").write_text(text)
     print(text)
     print(f"written  {out}/convergence.md")
