@@ -237,8 +237,9 @@ class TimeGrid(Section):
 class WearSpec(Section):
     """Wear integrator: the paper's ``explicit`` (eq. 15), ``implicit`` (backward Euler), ``trapezoidal``."""
 
-    integrator: Literal["explicit", "implicit", "trapezoidal"] = key(
-        "explicit", "`explicit` (paper eq. 15), `implicit` (backward Euler), `trapezoidal`")
+    integrator: Literal["explicit", "implicit", "trapezoidal"] | None = key(
+        None, "`explicit` (paper eq. 15), `implicit` (backward Euler), `trapezoidal`",
+        shown="explicit; trapezoidal with `time.adaptive`", allowed="explicit, implicit, trapezoidal")
     allow_unstable: Flag = key(False, "run an explicit update known to diverge (k·α·L > 2 at the uniform step, α "
                                "the largest κ‖v*‖, L the largest slope of p on [0, g]) instead of refusing it")
 
@@ -307,8 +308,11 @@ class Scene(BaseModel):
             raise SceneError(_message(errors[0], data)) from None
 
     def to_dict(self) -> dict[str, Any]:
-        """The nested-dict form that :meth:`from_dict` and TOML use."""
-        return self.model_dump(mode="json", exclude_none=True)
+        """The nested-dict form that :meth:`from_dict` and TOML use (``wear.integrator`` only where it was named)."""
+        data = self.model_dump(mode="json", exclude_none=True)
+        if "integrator" not in self.wear.model_fields_set:
+            data["wear"].pop("integrator")
+        return data
 
     def replace(self, **dotted: Any) -> Scene:
         """A new scene with fields overridden by dotted keys, e.g. ``replace(**{"time.steps": 10})``."""
@@ -360,6 +364,9 @@ class Scene(BaseModel):
 
     @model_validator(mode="after")
     def _cross_checks(self) -> Scene:
+        if self.wear.integrator is None:    # not named: the paper's explicit scheme, trapezoidal for adaptive steps
+            adaptive = self.time.adaptive and self.solver.method == "condensed"
+            object.__setattr__(self.wear, "integrator", "trapezoidal" if adaptive else "explicit")
         _check_geometry(self)
         _check_material(self.material)
         _check_contact(self)

@@ -79,6 +79,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
     clock = Clock(scene, disc.largest_alpha(), result.rejected)
     if resume is not None:
         clock.step, result.continuation = saved.step, (saved.x, saved.lam, saved.step)
+        clock.replay(result.times, [disc.alpha(t) * p for t, p in zip(result.times, result.pressure)])
     stepper = _Stepper(disc, StepCheck(result))
     if resume is None:
         x, lam = stepper.unknowns(), np.zeros(disc.points.n)
