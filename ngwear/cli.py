@@ -84,6 +84,8 @@ def _scene(args, required: bool = True):
 
 
 def verify(args) -> int:
+    import json
+
     from .studies import convergence
     from .studies.verify import StoppedRun
     from .views import plots
@@ -97,13 +99,15 @@ def verify(args) -> int:
         print(f"ngwear: verify: a run of the study stopped: {err}", file=sys.stderr)
         return 1
     if report.h_rows:
-        plots.convergence({f"P{scene.mesh.order}": report.h_rows}, "h", out / "convergence_h.png")
+        columns = [c for c in ("V_sum", "W_sum") if all(r[c] > 0 for r in report.h_rows)]   # no wear: V alone
+        plots.convergence({f"P{scene.mesh.order}": report.h_rows}, "h", out / "convergence_h.png", columns=columns)
     if report.k_rows:
         plots.convergence(report.k_rows, "k", out / "convergence_k.png", columns=("W_sum",))
     text = report.markdown()
     (out / "convergence.md").write_text(text)
+    (out / "convergence.json").write_text(json.dumps(report.to_dict(), indent=1, default=float))
     print(text)
-    print(f"written  {out}/convergence.md")
+    print(f"written  {out}/convergence.md, convergence.json")
     return 0
 
 

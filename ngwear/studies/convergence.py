@@ -71,6 +71,16 @@ class Report:
     stability: list[dict] = field(default_factory=list)
     smallness: list[str] = field(default_factory=list)
 
+    def orders(self) -> dict:
+        """Observed orders: ``{"h": {column: order}, "k": {integrator: {column: order}}}`` (NaN: nothing to fit)."""
+        return {"h": verify.orders(self.h_rows, "h") if self.h_rows else {},
+                "k": {name: verify.orders(rows, "k") for name, rows in self.k_rows.items()}}
+
+    def to_dict(self) -> dict:
+        """Everything of the report as plain data (``convergence.json``)."""
+        return {"scene": self.scene.name, "plan": self.plan.__dict__, "smallness": self.smallness,
+                "h": self.h_rows, "k": self.k_rows, "stability": self.stability, "orders": self.orders()}
+
     def markdown(self) -> str:
         s, p = self.scene, self.plan
         sections = [f"# Convergence of {s.name}\n", *(f"{line}\n" for line in self.smallness)]
