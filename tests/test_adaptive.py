@@ -59,6 +59,8 @@ def test_adaptive_runs_take_the_trapezoidal_rule_unless_the_scene_names_one(pape
     assert named.wear.integrator == "explicit" and named.to_dict()["wear"]["integrator"] == "explicit"
     full = paper.replace(**{"time.adaptive": True, "solver.method": "full"})   # the full path has explicit wear only
     assert full.wear.integrator == "explicit"
+    assert ngwear.Scene.model_fields["wear"].default.integrator is None      # the shared default is left alone
+    assert ngwear.load_scene(PAPER).wear.integrator == "explicit"
 
 
 def test_the_default_adaptive_run_beats_uniform_steps_of_the_same_error(paper, reference):

@@ -366,7 +366,9 @@ class Scene(BaseModel):
     def _cross_checks(self) -> Scene:
         if self.wear.integrator is None:    # not named: the paper's explicit scheme, trapezoidal for adaptive steps
             adaptive = self.time.adaptive and self.solver.method == "condensed"
-            object.__setattr__(self.wear, "integrator", "trapezoidal" if adaptive else "explicit")
+            resolved = WearSpec.model_construct(set(self.wear.model_fields_set), **{
+                **self.wear.__dict__, "integrator": "trapezoidal" if adaptive else "explicit"})
+            object.__setattr__(self, "wear", resolved)   # a new WearSpec: the field's default one is shared
         _check_geometry(self)
         _check_material(self.material)
         _check_contact(self)
