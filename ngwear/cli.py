@@ -37,6 +37,7 @@ def _parser() -> argparse.ArgumentParser:
                                                          "may extend time.T)")
     run.add_argument("--no-pictures", action="store_true", help="skip the pictures and plots (PNG)")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.add_argument("--no-check", action="store_true", help="skip the uniqueness check (H_S) after the run")
     ver = sub.add_parser("verify", help="convergence study (h and k) and the (H_S) check of a scene")
     ver.add_argument("scene", nargs="?", help="scene TOML file")
     ver.add_argument("--out", help="output directory (default: out/<scene name>-verify)")
@@ -97,38 +98,30 @@ def _scene(args, required: bool = True):
 
 
 def verify(args) -> int:
-    from .numerics.discrete import Discretization
-    from .studies import verify as study
-    from .studies.theory import smallness
+    import json
+
+    from .studies import convergence
+    from .studies.verify import StoppedRun
     from .views import plots
 
     scene, _ = _scene(args)
     out = Path(args.out or Path("out") / f"{scene.name}-verify")
     out.mkdir(parents=True, exist_ok=True)
-    h0 = scene.mesh.maxh
-    hs, h_ref = ([4 * h0, 2 * h0, h0], h0 / 2) if args.quick else ([8 * h0, 4 * h0, 2 * h0, h0], h0 / 4)
-    steps = [10, 20, 40] if args.quick else [10, 20, 40, 80]
-    base = scene.replace(**{"time.steps": 20, "output.every": 1.0})
-    h_rows = study.h_study(base, hs, h_ref)
-    sections = [f"# Convergence of {scene.name}\n",
-                f"{smallness(Discretization(scene)).message()}\n",
-                f"## h-refinement (P{scene.mesh.order}, {base.time.steps} steps, reference maxh = {h_ref:g})\n",
-                study.markdown(h_rows, "h"), "\n![h](convergence_h.png)"]
-    k_studies = {}
-    for integrator in ("explicit", "implicit", "trapezoidal"):
-        k_scene = base.replace(**{"wear.integrator": integrator, "mesh.maxh": 2 * h0})
-        k_studies[integrator] = rows = study.k_study(k_scene, steps, 8 * steps[-1])
-        sections += [f"\n## k-refinement, {integrator} wear (maxh = {2 * h0:g}, reference {8 * steps[-1]} steps)\n",
-                     study.markdown(rows, "k")]
-    sections.append("\n![k](convergence_k.png)")
-    plots.convergence({f"P{scene.mesh.order}": h_rows}, "h", out / "convergence_h.png")
-    plots.convergence(k_studies, "k", out / "convergence_k.png", columns=("W_sum",))
-    sections += ["\n## Stability of the wear integrators (overshoot = max (w − u_ν)₊ / g; exact: 0)\n",
-                 study.table(study.stability_study(base.replace(**{"mesh.maxh": 2 * h0}), [30, 15, 10, 6, 3]))]
-    text = "\n".join(sections) + "\n"
+    try:
+        report = convergence.run(scene, quick=args.quick)
+    except StoppedRun as err:
+        print(f"ngwear: verify: a run of the study stopped: {err}", file=sys.stderr)
+        return 1
+    if report.h_rows:
+        columns = [c for c in ("V_sum", "W_sum") if all(r[c] > 0 for r in report.h_rows)]   # no wear: V alone
+        plots.convergence({f"P{scene.mesh.order}": report.h_rows}, "h", out / "convergence_h.png", columns=columns)
+    if report.k_rows:
+        plots.convergence(report.k_rows, "k", out / "convergence_k.png", columns=("W_sum",))
+    text = report.markdown()
     (out / "convergence.md").write_text(text)
+    (out / "convergence.json").write_text(json.dumps(report.to_dict(), indent=1, default=float))
     print(text)
-    print(f"written  {out}/convergence.md")
+    print(f"written  {out}/convergence.md, convergence.json")
     return 0
 
 
@@ -162,7 +155,9 @@ def _run(args, scene, settings, out: Path) -> int:
     result = None
     try:
         result = simulate(scene, progress=not args.quiet, checkpoint=out, resume=args.resume, stop=stop)
-        _write(result, out, pictures=not args.no_pictures)
+        result.save(out)
+        check = None if args.no_check else _uniqueness(result, stop, progress=not args.quiet)
+        _write(result, out, pictures=not args.no_pictures, check=check)
     except NoSpace as err:
         print(f"ngwear: --out: {err}" + (f": ngwear run --resume {out}" if err.resumable else ""), file=sys.stderr)
         return 1
@@ -176,6 +171,9 @@ def _run(args, scene, settings, out: Path) -> int:
     finally:
         for sig, handler in handlers.items():
             signal.signal(sig, handler)
+    if result.completed and received:
+        print("ngwear: interrupted during the uniqueness check (H_S); the run is complete and written", file=sys.stderr)
+        return 128 + received[0]
     if result.status == "interrupted":
         t = result.times[-1] if len(result.times) else 0.0
         print(f"ngwear: interrupted after step {result.steps} (t = {t:.4g}); resume with: ngwear run --resume {out}",
@@ -187,9 +185,34 @@ def _run(args, scene, settings, out: Path) -> int:
     return 0
 
 
-def _write(result, out: Path, pictures: bool) -> None:
-    """Save the result and its pictures into ``out`` and print the summary."""
-    result.save(out)
+def _uniqueness(result, stop, progress: bool) -> tuple[str, str] | None:
+    """(label, text) of the summary's (H_S) line for a completed run with friction; None when there is nothing to say.
+
+    Never after an interrupt; a signal during the check aborts it.  It reuses the run's factorisation
+    (:func:`ngwear.studies.theory.uniqueness`), shown as a stage on the progress bar.
+    """
+    disc = result.discretization
+    if not result.completed or stop.is_set() or result.scene.contact.friction == 0 or disc is None:
+        return None
+    from scipy.sparse.linalg import ArpackNoConvergence
+
+    from .runs.simulate import Stages
+    from .studies.theory import uniqueness
+    stages = Stages(result.scene.name, progress)
+    try:
+        check = stages.run(f"uniqueness (H_S): Lanczos on the compliance of {disc.points.n} contact points",
+                           lambda: uniqueness(disc, stop.is_set))
+    except KeyboardInterrupt:
+        return "uniqueness", "(H_S) not evaluated: interrupted"
+    except ArpackNoConvergence as err:
+        return "uniqueness", f"(H_S) not evaluated: Lanczos did not converge ({str(err).splitlines()[0]})"
+    finally:
+        stages.close()
+    return ("uniqueness" if check.holds else "warning"), check.message()
+
+
+def _write(result, out: Path, pictures: bool, check: tuple[str, str] | None = None) -> None:
+    """Write the result's pictures into ``out`` (saved there before) and print the summary."""
     written = []
     if pictures and result.steps >= 0:
         from .views.pictures import write_pictures
@@ -198,16 +221,8 @@ def _write(result, out: Path, pictures: bool) -> None:
     width = max(map(len, summary))
     for key, value in summary.items():
         print(f"{key:<{width}}  {value:.4g}" if isinstance(value, float) else f"{key:<{width}}  {value}")
-    disc = result.discretization
-    if result.scene.contact.friction > 0 and disc is not None:
-        from .numerics.condense import DENSE_LIMIT
-        from .studies.theory import smallness
-        if len(disc.body.contact_dofs) <= DENSE_LIMIT:
-            check = smallness(disc)
-            print(f"{'uniqueness' if check.holds else 'warning':<{width}}  {check.message()}")
-        else:
-            print(f"{'uniqueness':<{width}}  (H_S) not evaluated: c0 on {len(disc.body.contact_dofs)} contact DOFs needs a "
-                  "second factorisation of the mesh; ngwear.studies.theory.smallness(discretization) computes it")
+    if check is not None:
+        print(f"{check[0]:<{width}}  {check[1]}")
     for warning in result.warnings:
         print(f"{'warning':<{width}}  {warning}")
     frames = len(result.stored_steps)
@@ -250,7 +265,7 @@ def explore(args) -> int:
 
     from .views import app
     if find_spec("voila") is None:
-        print("ngwear: explore needs the optional packages of ngwear[app] (voila is missing): "
+        print("ngwear: explore: needs the optional packages of ngwear[app] (voila is missing): "
               "pip install 'ngwear[app]'", file=sys.stderr)
         return 2
     scene, _ = _scene(args)

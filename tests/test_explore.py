@@ -131,8 +131,9 @@ def test_module_does_not_import_ipywidgets():
 
 
 def failing_explorer():
-    """An explorer whose run stops part-way at κ = 5: explicit wear with k·α·L = 2.5e7 (L = 1e8)."""
-    scene = ngwear.load_scene(PAPER).replace(**{"contact.stiffness": 1e8, "contact.wear": 0.0})
+    """An explorer whose run stops part-way at κ = 5: explicit wear with k·α·L = 2.5e7 (L = 1e8), allowed to run."""
+    scene = ngwear.load_scene(PAPER).replace(**{"contact.stiffness": 1e8, "contact.wear": 0.0,
+                                                "wear.allow_unstable": True})
     return Explorer(scene, maxh=0.2, steps=20, window_size=(400, 170))
 
 

@@ -45,13 +45,19 @@ class ConvergenceError(RuntimeError):
 
 @dataclass
 class NewtonRecord:
-    """History of one step's Newton solve."""
+    """History of one step's Newton solve.
+
+    ``cutbacks``: the load continuations tried before the step converged (or before it was given up),
+    each cutting the step's load change into m = 2, 4, 8 parts (``runs.simulate._Stepper``); the
+    other fields are those of the last solve.
+    """
 
     converged: bool = False
     iterations: int = 0
     residuals: list[float] = field(default_factory=list)
     active: int = 0
     damped: int = 0
+    cutbacks: int = 0
 
 
 MEMORY = 5

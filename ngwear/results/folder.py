@@ -68,10 +68,12 @@ def no_space(err: BaseException) -> bool:
 def hold(folder, key: str, create: bool = True):
     """Hold ``folder`` for the block, or raise a FolderError naming its holder.
 
-    ``create``: make the folder if missing (an output folder); else (a folder to read from) a missing or
-    read-only folder is not held: no run of ours writes there.
+    ``create``: make the folder if missing (an output folder; removed again when the block wrote nothing
+    into it, e.g. a refused run); else (a folder to read from) a missing or read-only folder is not held:
+    no run of ours writes there.
     """
     folder = Path(folder)
+    made = create and not folder.exists()
     if create:
         folder.mkdir(parents=True, exist_ok=True)
     elif not folder.is_dir() or not os.access(folder, os.W_OK):
@@ -92,6 +94,9 @@ def hold(folder, key: str, create: bool = True):
             entry[1] -= 1
             if not entry[1]:
                 del _held[path]
+                if made and [p.name for p in folder.iterdir()] == [LOCK]:
+                    (folder / LOCK).unlink()            # still locked: nobody takes it in between
+                    folder.rmdir()
                 entry[2].close()                    # releases the lock
 
 

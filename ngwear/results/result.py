@@ -326,17 +326,20 @@ def records_to_arrays(newton: list[NewtonRecord]) -> dict[str, np.ndarray]:
             "newton_converged": np.array([r.converged for r in newton], dtype=bool),
             "newton_active": np.array([r.active for r in newton], dtype=int),
             "newton_damped": np.array([r.damped for r in newton], dtype=int),
+            "newton_cutbacks": np.array([r.cutbacks for r in newton], dtype=int),
             "newton_lengths": np.array([len(r.residuals) for r in newton], dtype=int),
             "newton_residuals": np.array([v for r in newton for v in r.residuals], dtype=float)}
 
 
 def records_from_arrays(data) -> list[NewtonRecord]:
-    """The Newton records that :func:`records_to_arrays` flattened."""
+    """The Newton records that :func:`records_to_arrays` flattened (files without cut-backs: 0)."""
     bounds = np.concatenate([[0], np.cumsum(data["newton_lengths"])])
     residuals = data["newton_residuals"]
-    return [NewtonRecord(bool(c), int(i), [float(v) for v in residuals[a:b]], int(act), int(dmp))
-            for i, c, act, dmp, a, b in zip(data["newton_iterations"], data["newton_converged"], data["newton_active"],
-                                            data["newton_damped"], bounds[:-1], bounds[1:])]
+    iterations = data["newton_iterations"]
+    cutbacks = data["newton_cutbacks"] if "newton_cutbacks" in data else np.zeros(len(iterations), dtype=int)
+    return [NewtonRecord(bool(c), int(i), [float(v) for v in residuals[a:b]], int(act), int(dmp), int(cut))
+            for i, c, act, dmp, cut, a, b in zip(iterations, data["newton_converged"], data["newton_active"],
+                                                 data["newton_damped"], cutbacks, bounds[:-1], bounds[1:])]
 
 
 @contextmanager

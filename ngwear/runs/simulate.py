@@ -11,6 +11,10 @@ run at a step boundary with status ``interrupted`` and every completed step; wit
 the run writes checkpoints there (:mod:`ngwear.results.checkpoint`) from which ``resume`` goes on.
 The run holds its folders (:func:`ngwear.results.folder.hold`); when the disk fills it stops at a step
 boundary, writes what fits and raises :class:`~ngwear.results.folder.NoSpace` saying which steps are kept.
+
+Every step is checked against the invariants (:mod:`ngwear.results.invariants`) before it is recorded:
+the first step that breaks one stops the run (status naming the step, the invariant and by how much),
+keeping the steps before it.
 """
 from __future__ import annotations
 
@@ -22,13 +26,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..model.scene import Scene
+from ..model.scene import Scene, SceneError
 from ..numerics.discrete import Discretization
 from ..numerics.recycle import ComplianceMemory, Recycler
 from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, KrylovSystem, PlateRows, semismooth_newton
-from ..numerics.wear import WearIntegrator, explicit_stability
+from ..numerics.wear import WearIntegrator, diverging, explicit_stability
 from ..results.checkpoint import Checkpoint, Saver
 from ..results.folder import NoSpace, hold, no_space
+from ..results.invariants import StepCheck
 from ..results.result import Result
 from .clock import Clock
 
@@ -70,7 +75,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
 
 def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Result:
     start = time.perf_counter()
-    stages = _Stages(scene.name if scene is not None else "resume", progress)
+    stages = Stages(scene.name if scene is not None else "resume", progress)
     if resume is not None:
         saved = stages.run("reading the checkpoint and its mesh", lambda: Checkpoint(resume, scene))
         scene, result, disc = saved.scene, saved.result, saved.result.discretization
@@ -82,6 +87,10 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
             disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene))
         else:
             disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
+        refusal = diverging(scene, disc.largest_alpha())
+        if refusal:
+            stages.close()
+            raise SceneError(refusal)
         result = Result.empty(scene, disc, checkpoint)
         warning = None if scene.time.adaptive else explicit_stability(scene, disc.largest_alpha())
         if warning:
@@ -91,7 +100,8 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
     clock = Clock(scene, disc.largest_alpha(), result.rejected)
     if resume is not None:
         clock.step, result.continuation = saved.step, (saved.x, saved.lam, saved.step)
-    stepper = _Stepper(disc)
+        clock.replay(result.times, [disc.alpha(t) * p for t, p in zip(result.times, result.pressure)])
+    stepper = _Stepper(disc, StepCheck(result))
     if resume is None:
         x, lam = stepper.unknowns(), np.zeros(disc.points.n)
     integrator = WearIntegrator(scene.wear.integrator, disc.law, disc.points.n)
@@ -163,10 +173,19 @@ def _solve(stepper, integrator, t: float, t_prev: float | None, x, lam) -> _Atte
     return _Attempt(x, lam, s, delta, pressure, integrator.wear_at(s - disc.condensation.d0), record)
 
 
-def _record(result: Result, stepper, t: float, attempt: _Attempt) -> None:
+def _record(result: Result, stepper, t: float, attempt: _Attempt) -> bool:
+    """Record the step if it keeps the invariants; else stop the run there (False)."""
+    broken = stepper.check(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam)
+    if broken is not None:
+        name, value = broken
+        result.fail(f"step {len(result.times)} (t = {t:.4g}): invariant {name} broken by {value:.3g} "
+                    f"(allowed {stepper.check.checker.allowed[name]:.0e}; see ngwear.results.invariants); "
+                    f"try wear.integrator = 'implicit' or more time.steps", attempt.record)
+        return False
     disc = stepper.disc
     result.append(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam,
                   disc.contact_forces(attempt.pressure, attempt.lam, t), attempt.delta, attempt.record)
+    return True
 
 
 def _failed(result: Result, scene: Scene, j: int, t: float, err: Exception) -> None:
@@ -204,12 +223,13 @@ def _next(stepper, integrator, clock: Clock, result: Result, x, lam):
             _failed(result, stepper.scene, j + 1, t_next, err)
             return None
         if clock.judge([*times, t_next], [*rates, disc.alpha(t_next) * attempt.pressure]):
-            _record(result, stepper, t_next, attempt)
-            return attempt.x, attempt.lam
+            return (attempt.x, attempt.lam) if _record(result, stepper, t_next, attempt) else None
 
 
-class _Stages:
-    """The set-up before the first step, stage by stage on a progress bar (minutes on large 3D meshes).
+class Stages:
+    """Work outside the time loop, stage by stage on a progress bar.
+
+    The set-up before the first step (minutes on large 3D meshes), the CLI's uniqueness check after the last.
 
     Stages already done (a reused discretization) are skipped; without ``show`` nothing is drawn.
     """
@@ -230,6 +250,9 @@ class _Stages:
         if disc.scene.solver.method == "condensed":
             for label, build in disc.stages():
                 self.run(label, build)
+        self.close()
+
+    def close(self) -> None:
         if self.bar is not None:
             self.bar.close()
 
@@ -244,8 +267,8 @@ class _Stepper:
 
     CUTBACKS = (2, 4, 8)
 
-    def __init__(self, disc: Discretization):
-        self.disc, self.scene = disc, disc.scene
+    def __init__(self, disc: Discretization, check: StepCheck):
+        self.disc, self.scene, self.check = disc, disc.scene, check
         self._matrices: dict = {}
         self._factors: dict = {}
 
@@ -275,16 +298,18 @@ class _Stepper:
             start = 0.0 if t_prev is None else self.disc.load_factor(t_prev)
             if t_prev is None:
                 x, lam = np.zeros_like(x), np.zeros_like(lam)
-            for m in self.CUTBACKS:
+            for tried, m in enumerate(self.CUTBACKS, start=1):
                 try:
                     xs, ls = x, lam
                     for theta in np.arange(1, m + 1) / m:
                         xs, ls, record = self._newton(t, start + theta * (target - start), law, xs, ls,
                                                       integrator)
                     log.info("t = %.4g: converged after cutting the load step into %d", t, m)
+                    record.cutbacks = tried
                     return xs, ls, record
                 except ConvergenceError:
                     continue
+            first.record.cutbacks = len(self.CUTBACKS)
             raise first
 
     def _newton(self, t, load_factor, law, x, lam, integrator):
