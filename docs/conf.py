@@ -34,7 +34,7 @@ extensions = [
     "ngwear_reference",
 ]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
-exclude_patterns = ["_build", "node_modules", "examples/out", "**/out", "README.md"]
+exclude_patterns = ["_build", "node_modules", "examples", "**/out"]
 root_doc = "index"
 
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist", "attrs_inline"]
@@ -67,6 +67,7 @@ sphinx_gallery_conf = {
     "show_memory": False,
     "min_reported_time": 1,
     "first_notebook_cell": None,
+    "run_stale_examples": True,
 }
 
 html_theme = "pydata_sphinx_theme"
