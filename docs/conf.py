@@ -67,6 +67,7 @@ sphinx_gallery_conf = {
     "show_memory": False,
     "min_reported_time": 1,
     "first_notebook_cell": None,
+    "write_computation_times": False,     # its page loads Bootstrap and DataTables from a CDN
     "run_stale_examples": True,
 }
 
@@ -75,13 +76,16 @@ html_title = f"ngwear {version}"
 html_static_path = ["_static"]
 html_css_files = ["ngwear.css"]
 html_show_sourcelink = False
+html_favicon = "_static/favicon.png"
+html_context = {"default_mode": "auto"}
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
     "navbar_align": "left",
     "footer_start": ["copyright"],
     "footer_end": ["sphinx-version"],
-    "secondary_sidebar_items": ["page-toc"],
+    "secondary_sidebar_items": {"**": ["page-toc"], "reference/scene": [], "reference/files": [],
+                                "reference/dependencies": [], "guide/performance": []},
 }
 html_sidebars = {"index": [], "getting-started": []}
 
