@@ -106,4 +106,6 @@ def copy_mathjax(app, exception) -> None:
 def setup(app):
     if not MATHJAX.is_dir():
         raise RuntimeError(f"{MATHJAX} is missing: run scripts/bootstrap.sh (npm ci --prefix docs installs MathJax)")
+    for generated in (HERE / "gallery", HERE / "reference" / "api"):   # made anew by every build: nothing stale
+        shutil.rmtree(generated, ignore_errors=True)
     app.connect("build-finished", copy_mathjax)

@@ -46,7 +46,6 @@ print(f"worn area {explorer.result.wear_volume[-1]:.12g} in the explorer, {direc
 # The app: ``ngwear explore`` serves these widgets as a web page on 127.0.0.1 (one kernel per page, from
 # Voilà).  This screenshot is taken while the documentation is built, with the same Chromium and Playwright as
 # the browser tests (``tests/test_app.py``): the page of the paper's scene once its first picture is shown.
-import os
 import signal
 import socket
 import subprocess
@@ -58,8 +57,8 @@ with socket.socket() as probe:
     probe.bind(("127.0.0.1", 0))
     port = probe.getsockname()[1]
 app = subprocess.Popen([sys.executable, "-m", "ngwear.cli", "explore", str(scene_file("paper_strip")), "--port",
-                        str(port), "--out", str(out / "saved")], stdout=subprocess.PIPE, text=True,
-                       start_new_session=True)
+                        str(port), "--out", str(out / "saved")], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                       text=True)
 try:
     for line in app.stdout:                                  # the URL is printed once the first kernel is ready
         if "http://127.0.0.1" in line:
@@ -74,5 +73,5 @@ try:
         page.screenshot(path=str(out / "app.png"), full_page=True)
         browser.close()
 finally:
-    os.killpg(app.pid, signal.SIGINT)                        # Ctrl-C: the server stops its kernels
+    app.send_signal(signal.SIGINT)                           # Ctrl-C: the server stops its kernels
     app.wait(60)
