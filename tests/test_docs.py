@@ -144,7 +144,7 @@ def test_every_page_link_and_image_in_chromium(site, served):
         watch = Watch(page)
         with shots.on_failure(page):
             while queue:
-                url = queue.pop()
+                url = queue.pop(0)
                 if url in pages:
                     continue
                 found, pages[url] = check_page(page, url)
