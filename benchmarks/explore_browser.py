@@ -29,7 +29,7 @@ import time
 import common as C
 
 sys.path.insert(0, str(C.ROOT / "tests"))
-from browser import CHROMIUM, chromium, free_port, server  # noqa: E402  (the browser tests' helpers)
+from browser import CHROMIUM, app_url, chromium, free_port, server  # noqa: E402  (the browser tests' helpers)
 
 TARGET_FIRST, TARGET_SLIDER = 5.0, 0.5
 SLIDERS = ("load", "speed", "wear", "friction", "gap", "steps")
@@ -49,14 +49,14 @@ document.addEventListener('keydown', () => window.__keys.push(performance.now())
 def explore(port: int, log):
     argv = [sys.executable, "-m", "ngwear.cli", "explore", str(C.PAPER), "--port", str(port), "--kernel-timeout", "5",
             "--out", str(C.RESULTS / "explore_browser_saves")]
-    return server(argv, port, log, ready=f"http://127.0.0.1:{port}/")
+    return server(argv, port, log, ready="?token=")
 
 
-def open_page(browser, port: int):
-    """A new page on the app; seconds from navigation start to the first picture."""
+def open_page(browser, url: str):
+    """A new page on the app at ``url`` (with its token); seconds from navigation start to the first picture."""
     page = browser.new_page(viewport={"width": 1280, "height": 1100})
     page.add_init_script(TIMES)
-    page.goto(f"http://127.0.0.1:{port}/", wait_until="commit")
+    page.goto(url, wait_until="commit")
     page.wait_for_function("() => (window.__loads.picture || []).length > 0", timeout=120_000)
     return page, page.evaluate("() => window.__loads.picture[0]") / 1000
 
@@ -97,7 +97,8 @@ def main():
             with explore(port, logs / f"server{run}.log"):
                 if run > 0:
                     startup.append(time.perf_counter() - start)
-                page, first = open_page(browser, port)
+                url = app_url(logs / f"server{run}.log")
+                page, first = open_page(browser, url)
                 if run > 0:
                     cold.append(first)
                 if run < args.runs:
@@ -110,7 +111,7 @@ def main():
                 page.close()
                 for _ in range(args.runs):
                     time.sleep(12)  # the next kernel preheats (about 5 s), the closed page's kernel ends
-                    page, first = open_page(browser, port)
+                    page, first = open_page(browser, url)
                     warm.append(first)
                     page.close()
     rows = [{"measure": "ngwear explore started → URL printed", "n": len(startup),

@@ -18,7 +18,8 @@ from __future__ import annotations
 
 import common as C
 
-from ngwear.views.explore import Explorer, png_bytes
+from ngwear.views.explore import Explorer
+from ngwear.views.widget import png_bytes
 
 TARGET = 0.5
 SLIDERS = {

@@ -28,7 +28,7 @@ def run(steps: int) -> dict:
     import resource
 
     import ngwear
-    import ngwear.runs.simulate as simulate_module
+    import ngwear.results.checkpoint as checkpoint_module
     from ngwear.numerics.discrete import Discretization
 
     scene = ngwear.load_scene(C.ROOT / "geometries" / "brake_pad.toml").replace(**{
@@ -36,8 +36,8 @@ def run(steps: int) -> dict:
         "output.checkpoint_seconds": CHECKPOINT_SECONDS})
     disc = Discretization(scene, C.mesh_for(scene))
     writes = []
-    write = simulate_module.write_checkpoint
-    simulate_module.write_checkpoint = lambda folder, result: writes.append(C.timed(write, folder, result)[0])
+    write = checkpoint_module.write_checkpoint
+    checkpoint_module.write_checkpoint = lambda folder, result: writes.append(C.timed(write, folder, result)[0])
     with tempfile.TemporaryDirectory() as out:
         t0 = C.perf()
         result = ngwear.simulate(scene, discretization=disc, progress=False, checkpoint=out)

@@ -5,19 +5,25 @@ Also ``ngwear explore`` (the explorer as a web app), ``ngwear verify``, ``ngwear
 ``ngwear sweep STUDY.toml [--out DIR] [--scheduler ADDRESS] [--workers N]`` (a parameter study on
 Dask, see :mod:`ngwear.studies.sweep`).
 
-Bad input exits with status 2 and one line naming the field; a run that stops part-way writes the
-steps it completed and exits with status 1.
+Bad input exits with status 2 and one line naming the field (also an output folder in use by another
+run, or a damaged file of one); a run that stops part-way writes the steps it completed and exits with
+status 1, as does a run stopped by a full disk (one line saying what its checkpoint keeps).
 """
 from __future__ import annotations
 
 import argparse
 import logging
+import secrets
 import sys
 from pathlib import Path
 
 from .model.scene import SceneError, load_scene, parse_override
+from .results.folder import FolderError
 from .studies.study import StudyError
 from .views.app import DEFAULT_PORT
+
+FLAGS = {"checkpoint": "--out", "resume": "--resume"}
+"""The flag of each Python argument a FolderError may name."""
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -31,6 +37,7 @@ def _parser() -> argparse.ArgumentParser:
                                                          "may extend time.T)")
     run.add_argument("--no-pictures", action="store_true", help="skip the pictures and plots (PNG)")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.add_argument("--no-check", action="store_true", help="skip the uniqueness check (H_S) after the run")
     ver = sub.add_parser("verify", help="convergence study (h and k) and the (H_S) check of a scene")
     ver.add_argument("scene", nargs="?", help="scene TOML file")
     ver.add_argument("--out", help="output directory (default: out/<scene name>-verify)")
@@ -56,6 +63,14 @@ def _parser() -> argparse.ArgumentParser:
     _overrides(exp)
     exp.add_argument("--kernel-timeout", type=int, default=60, metavar="SECONDS",
                      help="end the kernel of a closed page once idle this long (default: 60)")
+    exp.add_argument("--max-kernels", type=int, default=4, metavar="N",
+                     help="most kernels at once, ~500 MB each, the preheated one included: a page beyond gets "
+                          "'busy' (default: 4)")
+    exp.add_argument("--allow-origin", action="append", default=[], metavar="ORIGIN",
+                     help="also serve requests from ORIGIN and for its host, e.g. https://ngwear.example.org "
+                          "behind a reverse proxy (may be given several times)")
+    exp.add_argument("--no-token", action="store_true",
+                     help="no token in the URL: anyone who can reach the port can use the app (not recommended)")
     stress = sub.add_parser("stress", help="run the stability stress matrix and write its report")
     stress.add_argument("args", nargs=argparse.REMAINDER, help="passed on (see `ngwear stress -- --help`)")
     return parser
@@ -83,53 +98,53 @@ def _scene(args, required: bool = True):
 
 
 def verify(args) -> int:
-    from .numerics.discrete import Discretization
-    from .studies import verify as study
-    from .studies.theory import smallness
+    import json
+
+    from .studies import convergence
+    from .studies.verify import StoppedRun
     from .views import plots
 
     scene, _ = _scene(args)
     out = Path(args.out or Path("out") / f"{scene.name}-verify")
     out.mkdir(parents=True, exist_ok=True)
-    h0 = scene.mesh.maxh
-    hs, h_ref = ([4 * h0, 2 * h0, h0], h0 / 2) if args.quick else ([8 * h0, 4 * h0, 2 * h0, h0], h0 / 4)
-    steps = [10, 20, 40] if args.quick else [10, 20, 40, 80]
-    base = scene.replace(**{"time.steps": 20, "output.every": 1.0})
-    h_rows = study.h_study(base, hs, h_ref)
-    sections = [f"# Convergence of {scene.name}\n",
-                f"{smallness(Discretization(scene)).message()}\n",
-                f"## h-refinement (P{scene.mesh.order}, {base.time.steps} steps, reference maxh = {h_ref:g})\n",
-                study.markdown(h_rows, "h"), "\n![h](convergence_h.png)"]
-    k_studies = {}
-    for integrator in ("explicit", "implicit", "trapezoidal"):
-        k_scene = base.replace(**{"wear.integrator": integrator, "mesh.maxh": 2 * h0})
-        k_studies[integrator] = rows = study.k_study(k_scene, steps, 8 * steps[-1])
-        sections += [f"\n## k-refinement, {integrator} wear (maxh = {2 * h0:g}, reference {8 * steps[-1]} steps)\n",
-                     study.markdown(rows, "k")]
-    sections.append("\n![k](convergence_k.png)")
-    plots.convergence({f"P{scene.mesh.order}": h_rows}, "h", out / "convergence_h.png")
-    plots.convergence(k_studies, "k", out / "convergence_k.png", columns=("W_sum",))
-    sections += ["\n## Stability of the wear integrators (overshoot = max (w − u_ν)₊ / g; exact: 0)\n",
-                 study.table(study.stability_study(base.replace(**{"mesh.maxh": 2 * h0}), [30, 15, 10, 6, 3]))]
-    text = "\n".join(sections) + "\n"
+    try:
+        report = convergence.run(scene, quick=args.quick)
+    except StoppedRun as err:
+        print(f"ngwear: verify: a run of the study stopped: {err}", file=sys.stderr)
+        return 1
+    if report.h_rows:
+        columns = [c for c in ("V_sum", "W_sum") if all(r[c] > 0 for r in report.h_rows)]   # no wear: V alone
+        plots.convergence({f"P{scene.mesh.order}": report.h_rows}, "h", out / "convergence_h.png", columns=columns)
+    if report.k_rows:
+        plots.convergence(report.k_rows, "k", out / "convergence_k.png", columns=("W_sum",))
+    text = report.markdown()
     (out / "convergence.md").write_text(text)
+    (out / "convergence.json").write_text(json.dumps(report.to_dict(), indent=1, default=float))
     print(text)
-    print(f"written  {out}/convergence.md")
+    print(f"written  {out}/convergence.md, convergence.json")
     return 0
 
 
 def run(args) -> int:
+    from .results.folder import hold
+
+    scene, settings = _scene(args, required=args.resume is None)
+    out = Path(args.resume or args.out or Path("out") / scene.name)
+    with hold(out, "--resume" if args.resume else "--out", create=args.resume is None):   # for the whole run
+        return _run(args, scene, settings, out)
+
+
+def _run(args, scene, settings, out: Path) -> int:
     import signal
     import threading
 
+    from .results.folder import NoSpace, no_space
     from .runs.simulate import simulate
 
-    scene, settings = _scene(args, required=args.resume is None)
     if args.resume is not None and scene is None:
         from .results.checkpoint import saved_scene
         scene = saved_scene(args.resume)
         scene = scene.replace(**dict(parse_override(item) for item in settings)) if settings else scene
-    out = Path(args.resume or args.out or Path("out") / scene.name)
     stop, received = threading.Event(), []
 
     def interrupt(number, _frame):      # stop at the next step boundary; a second signal changes nothing
@@ -137,12 +152,28 @@ def run(args) -> int:
         stop.set()
 
     handlers = {sig: signal.signal(sig, interrupt) for sig in (signal.SIGINT, signal.SIGTERM)}
+    result = None
     try:
         result = simulate(scene, progress=not args.quiet, checkpoint=out, resume=args.resume, stop=stop)
-        _write(result, out, pictures=not args.no_pictures)
+        result.save(out)
+        check = None if args.no_check else _uniqueness(result, stop, progress=not args.quiet)
+        _write(result, out, pictures=not args.no_pictures, check=check)
+    except NoSpace as err:
+        print(f"ngwear: --out: {err}" + (f": ngwear run --resume {out}" if err.resumable else ""), file=sys.stderr)
+        return 1
+    except OSError as err:
+        if result is None or not no_space(err):
+            raise
+        print(f"ngwear: --out: no space left on device in {out} for the results; the checkpoint keeps all "
+              f"{result.steps + 1} steps: free space, then write them with: ngwear run --resume {out}",
+              file=sys.stderr)
+        return 1
     finally:
         for sig, handler in handlers.items():
             signal.signal(sig, handler)
+    if result.completed and received:
+        print("ngwear: interrupted during the uniqueness check (H_S); the run is complete and written", file=sys.stderr)
+        return 128 + received[0]
     if result.status == "interrupted":
         t = result.times[-1] if len(result.times) else 0.0
         print(f"ngwear: interrupted after step {result.steps} (t = {t:.4g}); resume with: ngwear run --resume {out}",
@@ -154,9 +185,34 @@ def run(args) -> int:
     return 0
 
 
-def _write(result, out: Path, pictures: bool) -> None:
-    """Save the result and its pictures into ``out`` and print the summary."""
-    result.save(out)
+def _uniqueness(result, stop, progress: bool) -> tuple[str, str] | None:
+    """(label, text) of the summary's (H_S) line for a completed run with friction; None when there is nothing to say.
+
+    Never after an interrupt; a signal during the check aborts it.  It reuses the run's factorisation
+    (:func:`ngwear.studies.theory.uniqueness`), shown as a stage on the progress bar.
+    """
+    disc = result.discretization
+    if not result.completed or stop.is_set() or disc is None or not disc.coefficients.friction.any():
+        return None
+    from scipy.sparse.linalg import ArpackNoConvergence
+
+    from .runs.simulate import Stages
+    from .studies.theory import uniqueness
+    stages = Stages(result.scene.name, progress)
+    try:
+        check = stages.run(f"uniqueness (H_S): Lanczos on the compliance of {disc.points.n} contact points",
+                           lambda: uniqueness(disc, stop.is_set))
+    except KeyboardInterrupt:
+        return "uniqueness", "(H_S) not evaluated: interrupted"
+    except ArpackNoConvergence as err:
+        return "uniqueness", f"(H_S) not evaluated: Lanczos did not converge ({str(err).splitlines()[0]})"
+    finally:
+        stages.close()
+    return ("uniqueness" if check.holds else "warning"), check.message()
+
+
+def _write(result, out: Path, pictures: bool, check: tuple[str, str] | None = None) -> None:
+    """Write the result's pictures into ``out`` (saved there before) and print the summary."""
     written = []
     if pictures and result.steps >= 0:
         from .views.pictures import write_pictures
@@ -165,16 +221,8 @@ def _write(result, out: Path, pictures: bool) -> None:
     width = max(map(len, summary))
     for key, value in summary.items():
         print(f"{key:<{width}}  {value:.4g}" if isinstance(value, float) else f"{key:<{width}}  {value}")
-    disc = result.discretization
-    if result.scene.contact.friction > 0 and disc is not None:
-        from .numerics.condense import DENSE_LIMIT
-        from .studies.theory import smallness
-        if len(disc.body.contact_dofs) <= DENSE_LIMIT:
-            check = smallness(disc)
-            print(f"{'uniqueness' if check.holds else 'warning':<{width}}  {check.message()}")
-        else:
-            print(f"{'uniqueness':<{width}}  (H_S) not evaluated: c0 on {len(disc.body.contact_dofs)} contact DOFs needs a "
-                  "second factorisation of the mesh; ngwear.studies.theory.smallness(discretization) computes it")
+    if check is not None:
+        print(f"{check[0]:<{width}}  {check[1]}")
     for warning in result.warnings:
         print(f"{'warning':<{width}}  {warning}")
     frames = len(result.stored_steps)
@@ -217,19 +265,31 @@ def explore(args) -> int:
 
     from .views import app
     if find_spec("voila") is None:
-        print("ngwear: explore needs the optional packages of ngwear[app] (voila is missing): "
+        print("ngwear: explore: needs the optional packages of ngwear[app] (voila is missing): "
               "pip install 'ngwear[app]'", file=sys.stderr)
         return 2
     scene, _ = _scene(args)
     if args.kernel_timeout < 1:
         raise SceneError(f"--kernel-timeout: must be >= 1 s (got {args.kernel_timeout})")
+    if args.port is not None and not 1 <= args.port <= 65535:
+        raise SceneError(f"--port: must be in 1..65535 (got {args.port})")
+    if args.max_kernels < 1:
+        raise SceneError(f"--max-kernels: must be >= 1 (got {args.max_kernels})")
+    try:
+        origins = tuple(app.check_origin(origin) for origin in args.allow_origin)
+    except ValueError as err:
+        raise SceneError(f"--allow-origin: {err}") from None
     try:
         port = app.free_port(args.port)
     except OSError as err:
         print(f"ngwear: --port: {err}", file=sys.stderr)
         return 2
     folder = Path(args.out or Path("out") / f"{scene.name}-explore")
-    return app.serve(scene, port=port, folder=folder, kernel_timeout=args.kernel_timeout)
+    if args.no_token:
+        print(f"ngwear: warning: --no-token: anyone who can reach port {port} (every user of this machine, anyone "
+              f"a reverse proxy lets through) can drive the app and save into {folder}", file=sys.stderr)
+    return app.serve(scene, port=port, folder=folder, token="" if args.no_token else secrets.token_hex(24),
+                     kernel_timeout=args.kernel_timeout, max_kernels=args.max_kernels, origins=origins)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -240,6 +300,9 @@ def main(argv: list[str] | None = None) -> int:
         return stress_main([a for a in args.args if a != "--"])
     try:
         return {"run": run, "verify": verify, "schema": schema, "sweep": sweep, "explore": explore}[args.command](args)
+    except FolderError as err:
+        print(f"ngwear: {err.named(FLAGS.get(err.key, err.key))}", file=sys.stderr)
+        return 2
     except (SceneError, StudyError) as err:
         print(f"ngwear: {err}", file=sys.stderr)
         return 2

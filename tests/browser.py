@@ -8,6 +8,7 @@ from __future__ import annotations
 import base64
 import io
 import os
+import re
 import signal
 import socket
 import subprocess
@@ -58,20 +59,25 @@ def server(argv: list[str], port: int, log: Path, env: dict | None = None, timeo
                     process.wait()
 
 
+def app_url(log: Path) -> str:
+    """The URL (with its token) that ``ngwear explore`` printed into ``log``."""
+    return re.search(r"at (http://127\.0\.0\.1:\d+/\S*)", log.read_text()).group(1)
+
+
 def _listening(port: int) -> bool:
     with socket.socket() as s:
         return s.connect_ex(("127.0.0.1", port)) == 0
 
 
 @contextmanager
-def chromium():
-    """A Playwright Chromium browser (Debian's), closed at the end."""
+def chromium(*flags: str):
+    """A Playwright Chromium browser (Debian's) with further command-line ``flags``, closed at the end."""
     from playwright.sync_api import sync_playwright
 
     if not CHROMIUM.is_file():
         raise RuntimeError(f"{CHROMIUM} is missing: run scripts/bootstrap.sh as root (apt-get install chromium)")
     with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_FLAGS, headless=True)
+        browser = p.chromium.launch(executable_path=str(CHROMIUM), args=[*CHROMIUM_FLAGS, *flags], headless=True)
         try:
             yield browser
         finally:

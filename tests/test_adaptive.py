@@ -13,7 +13,7 @@ import pytest
 from conftest import PAPER
 
 import ngwear
-from ngwear.numerics.wear import largest_slope
+from ngwear.model.laws import largest_slope
 
 
 @pytest.fixture(scope="module")
@@ -30,14 +30,50 @@ def error(result, reference):
     return np.abs(result.wear[-1] - reference.wear[-1]).max() / result.scene.contact.gap
 
 
+SPENT = {"explicit": 4, "implicit": 4, "trapezoidal": 20}
+"""How far below its tolerance an adaptive run may end on the paper's scene (measured: 1.8–2.5 for the first-order
+integrators, 2–13 for the trapezoidal rule).  First order: each point spreads what is left of its tolerance over the
+time left, so a point whose wear changes for part of the run only spends part of it (a factor up to about 2), and
+local errors of opposite sign cancel.  Trapezoidal: its estimate k³/12 r'' reads the kinks of the wear rate (contact
+onset, the layer worn through) as large curvature, whose true contribution is smaller and cancels."""
+
+
 @pytest.mark.parametrize("integrator", ["explicit", "implicit", "trapezoidal"])
 @pytest.mark.parametrize("tolerance", [1e-2, 1e-3])
 def test_adaptive_run_meets_its_tolerance(paper, reference, integrator, tolerance):
+    """Met, and spent: not beaten by more than :data:`SPENT` (before: the explicit controller beat it 3× and more)."""
     scene = paper.replace(**{"time.adaptive": True, "time.tolerance": tolerance, "wear.integrator": integrator})
     result = ngwear.simulate(scene, progress=False)
     assert result.completed and result.times[-1] == scene.time.T and not result.warnings
-    assert error(result, reference) <= tolerance
+    assert tolerance / SPENT[integrator] <= error(result, reference) <= tolerance
     assert np.all(np.diff(result.times) > 0) and np.diff(result.times).max() <= scene.time.max_step * (1 + 1e-12)
+
+
+def test_adaptive_runs_take_the_trapezoidal_rule_unless_the_scene_names_one(paper):
+    """The scene's `wear.integrator` unnamed: explicit (the paper's) for uniform steps, trapezoidal for adaptive ones."""
+    assert "integrator" not in paper.to_dict()["wear"] and paper.wear.integrator == "explicit"
+    adaptive = paper.replace(**{"time.adaptive": True})
+    assert adaptive.wear.integrator == "trapezoidal" and "integrator" not in adaptive.to_dict()["wear"]
+    assert ngwear.Scene.from_dict(adaptive.to_dict()) == adaptive
+    named = paper.replace(**{"wear.integrator": "explicit"}).replace(**{"time.adaptive": True})
+    assert named.wear.integrator == "explicit" and named.to_dict()["wear"]["integrator"] == "explicit"
+    full = paper.replace(**{"time.adaptive": True, "solver.method": "full"})   # the full path has explicit wear only
+    assert full.wear.integrator == "explicit"
+    assert ngwear.Scene.model_fields["wear"].default.integrator is None      # the shared default is left alone
+    assert ngwear.load_scene(PAPER).wear.integrator == "explicit"
+
+
+def test_the_default_adaptive_run_beats_uniform_steps_of_the_same_error(paper, reference):
+    """`time.adaptive = true` and nothing else: fewer steps than uniform steps (the default scheme) of the same error.
+
+    Before, the adaptive run took the explicit update too, with more steps than uniform ones (tolerance 1e-3:
+    1 459 steps where 800 uniform ones gave the same error, at maxh 0.05).  The explicit update's uniform error
+    is first order: ten times the adaptive steps are still less accurate.
+    """
+    adaptive = ngwear.simulate(paper.replace(**{"time.adaptive": True, "time.tolerance": 1e-3}), progress=False)
+    steps = adaptive.steps + adaptive.rejected                                     # every solve counts
+    uniform = ngwear.simulate(paper.replace(**{"time.steps": 10 * steps}), progress=False)
+    assert error(uniform, reference) > error(adaptive, reference)
 
 
 def test_far_fewer_steps_than_a_uniform_run_of_the_same_error():
@@ -78,7 +114,8 @@ def test_frames_land_on_their_times(paper):
 
 
 def test_explicit_steps_stay_below_the_stability_limit(paper):
-    scene = paper.replace(**{"time.adaptive": True, "time.tolerance": 0.2, "time.max_step": 1.0})
+    scene = paper.replace(**{"time.adaptive": True, "time.tolerance": 0.2, "time.max_step": 1.0,
+                             "wear.integrator": "explicit"})
     result = ngwear.simulate(scene, progress=False)
     alpha = result.discretization.largest_alpha()
     assert np.diff(result.times).max() * alpha * largest_slope(scene.contact) <= 1 + 1e-12
@@ -93,7 +130,8 @@ def test_too_large_a_first_step_is_rejected_and_redone(paper):
 
 
 def test_min_step_above_the_stability_limit_is_refused(paper):
-    scene = paper.replace(**{"time.adaptive": True, "time.min_step": 0.5, "time.max_step": 1.0})
+    scene = paper.replace(**{"time.adaptive": True, "time.min_step": 0.5, "time.max_step": 1.0,
+                             "wear.integrator": "explicit"})
     with pytest.raises(ngwear.SceneError, match=r"^time\.min_step: 0\.5 is above the explicit update's stability"):
         ngwear.simulate(scene, progress=False)
 

@@ -17,6 +17,7 @@ from browser import (
     Shots,
     Watch,
     alive,
+    app_url,
     chromium,
     free_port,
     image,
@@ -71,8 +72,8 @@ def test_explore_app_in_chromium(tmp_path):
     port, shots = free_port(), Shots("test_app")
     argv = [sys.executable, "-m", "ngwear.cli", "explore", str(PAPER), "--port", str(port),
             "--out", str(tmp_path / "saved"), "--kernel-timeout", "3"]
-    url = f"http://127.0.0.1:{port}/"
-    with server(argv, port, tmp_path / "server.log", ready=url) as app, chromium() as browser:
+    with server(argv, port, tmp_path / "server.log", ready="?token=") as app, chromium() as browser:
+        url = app_url(tmp_path / "server.log")
         page = browser.new_page(viewport={"width": 1280, "height": 1100})
         watch = Watch(page)
         with shots.on_failure(page):

@@ -77,7 +77,7 @@ def test_matrix_free_equals_dense_for_a_pad_on_a_disc(order):
 
 
 def test_auto_is_dense_below_the_limit_and_matrix_free_above(paper_scene, monkeypatch):
-    scene = paper_scene.replace(**{"mesh.maxh": 0.3, "time.steps": 5})
+    scene = paper_scene.replace(**{"mesh.maxh": 0.3, "time.steps": 5, "wear.integrator": "implicit"})
     small = Discretization(scene)
     assert not small.matrix_free and small.elastic.operator.schur_complement is not None
     monkeypatch.setattr(discrete, "DENSE_LIMIT", len(small.body.contact_dofs) - 1)

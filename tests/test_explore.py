@@ -131,8 +131,9 @@ def test_module_does_not_import_ipywidgets():
 
 
 def failing_explorer():
-    """An explorer whose run stops part-way at κ = 5: explicit wear with k·α·L = 2.5e7 (L = 1e8)."""
-    scene = ngwear.load_scene(PAPER).replace(**{"contact.stiffness": 1e8, "contact.wear": 0.0})
+    """An explorer whose run stops part-way at κ = 5: explicit wear with k·α·L = 2.5e7 (L = 1e8), allowed to run."""
+    scene = ngwear.load_scene(PAPER).replace(**{"contact.stiffness": 1e8, "contact.wear": 0.0,
+                                                "wear.allow_unstable": True})
     return Explorer(scene, maxh=0.2, steps=20, window_size=(400, 170))
 
 
@@ -235,3 +236,26 @@ def test_brake_pad_sliders_force_omega_kappa_mu():
     assert not ex.result.wear.any() and before.wear.any()
     assert ex.disc.elastic.operator is before.discretization.elastic.operator          # no new factorisation for any of them
     ex.close()
+
+
+def test_a_result_is_not_saved_into_a_folder_a_run_holds(explorer, tmp_path):
+    from ngwear.results.folder import hold
+
+    held, done = threading.Event(), threading.Event()
+
+    def run():
+        with hold(tmp_path / "busy", "checkpoint"):
+            held.set()
+            done.wait(60)
+
+    thread = threading.Thread(target=run)
+    thread.start()
+    held.wait(60)
+    try:
+        with pytest.raises(SceneError, match=r"^save into: .*busy is in use by ngwear \(PID \d+, another thread\)$"):
+            explorer.save_result(tmp_path / "busy")
+    finally:
+        done.set()
+        thread.join()
+    assert not (tmp_path / "busy" / "result.npz").exists()
+    assert (explorer.save_result(tmp_path / "busy") / "result.npz").is_file()

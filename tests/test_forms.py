@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import ngwear
+from ngwear.model.laws import compliance_from
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.forms import contact_form
 
@@ -27,31 +28,68 @@ def state_away_from_kink(disc, rng):
     return u, w
 
 
-@pytest.mark.parametrize("friction", [0.0, 0.8])
-def test_taylor_jacobian_matches_residual(disc, friction):
-    """‖R(u + εδ) − R(u) − ε J δ‖ = O(ε²): the remainder drops by ~4 when ε halves."""
-    rng = np.random.default_rng(1)
-    cf = contact_form(disc.fes, disc.scene.replace(**{"contact.friction": friction}), disc.law, disc.elastic.laws)
+def taylor_remainders(disc, scene, rng, epsilons):
+    """One-sided and central Taylor remainders of the elastic + contact residual, and ‖Jδ‖.
+
+    ``one_sided[i]`` = ‖R(u + εδ) − R(u) − εJδ‖ and ``central[i]`` = ‖(R(u + εδ) − R(u − εδ))/2 − εJδ‖ at
+    ε = ``epsilons[i]``: R the residual (``Apply``), J its linearisation at u (``AssembleLinearization``), δ a
+    random direction on the free DOFs, u away from the law's kink by more than ε δ moves it.
+    """
+    cf = contact_form(disc.fes, scene, compliance_from(scene.contact), disc.elastic.laws)
     u, w = state_away_from_kink(disc, rng)
+    coefficients = disc.with_scene(scene)       # μ and L of ``scene`` (a change that rebuilds nothing)
     disc.set_nodal(cf.w, w)
-    disc.set_nodal(cf.stiffness, disc.coefficients.stiffness)
-    for gf, component in zip(cf.friction, disc.friction_directions(0.0).T):
+    disc.set_nodal(cf.stiffness, coefficients.coefficients.stiffness)
+    for gf, component in zip(cf.friction, coefficients.friction_directions(0.0).T):
         disc.set_nodal(gf, component)
     delta = u.vec.CreateVector()
     delta.FV().NumPy()[:] = rng.standard_normal(disc.fes.ndof) * disc.body.free
-    res0, res1, jd = u.vec.CreateVector(), u.vec.CreateVector(), u.vec.CreateVector()
+    assert np.abs(disc.condensation.N @ delta.FV().NumPy()).max() * max(epsilons) < 0.02     # the kink stays out of reach
+    res0, plus, minus, jd, shifted = (u.vec.CreateVector() for _ in range(5))
     cf.form.Apply(u.vec, res0)
     cf.form.AssembleLinearization(u.vec)
     jd.data = cf.form.mat * delta
-    remainders = []
-    for eps in (1e-3, 5e-4, 2.5e-4):
-        shifted = u.vec.CreateVector()
+    one_sided, central = [], []
+    for eps in epsilons:
         shifted.data = u.vec + eps * delta
-        cf.form.Apply(shifted, res1)
-        remainders.append(np.linalg.norm(res1.FV().NumPy() - res0.FV().NumPy() - eps * jd.FV().NumPy()))
-    assert remainders[0] < 1e-6 * np.linalg.norm(jd.FV().NumPy()) or \
-        (remainders[0] / remainders[1] > 3.5 and remainders[1] / remainders[2] > 3.5)
-    assert np.linalg.norm(jd.FV().NumPy()) > 0
+        cf.form.Apply(shifted, plus)
+        shifted.data = u.vec - eps * delta
+        cf.form.Apply(shifted, minus)
+        r0, rp, rm, j = (v.FV().NumPy() for v in (res0, plus, minus, jd))
+        one_sided.append(np.linalg.norm(rp - r0 - eps * j))
+        central.append(np.linalg.norm(0.5 * (rp - rm) - eps * j))
+    return np.array(one_sided), np.array(central), float(np.linalg.norm(jd.FV().NumPy()))
+
+
+EPSILONS = [1e-3 * 0.5**i for i in range(4)]      # floats: numpy scalar * BaseVector is not a vector expression
+
+
+@pytest.mark.parametrize("friction", [0.0, 0.8])
+def test_taylor_jacobian_matches_residual(disc, friction):
+    """Power law p = L r₊^2.5 (smooth away from r = 0): one-sided remainder O(ε²), central O(ε³).
+
+    ‖R(u + εδ) − R(u) − εJδ‖ = ε²/2 ‖R''(δ, δ)‖ + O(ε³) and the central remainder is ε³/6 ‖R'''(δ, δ, δ)‖
+    + O(ε⁵): the observed rates log₂(r(ε)/r(ε/2)) over ε = 1e-3 … 1.25e-4 must be 2 and 3 (to 0.1).  A
+    wrong Jacobian (even in one entry) leaves a remainder of order ε in both.
+    """
+    scene = disc.scene.replace(**{"contact.friction": friction, "contact.law": "power", "contact.exponent": 2.5})
+    one_sided, central, jd = taylor_remainders(disc, scene, np.random.default_rng(1), EPSILONS)
+    assert jd > 0 and central.min() > 1e3 * np.finfo(float).eps * jd    # far above round-off
+    assert np.allclose(np.log2(one_sided[:-1] / one_sided[1:]), 2.0, atol=0.1), one_sided
+    assert np.allclose(np.log2(central[:-1] / central[1:]), 3.0, atol=0.1), central
+
+
+@pytest.mark.parametrize("friction", [0.0, 0.8])
+def test_linearisation_of_the_linear_law_is_exact(disc, friction):
+    """The linear law p = L r₊ is affine away from r = 0, so R(u + εδ) − R(u) = εJδ to round-off.
+
+    NGSolve's tests/pytest/test_contact.py checks its piecewise-quadratic contact energy the same way (central
+    difference against the linearisation, to 1e-10 relative).
+    """
+    scene = disc.scene.replace(**{"contact.friction": friction})
+    one_sided, central, jd = taylor_remainders(disc, scene, np.random.default_rng(1), EPSILONS)
+    assert jd > 0
+    assert one_sided.max() < 1e-10 * min(EPSILONS) * jd and central.max() < 1e-10 * min(EPSILONS) * jd
 
 
 def test_contact_form_is_nodal(disc):

@@ -56,8 +56,8 @@ def test_the_rows_grow_in_their_files(tmp_path):
     assert wear.shape == (9, 3) and isinstance(wear, np.memmap)
     assert np.array_equal(wear[:, 2], 3 * np.arange(9))
     history.flush()
-    again = History.reopen(history.folder, {"times": (), "wear": (3,), "plate_displacement": (0,)})
-    assert len(again.buffers["wear"]) == 14 and again.buffers["plate_displacement"].shape == (14, 0)  # 2 → 6 → 14
+    again = History.reopen(history.folder, {"times": (), "wear": (3,), "plate_displacement": (0,)}, 9)
+    assert len(again.buffers["wear"]) == 14 and again.buffers["plate_displacement"].shape == (9, 0)  # 2 → 6 → 14
     assert np.array_equal(again.buffers["wear"][:9], wear) and np.array_equal(again.buffers["times"][:9],
                                                                               0.5 * np.arange(9))
 

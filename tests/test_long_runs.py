@@ -2,9 +2,12 @@
 
 A run of the paper's scene (coarse mesh, many steps) is stopped by SIGINT, SIGTERM or SIGKILL at
 random moments — with a checkpoint every 20 ms, as long as a few steps, a signal often lands during a write — and
-resumed with ``ngwear run --resume``; its result must equal, bit for bit, the uninterrupted run's.
+resumed with ``ngwear run --resume``; its result must equal, bit for bit, the uninterrupted run's.  So must a
+run that a second run into its folder tried to disturb, and a run stopped by a full disk once there is room.
 """
 import json
+import os
+import re
 import signal
 import subprocess
 import sys
@@ -126,7 +129,7 @@ def test_stop_event_and_resume_in_python(tmp_path, monkeypatch):
 
 def test_ctrl_c_in_a_notebook_keeps_the_completed_steps(monkeypatch):
     scene = small()
-    original = ngwear.runs.simulate._Stepper.solve
+    original = ngwear.runs.stepper.Stepper.solve
     calls = []
 
     def interrupting(stepper, *args):
@@ -135,7 +138,7 @@ def test_ctrl_c_in_a_notebook_keeps_the_completed_steps(monkeypatch):
             raise KeyboardInterrupt
         return original(stepper, *args)
 
-    monkeypatch.setattr(ngwear.runs.simulate._Stepper, "solve", interrupting)
+    monkeypatch.setattr(ngwear.runs.stepper.Stepper, "solve", interrupting)
     result = ngwear.simulate(scene, progress=False)
     assert result.status == "interrupted" and result.steps == 7
     assert len(result.newton) == 8 and len(result.wear) == 8
@@ -173,3 +176,90 @@ def test_cli_options_in_any_order_and_frames_by_time(tmp_path):
     assert bad.wait(timeout=60) == 2 and "--set steps: expected KEY=VALUE" in bad.stderr.read()
     resume = ngwear_cli("run", "--resume", tmp_path / "nothing")
     assert resume.wait(timeout=60) == 2 and "holds no checkpoint.npz" in resume.stderr.read()
+
+
+def one_line(proc, code):
+    stderr = proc.stderr.read()
+    assert proc.returncode == code and "Traceback" not in stderr, (proc.returncode, stderr)
+    [line] = stderr.strip().splitlines()
+    return line
+
+
+def started(out, disk=None):
+    """A run of SETTINGS into ``out``, stopped (SIGSTOP) once it has written its first checkpoint."""
+    proc = ngwear_cli("run", PAPER, "--out", out, "--set", *SETTINGS, "--quiet", "--no-pictures")
+    deadline = time.time() + 120
+    while not (out / CHECKPOINT).is_file() and proc.poll() is None and time.time() < deadline:
+        time.sleep(0.005)
+    proc.send_signal(signal.SIGSTOP)
+    assert proc.poll() is None, proc.stderr.read()
+    return proc
+
+
+def test_a_second_run_into_a_folder_in_use_is_refused_and_the_first_goes_on(uninterrupted, tmp_path):
+    out = tmp_path / "shared"
+    first = started(out)
+    try:
+        for args, flag in ((["run", PAPER, "--out", out, "--set", *SETTINGS], "--out"),
+                           (["run", "--resume", out], "--resume")):
+            second = ngwear_cli(*args, "--quiet", "--no-pictures")
+            second.wait(timeout=120)
+            assert one_line(second, 2) == f"ngwear: {flag}: {out} is in use by ngwear (PID {first.pid})"
+        rows = int(np.load(out / CHECKPOINT)["rows"])
+    finally:
+        first.send_signal(signal.SIGCONT)
+    first.send_signal(signal.SIGINT)
+    assert first.wait(timeout=300) in (0, 130), first.stderr.read()
+    assert [p.name for p in out.glob("steps-*")] == [str(np.load(out / CHECKPOINT)["history"])]
+    assert json.loads((out / "summary.json").read_text())["steps"] >= rows - 1
+    resumed = ngwear_cli("run", "--resume", out, "--quiet", "--no-pictures")
+    assert resumed.wait(timeout=600) == 0, resumed.stderr.read()
+    assert same(np.load(out / "result.npz"), uninterrupted)
+
+
+def fill(folder):
+    """Write zeros into ``folder/filler`` until the disk is full."""
+    with open(folder / "filler", "wb") as file:
+        try:
+            while True:
+                file.write(bytes(1 << 16))
+                file.flush()
+        except OSError as err:
+            assert err.errno == 28
+    os.sync()
+
+
+def test_a_disk_that_fills_during_a_run_stops_it_with_one_line_and_it_resumes(uninterrupted, small_disk, tmp_path):
+    disk = small_disk(20)                      # 15.5 MB of rows (reserved at the start), mesh and checkpoints
+    out = disk / "run"
+    proc = started(out)
+    try:
+        fill(disk)                             # another program fills the disk: the next checkpoint fails
+    finally:
+        proc.send_signal(signal.SIGCONT)
+    proc.wait(timeout=300)
+    line = one_line(proc, 1)
+    kept = int(np.load(out / CHECKPOINT)["rows"])
+    assert re.fullmatch(rf"ngwear: --out: no space left on device in {re.escape(str(out))}: the run stopped after step "
+                        rf"\d+ \(t = [0-9.e-]+\); its checkpoint keeps steps 0-{kept - 1} \(t <= [0-9.e-]+\): free "
+                        rf"space, then resume from it: ngwear run --resume {re.escape(str(out))}", line), line
+    assert not (out / "result.npz").exists() and not list(out.glob(".*tmp*"))
+    (disk / "filler").unlink()
+    small_disk.resize(disk, 64)                # room for result.npz too (the rows again)
+    resumed = ngwear_cli("run", "--resume", out, "--quiet", "--no-pictures")
+    assert resumed.wait(timeout=600) == 0, resumed.stderr.read()
+    assert same(np.load(out / "result.npz"), uninterrupted)
+
+
+def test_results_that_do_not_fit_are_written_by_a_resume_once_there_is_room(uninterrupted, small_disk, tmp_path):
+    disk = small_disk(20)                      # the rows and the checkpoint fit; result.npz (the rows again) not
+    out = disk / "run"
+    proc = ngwear_cli("run", PAPER, "--out", out, "--set", *SETTINGS, "--quiet", "--no-pictures")
+    proc.wait(timeout=600)
+    assert one_line(proc, 1) == (f"ngwear: --out: no space left on device in {out} for the results; the checkpoint "
+                                 f"keeps all 20001 steps: free space, then write them with: ngwear run --resume {out}")
+    assert int(np.load(out / CHECKPOINT)["rows"]) == 20001 and not (out / "result.npz").exists()
+    small_disk.resize(disk, 64)
+    resumed = ngwear_cli("run", "--resume", out, "--quiet", "--no-pictures")
+    assert resumed.wait(timeout=600) == 0, resumed.stderr.read()
+    assert same(np.load(out / "result.npz"), uninterrupted)

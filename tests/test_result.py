@@ -56,3 +56,46 @@ def test_displacement_on_contact_boundary(small):
         j = np.argmin(abs(x - xi))
         if abs(x[j] - xi) < 1e-12:
             assert abs(small.normal_displacement[-1, j] - si) < 1e-6
+
+
+def test_the_frames_draw_every_element_of_the_body(small, tmp_path):
+    """All of the body is in each VTU: as many cells as NGSolve writes for the mesh without a mask."""
+    import re
+
+    import ngsolve as ngs
+
+    small.save(tmp_path)
+    mesh = small.discretization.mesh
+    ngs.VTKOutput(mesh, coefs=[], names=[], filename=str(tmp_path / "all"),
+                  subdivision=small.scene.mesh.order - 1).Do()
+    cells = lambda path: int(re.search(rb'NumberOfCells="(\d+)"', path.read_bytes()).group(1))  # noqa: E731
+    assert cells(tmp_path / "all.vtu") >= mesh.ne
+    for frame in tmp_path.glob("fields*.vtu"):
+        assert cells(frame) == cells(tmp_path / "all.vtu"), frame.name
+def test_cut_backs_are_counted_and_saved(paper_scene, tmp_path):
+    """A step that converges only from a load continuation records how many it tried; files keep the count.
+
+    p = 25 r₊² from the unloaded state: Newton needs more than 10 iterations for step 0 at once, fewer for
+    the load cut in 2 and 4 parts.  Files written before the count existed read as 0.
+    """
+    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 20, "solver.max_iterations": 10,
+                                   "contact.law": "power", "contact.exponent": 2.0, "contact.stiffness": 25.0})
+    r = ngwear.simulate(scene, progress=False)
+    assert r.completed
+    cutbacks = [rec.cutbacks for rec in r.newton]
+    assert cutbacks[0] >= 1 and sum(cutbacks[1:]) == 0, cutbacks
+    assert ngwear.simulate(scene.replace(**{"solver.max_iterations": 50}), progress=False).newton[0].cutbacks == 0
+    r.save(tmp_path)
+    assert [rec.cutbacks for rec in ngwear.load_result(tmp_path).newton] == cutbacks
+    data = dict(np.load(tmp_path / "result.npz"))
+    del data["newton_cutbacks"]
+    np.savez(tmp_path / "result.npz", **data)
+    old = ngwear.load_result(tmp_path)
+    assert [rec.cutbacks for rec in old.newton] == [0] * len(cutbacks)
+    assert [rec.iterations for rec in old.newton] == [rec.iterations for rec in r.newton]
+
+
+def test_a_stop_after_all_cut_backs_says_how_many(paper_scene):
+    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 20, "solver.max_iterations": 2})
+    r = ngwear.simulate(scene, progress=False)
+    assert not r.completed and r.newton[-1].cutbacks == 3

@@ -4,6 +4,7 @@ Clusters here are processes on 127.0.0.1 with ports chosen by the OS; every proc
 in its own process group and killed at teardown.
 """
 import json
+import logging
 import os
 import signal
 import subprocess
@@ -210,3 +211,49 @@ def test_grouped_study_factorises_once_per_group(tmp_path):
     assert (summary["cases"], summary["groups"], summary["factorisations"]) == (6, 2, 2)
     first = table.sort_values("case").groupby("material.lame_mu").factorised.apply(list)
     assert first.tolist() == [[True, False, False], [True, False, False]]
+
+
+@pytest.mark.slow
+def test_a_case_that_kills_its_process_fails_alone(tmp_path, monkeypatch):
+    """Cases die by a segfault, os._exit and SIGKILL on a one-worker cluster: only they crash.
+
+    Their neighbours complete on the same worker (never restarted) with the numbers of direct runs.
+    """
+    from crashing import Deaths
+    from distributed import Client, LocalCluster
+
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(ROOT / "tests"), str(ROOT), os.environ.get("PYTHONPATH", "")]))
+    path = write(tmp_path, GRID.replace('"contact.wear" = [0.5, 1.5]', "").replace(
+        "[0.3, 0.9]", "[0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7]"))
+    deaths = {0.2: "segfault", 0.4: "exit", 0.6: "kill"}
+    with (LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0",
+                       silence_logs=logging.CRITICAL) as cluster, Client(cluster) as client):
+        client.register_plugin(Deaths(deaths))
+        table = ngwear.sweep(path, client, out=tmp_path / "out", progress=False)
+        workers = list(client.scheduler_info(n_workers=-1)["workers"])
+    culprits = table["contact.friction"].isin(deaths)
+    assert table.status[culprits].eq("crashed").all() and table.status[~culprits].eq("completed").all()
+    assert table.error[culprits].tolist() == ["the process running it died of SIGSEGV (Segmentation fault)",
+                                              "the process running it exited with status 3",
+                                              "the process running it died of SIGKILL (Killed; out of memory?)"]
+    assert len(workers) == 1 and table.worker[~culprits].eq(workers[0]).all(), "one worker, never restarted"
+    for case, row in zip(load_study(path).cases, table.itertuples()):
+        if row.status == "completed":
+            direct = outputs(ngwear.simulate(case.scene, progress=False))
+            np.testing.assert_allclose([getattr(row, k) for k in direct], list(direct.values()), rtol=1e-12)
+    assert not any((tmp_path / "out" / "cases" / c).exists() for c in table.case_id[culprits])
+    assert (table.attrs["summary"]["crashed"], table.attrs["summary"]["completed"]) == (3, 4)
+
+
+@pytest.mark.parametrize("address, reason", [
+    ("not a url", "missing port number in address 'not a url'"),
+    ("foo://host:1", "unknown address scheme 'foo'"),
+])
+def test_cli_refuses_a_scheduler_that_is_no_address(tmp_path, address, reason):
+    path = write(tmp_path, GRID)
+    done = subprocess.run([sys.executable, "-m", "ngwear.cli", "sweep", str(path), "--scheduler", address,
+                           "--out", str(tmp_path / "out")], capture_output=True, text=True, cwd=ROOT, timeout=120)
+    lines = done.stderr.strip().splitlines()
+    assert done.returncode == 2 and len(lines) == 1 and not (tmp_path / "out").exists()
+    assert lines[0].startswith(f"ngwear: scheduler: {address!r} is not a scheduler address such as "
+                               f"tcp://host:8786 ({reason}"), lines

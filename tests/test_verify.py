@@ -1,7 +1,11 @@
 """Observed convergence orders (Theorem 5 predicts at least 1/2 in h and 1 in k) and the (H_S) check."""
 import ngsolve as ngs
+import numpy as np
 import pytest
+from conftest import ROOT
 
+import ngwear
+from ngwear.model.laws import largest_slope
 from ngwear.numerics import discrete
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.forms import elastic_form, load_form
@@ -31,7 +35,8 @@ def test_k_orders_of_wear_integrators(scene, integrator, low, high):
 
 
 def test_error_of_reference_against_itself_is_zero(scene):
-    result, _ = verify._run(scene.replace(**{"mesh.maxh": 0.3, "time.steps": 4, "output.every": 1.0}))
+    result, _ = verify._run(scene.replace(**{"mesh.maxh": 0.3, "time.steps": 4, "output.every": 1.0,
+                                             "wear.integrator": "implicit"}))
     e = verify.errors(result, result)
     assert max(e.V_sum, e.W_sum, e.V_final, e.W_final) < 1e-12
 
@@ -59,13 +64,29 @@ def test_smallness_hypothesis(paper_scene):
 
 
 def test_stability_picture(paper_scene):
-    """Wear passes the body's surface for explicit once kαL > 1, trapezoidal once kαL > 2, implicit never."""
-    rows = {r["steps"]: r for r in verify.stability_study(paper_scene.replace(**{"mesh.maxh": 0.3}),
-                                                          [30, 10, 6], ref_steps=320)}
+    """Wear passes the largest penetration so far for explicit once kαL > 1, trapezoidal once kαL > 2, implicit never.
+
+    The overshoot is max_j (w_j − max_(m≤j) (u_ν − d₀)₊)/g: after lift-off w > u_ν − d₀ is physical and not
+    counted (before, the implicit update showed 0.0101 here).
+    """
+    scene = paper_scene.replace(**{"mesh.maxh": 0.3})
+    rows = {r["steps"]: r for r in verify.stability_study(scene, [30, 10, 6], ref_steps=320)}
+    assert [rows[n]["k_alpha_L"] for n in (30, 10, 6)] == pytest.approx([0.5, 1.5, 2.5])
     assert rows[30]["explicit_overshoot"] == 0 and rows[10]["explicit_overshoot"] > 0.005   # kαL = 0.5, 1.5
     assert rows[10]["trapezoidal_overshoot"] == 0 and rows[6]["trapezoidal_overshoot"] > 0.005  # 1.5, 2.5
     assert all(r["implicit_overshoot"] == 0 for r in rows.values())
     assert rows[10]["trapezoidal_W_final"] < rows[10]["implicit_W_final"] < rows[10]["explicit_W_final"]
+
+
+def test_stability_uses_the_scenes_own_wear_rate():
+    """The pin on a turning disc: α = κ|ω| r at the outermost contact point (the translation alone gives α = 0)."""
+    pin = verify.refined(ngwear.load_scene(ROOT / "geometries" / "pin_on_disc.toml"), 2.0)
+    disc = Discretization(pin)
+    radius = np.hypot(*disc.points.coords[:, :2].T).max()
+    rate = pin.contact.wear * 10.0 * radius * largest_slope(pin.contact)
+    assert verify.alpha_slope(pin) == pytest.approx(rate, rel=1e-12) and rate > 0
+    steps = verify.stability_steps(pin)
+    assert steps == sorted({max(1, round(pin.time.T * rate / r)) for r in (0.5, 1, 1.5, 2.5, 5)}, reverse=True)
 
 
 def test_trace_constant_matrix_free_equals_dense(paper_scene, monkeypatch):
@@ -76,3 +97,15 @@ def test_trace_constant_matrix_free_equals_dense(paper_scene, monkeypatch):
     large = Discretization(disc.scene, disc.mesh)
     assert large.with_scene(large.scene.replace(material={"lame_lambda": 0.0, "lame_mu": 0.5})).matrix_free
     assert trace_constant(large) == pytest.approx(dense, rel=1e-7)
+
+
+def test_h_study_refines_every_size():
+    """The pin's Γ_C mesh is set by mesh.contact_maxh: refining maxh alone gave the same mesh at every size."""
+    pin = ngwear.load_scene(ROOT / "geometries" / "pin_on_disc.toml")
+    finer = verify.refined(pin, 0.5)
+    assert (finer.mesh.maxh, finer.mesh.contact_maxh) == pytest.approx((pin.mesh.maxh / 2, pin.mesh.contact_maxh / 2))
+    box = ngwear.load_scene(ROOT / "geometries" / "box3d.toml").replace(**{"time.steps": 4, "output.every": 1.0,
+                                                                           "wear.integrator": "implicit"})
+    with pytest.raises(ngwear.SceneError, match=r"^mesh\.maxh: refining .* the meshes do not get finer"):
+        verify.h_study(box, [1.0, 0.6], 0.4)                              # Netgen's box is one layer of cells
+    assert verify.refined(box, 2.0).mesh.contact_maxh is None

@@ -123,3 +123,25 @@ def test_pin_button_switches_the_plots_to_a_b(explorer):
     assert "A/B: B differs from A in speed 1 → 2" in controls["status"].value
     controls["pin"].click()
     assert explorer.pinned is None and "A/B" not in controls["status"].value
+
+
+def test_a_confined_widget_saves_only_inside_its_folder(explorer, tmp_path):
+    root, elsewhere = tmp_path / "app", tmp_path / "elsewhere"
+    root.mkdir()
+    elsewhere.mkdir()
+    (root / "link").symlink_to(elsewhere)
+    (root / "paper_strip-1.toml").symlink_to(elsewhere / "dangling.toml")
+    explorer.widget(folder=root, confined=True)
+    controls = explorer.controls
+    assert controls["folder"].value == str(root.resolve())
+    for spelled in (str(elsewhere), "link", "link/sub", "../elsewhere", f"{root}/x/../../elsewhere", "~", "/"):
+        controls["folder"].value = spelled
+        controls["save_scene"].click()
+        assert f"save into: {spelled} is outside {root.resolve()}, the folder this app saves into" in \
+            controls["message"].value, spelled
+    for spelled, written in (("", root / "paper_strip-2.toml"), ("sub/deeper", root / "sub/deeper/paper_strip-1.toml"),
+                             (f"{root}/x/..", root / "paper_strip-3.toml")):
+        controls["folder"].value = spelled
+        controls["save_scene"].click()
+        assert controls["message"].value.endswith(f"saved scene: {written}</div>") and written.is_file(), spelled
+    assert not any(elsewhere.iterdir()), "nothing written through a symlink"

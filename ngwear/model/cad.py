@@ -8,6 +8,8 @@ solid (region) of the file is the body.  A ``netgen.occ`` shape or an (NGSolve o
 in Python is written once to a file in the cache, named by a hash of its content, so that a scene
 stays plain data that TOML, JSON and the result folders can hold.  Shapes go to BREP + sidecar, not
 STEP: STEP names a face's geometry, so faces that share it (the ends of an extrusion) lose a name.
+
+Files are read by :mod:`ngwear.model.part_files` (in a child process first).
 """
 from __future__ import annotations
 
@@ -15,92 +17,16 @@ import hashlib
 import json
 import os
 import tempfile
-from dataclasses import dataclass
-from functools import lru_cache
 from pathlib import Path
 
 import netgen.meshing
-import ngsolve as ngs
-import numpy as np
-from netgen.occ import OCCGeometry, TopoDS_Shape
+from netgen.occ import TopoDS_Shape
 
 from .cache import cache_dir
 from .kinds import Kind, register
+from .part_files import MESH_FILES, SHAPE_FILES, Part, PartError, describe, read_mesh, read_shape
 
-SHAPE_FILES = (".step", ".stp", ".iges", ".igs", ".brep")
-MESH_FILES = (".vol", ".msh")
-
-
-class PartError(ValueError):
-    """A part file cannot be read (the scene turns this into a message naming ``geometry.file``)."""
-
-
-@dataclass(frozen=True)
-class Part:
-    """What validation needs to know of a part file: dimension, boundary names, bounding-box diagonal."""
-
-    dim: int
-    boundaries: tuple[str, ...]
-    extent: float
-
-
-def describe(path: str, kind: str) -> Part:
-    """The dimension, named boundaries and size of a part file (cached by path, size and mtime)."""
-    file = Path(path)
-    if not file.is_file():
-        raise PartError(f"{path} does not exist")
-    suffixes = KINDS_OF_FILES[kind].files
-    if file.suffix.lower() not in suffixes:
-        raise PartError(f"{file.name} is not a {' / '.join(suffixes)} file")
-    stat = file.stat()
-    return _describe(str(file.resolve()), kind, stat.st_size, stat.st_mtime_ns)
-
-
-@lru_cache(maxsize=32)
-def _describe(path: str, kind: str, size: int, mtime: int) -> Part:
-    if kind == "step":
-        shape = read_shape(path)
-        lo, hi = (np.array(corner) for corner in shape.bounding_box)
-        names = {face.name for face in shape.faces if face.name}
-        return Part(3, tuple(sorted(names)), float(np.linalg.norm(hi - lo)))
-    mesh = read_mesh(path)
-    points = np.array([p.p for p in mesh.Points()])
-    names = set(ngs.Mesh(mesh).GetBoundaries())
-    extent = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))) if len(points) else 0.0
-    return Part(mesh.dim, tuple(sorted(n for n in names if n)), extent)
-
-
-def read_shape(path: str) -> TopoDS_Shape:
-    """The OCC shape of a STEP / IGES / BREP file (a BREP's face names from its sidecar)."""
-    try:
-        shape = OCCGeometry(str(path)).shape
-    except Exception as err:  # Netgen raises its own exception type with the reader's message
-        raise PartError(f"cannot read {Path(path).name} ({err})") from None
-    sidecar = Path(f"{path}.names.json")
-    if sidecar.is_file():
-        names = json.loads(sidecar.read_text())
-        if len(names) != len(shape.faces):
-            raise PartError(f"{sidecar.name} names {len(names)} faces, the shape has {len(shape.faces)}")
-        for face, name in zip(shape.faces, names):
-            if name:
-                face.name = name
-    return shape
-
-
-def read_mesh(path: str) -> netgen.meshing.Mesh:
-    """The Netgen mesh of a ``.vol`` or Gmsh ``.msh`` file, every region renamed ``body``."""
-    try:
-        if Path(path).suffix.lower() == ".msh":
-            from netgen.read_gmsh import ReadGmsh
-            mesh = ReadGmsh(str(path))
-        else:
-            mesh = netgen.meshing.Mesh()
-            mesh.Load(str(path))
-    except Exception as err:  # as above
-        raise PartError(f"cannot read {Path(path).name} ({err})") from None
-    for index in range(1, mesh.GetNDomains() + 1):
-        mesh.SetMaterial(index, "body")
-    return mesh
+__all__ = ["Part", "PartError", "describe", "fingerprint", "read_mesh", "read_shape", "store"]
 
 
 def store(part) -> tuple[str, str]:

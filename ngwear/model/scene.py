@@ -79,8 +79,11 @@ class Scene(Section):
             raise SceneError(messages.message(errors[0], data, cls)) from None
 
     def to_dict(self) -> dict[str, Any]:
-        """The nested-dict form that :meth:`from_dict` and TOML use."""
-        return self.model_dump(mode="json", exclude_none=True)
+        """The nested-dict form that :meth:`from_dict` and TOML use (``wear.integrator`` only where it was named)."""
+        data = self.model_dump(mode="json", exclude_none=True)
+        if "integrator" not in self.wear.model_fields_set:
+            data["wear"].pop("integrator")
+        return data
 
     def replace(self, **dotted: Any) -> Scene:
         """A new scene with fields overridden by dotted keys, e.g. ``replace(**{"time.steps": 10})``."""
@@ -110,6 +113,11 @@ class Scene(Section):
 
     @model_validator(mode="after")
     def _cross_checks(self) -> Scene:
+        if self.wear.integrator is None:    # not named: the paper's explicit scheme, trapezoidal for adaptive steps
+            adaptive = self.time.adaptive and self.solver.method == "condensed"
+            resolved = WearSpec.model_construct(set(self.wear.model_fields_set), **{
+                **self.wear.__dict__, "integrator": "trapezoidal" if adaptive else "explicit"})
+            object.__setattr__(self, "wear", resolved)   # a new WearSpec: the field's default one is shared
         rules.check(self)
         return self
 

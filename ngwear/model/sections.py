@@ -263,8 +263,12 @@ class TimeGrid(Section):
 class WearSpec(Section):
     """Wear integrator: the paper's ``explicit`` (eq. 15), ``implicit`` (backward Euler), ``trapezoidal``."""
 
-    integrator: Literal["explicit", "implicit", "trapezoidal"] = key(
-        "explicit", "`explicit` (paper eq. 15), `implicit` (backward Euler), `trapezoidal`", reuse=Level.NOTHING)
+    integrator: Literal["explicit", "implicit", "trapezoidal"] | None = key(
+        None, "`explicit` (paper eq. 15), `implicit` (backward Euler), `trapezoidal`", reuse=Level.NOTHING,
+        shown="explicit; trapezoidal with `time.adaptive`", allowed="explicit, implicit, trapezoidal")
+    allow_unstable: Flag = key(False, "run an explicit update known to diverge (k·α·L > 2 at the uniform step, α "
+                               "the largest κ‖v*‖, L the largest slope of p on [0, g]) instead of refusing it",
+                               reuse=Level.NOTHING)
 
 
 class SolverSpec(Section):

@@ -46,6 +46,11 @@ class ElasticOperator:
             self._factor.schur_upper = None
 
     @property
+    def condensed(self) -> bool:
+        """Whether S is kept (as its Cholesky factor): :meth:`contact_solve` works."""
+        return self._cholesky is not None
+
+    @property
     def schur_complement(self) -> np.ndarray | None:
         """S = L Lᵀ from its Cholesky factor (None without ``schur``)."""
         if self._cholesky is None:

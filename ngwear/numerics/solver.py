@@ -47,6 +47,9 @@ class ConvergenceError(RuntimeError):
 class NewtonRecord:
     """History of one step's Newton solve.
 
+    ``cutbacks``: the load continuations tried before the step converged (or before it was given up),
+    each cutting the step's load change into m = 2, 4, 8 parts (``runs.stepper.Stepper``); the
+    other fields are those of the last solve.
     A nonlinear material's step: ``bulk`` iterations of its fixed point, ``tangents`` factorised in the run so far.
     """
 
@@ -57,6 +60,7 @@ class NewtonRecord:
     damped: int = 0
     bulk: int = 0
     tangents: int = 0
+    cutbacks: int = 0
 
 
 MEMORY = 5

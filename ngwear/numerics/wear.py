@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.laws import Compliance, largest_slope
+from ..model.laws import Compliance
 from .solver import PointLaw
 
 INTEGRATORS = {
@@ -81,37 +81,64 @@ class WearIntegrator:
         self.c = self.theta_new * k * alpha_next
 
 
-def stable_step(scene, alpha: float) -> float:
+def stable_step(scene, rate: float) -> float:
     """The largest step at which the wear update does not overshoot: 1/(αL_p) explicit, 2/(αL_p) trapezoidal.
 
-    L_p is the largest slope of p over [0, g]; ``alpha`` the largest α.  Implicit: no limit (inf).
+    ``rate``: the largest α_i L_p,i (:meth:`Discretization.largest_rate`), L_p,i the largest slope of p_i over
+    [0, g] and α_i = κ_i‖v*_i‖ over the points and time.  Implicit: no limit (inf).
     """
     limit = {"explicit": 1.0, "trapezoidal": 2.0, "implicit": np.inf}[scene.wear.integrator]
-    rate = alpha * largest_slope(scene.contact)
     return limit / rate if rate > 0 else np.inf
 
 
-def explicit_stability(scene, alpha: float) -> str | None:
+def steps_cap() -> int:
+    """The largest ``time.steps`` the scene schema accepts."""
+    from ..model.scene import Scene
+    steps = Scene.model_fields["time"].annotation.model_fields["steps"]
+    return next(m.le for m in steps.metadata if getattr(m, "le", None) is not None)
+
+
+def _enough_steps(scene, rate: float) -> str:
+    """', or time.steps >= N' with k α L_p = T rate / N ≤ 1, when N is within the schema's cap (else nothing)."""
+    needed = int(np.ceil(scene.time.T * rate * (1 - 1e-12)))
+    return f", or time.steps >= {needed}" if needed <= steps_cap() else ""
+
+
+def diverging(scene, rate: float) -> str | None:
+    """The one-line refusal of a uniform explicit run whose update diverges (k α L_p > 2), else None.
+
+    ``wear.allow_unstable`` lets it run (with :func:`explicit_stability`'s warning).  The remedies never ask for
+    more than the schema allows: the implicit and trapezoidal integrators always, ``time.steps >= N`` when N fits.
+    """
+    if scene.wear.integrator != "explicit" or scene.time.adaptive or scene.wear.allow_unstable:
+        return None
+    r = scene.dt * rate
+    if r <= 2:
+        return None
+    return (f"time.steps: explicit wear with k·α·L = {r:.3g} > 2 diverges (the wear passes the surface); use "
+            f"wear.integrator = 'implicit' or 'trapezoidal'{_enough_steps(scene, rate)}, "
+            "or wear.allow_unstable = true to run it anyway")
+
+
+def explicit_stability(scene, rate: float) -> str | None:
     """Warning text when the wear update overshoots at the scene's uniform step, else None.
 
     For p = L r₊ the explicit update has amplification 1 − k α L (overshoots for k α L > 1, grows
-    for > 2), the trapezoidal one (1 − kαL/2)/(1 + kαL/2) (overshoots for k α L > 2); implicit never.
-    L_p is the largest slope of p over [0, g]; ``alpha`` the largest α = κ ‖v*(x, t)‖ over points and time.
+    for > 2: refused unless ``wear.allow_unstable``, :func:`diverging`), the trapezoidal one
+    (1 − kαL/2)/(1 + kαL/2) (overshoots for k α L > 2); implicit never.
+    ``rate``: the largest α_i L_p,i over the points and time (:func:`stable_step`).
     """
     integrator = scene.wear.integrator
-    if integrator == "implicit" or scene.contact.wear == 0:
+    if integrator == "implicit" or rate == 0:
         return None
-    slope = largest_slope(scene.contact)
-    r = scene.dt * alpha * slope
+    r = scene.dt * rate
     if integrator == "trapezoidal":
         if r <= 2:
             return None
         return (f"time.steps: trapezoidal wear with k·α·L = {r:.3g} > 2 oscillates and can wear past the "
-                f"surface; use wear.integrator = 'implicit' or time.steps >= "
-                f"{int(np.ceil(scene.time.T * alpha * slope / 2))}")
+                f"surface; use wear.integrator = 'implicit'{_enough_steps(scene, rate / 2)}")
     if r <= 1:
         return None
     kind = "diverges" if r > 2 else "oscillates"
     return (f"time.steps: explicit wear with k·α·L = {r:.3g} > {1 if r <= 2 else 2} {kind}; "
-            f"use wear.integrator = 'implicit' or 'trapezoidal', or time.steps >= "
-            f"{int(np.ceil(scene.time.T * alpha * slope))}")
+            f"use wear.integrator = 'implicit' or 'trapezoidal'{_enough_steps(scene, rate)}")

@@ -3,25 +3,33 @@
 ``checkpoint.npz`` holds the result so far but its per-step rows (:meth:`Result.header`: Newton records,
 status), how many rows count and the folder of the files that hold them (``steps-<id>``, see
 :mod:`ngwear.results.history`), the solver's warm start (x, λ), the adaptive clock's next step and the
-scene (as JSON); the mesh is the folder's ``mesh.vol``, so a resumed run needs no meshing.  A checkpoint
+scene (as JSON), the CRC-32 of the counted rows and the SHA-256 of the mesh, which is the folder's
+``mesh.vol``, so a resumed run needs no meshing.  A checkpoint
 costs what the rows since the last one cost to write, not the whole run.  Resumed, a run computes the same numbers,
 to the last bit, as if it had never stopped: every step starts from values that the checkpoint holds
 exactly.  A resumed scene may differ from the checkpoint's only in ``time.T`` (growing, to extend a
-run; with uniform steps ``time.steps`` grows with it, k = T/N kept) and in ``output.*``.
+run; with uniform steps ``time.steps`` grows with it, k = T/N kept) and in ``output.*``.  Each file of the
+folder is checked before a resume uses it (:class:`Checkpoint`); :class:`Saver` writes a run's checkpoints.
 """
 from __future__ import annotations
 
 import json
+import time
+import zipfile
+import zlib
 from pathlib import Path
 
 import numpy as np
 
 from ..model.scene import Scene, SceneError
+from .folder import FolderError, no_space
 from .history import History, remove_others
-from .result import Result, from_arrays, replacing, row_shapes, save_mesh
+from .result import Result, checked_mesh, from_arrays, keep_mesh, replacing, row_shapes
 
 CHECKPOINT = "checkpoint.npz"
 FREE = ("time.T", "time.steps")
+KEYS = ("scene", "x", "lam", "step", "contact_points", "weights", "newton_iterations", "status")
+"""What every checkpoint holds (older ones have no ``rows``, ``history``, ``checksums``, ``mesh_sha256``)."""
 
 
 def write_checkpoint(folder, result: Result) -> Path:
@@ -31,14 +39,14 @@ def write_checkpoint(folder, result: Result) -> Path:
     the history folders of earlier runs there go once this checkpoint names another.
     """
     x, lam, step = result.continuation
-    folder, history = Path(folder), result.history
+    folder, history, rows = Path(folder), result.history, len(result.times)
     if not history.is_in(folder):
-        history = history.moved(folder, len(result.times))
-    if not (folder / "mesh.vol").is_file():
-        save_mesh(result.discretization.mesh, folder)
+        history = history.moved(folder, rows)
+    mesh = keep_mesh(result, folder)
     history.flush()
     with replacing(folder / CHECKPOINT) as tmp:
-        np.savez(tmp, **result.header(), rows=np.array(len(result.times)), history=np.array(history.folder.name),
+        np.savez(tmp, **result.header(), rows=np.array(rows), history=np.array(history.folder.name),
+                 checksums=np.array(json.dumps(history.checksums(rows))), mesh_sha256=np.array(mesh),
                  x=x, lam=lam, step=np.array(step), scene=np.array(json.dumps(result.scene.to_dict())))
     remove_others(folder, history.folder)
     return folder / CHECKPOINT
@@ -46,41 +54,72 @@ def write_checkpoint(folder, result: Result) -> Path:
 
 def saved_scene(folder) -> Scene:
     """The scene of the checkpoint in ``folder`` (read alone: no mesh, no rows)."""
-    with np.load(_path(folder)) as data:
-        return _scene(data)
+    return _scene(_read(folder), Path(folder) / CHECKPOINT)
 
 
-def _scene(data) -> Scene:
-    return Scene.from_dict(json.loads(str(data["scene"])))
-
-
-def _path(folder) -> Path:
+def _read(folder) -> dict[str, np.ndarray]:
+    """Every array of the folder's checkpoint, or a FolderError saying what is wrong with it."""
     path = Path(folder) / CHECKPOINT
     if not path.is_file():
-        raise SceneError(f"resume: {folder} holds no {CHECKPOINT} (not the output folder of a run)")
-    return path
+        raise FolderError("resume", f"{folder} holds no {CHECKPOINT} (not the output folder of a run)")
+    try:
+        with np.load(path) as data:
+            arrays = {key: data[key] for key in data.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as err:
+        reason = str(err).split(". ")[0]             # numpy's advice on pickles is not for a damaged file
+        raise FolderError("resume", f"{path} is damaged ({type(err).__name__}: {reason})") from None
+    missing = [key for key in KEYS if key not in arrays]
+    if missing:
+        raise FolderError("resume", f"{path} is damaged or not a checkpoint of ngwear (no {', '.join(missing)})")
+    return arrays
+
+
+def _scene(data: dict, path: Path) -> Scene:
+    try:
+        return Scene.from_dict(json.loads(str(data["scene"])))
+    except (ValueError, TypeError) as err:
+        raise FolderError("resume", f"{path} holds no valid scene ({err})") from None
 
 
 class Checkpoint:
-    """A checkpoint read back: its scene, the result on the folder's mesh, the warm start and the next step."""
+    """A checkpoint read back: its scene, the result on the folder's mesh, the warm start and the next step.
+
+    Each file is checked before it is used (see :class:`FolderError`): the checkpoint's keys, that the
+    folder's ``mesh.vol`` is the checkpoint's (SHA-256) and that the rows' files hold the counted rows.
+    """
 
     def __init__(self, folder, scene: Scene | None = None):
-        from ..model.geometry import load_mesh
         from ..numerics.discrete import Discretization
 
         folder = Path(folder)
-        with np.load(_path(folder)) as data:
-            saved = _scene(data)
-            self.scene = saved if scene is None else _continuing(saved, scene)
-            disc = Discretization(self.scene, load_mesh(folder / "mesh.vol", self.scene.dim))
-            if "history" in data:
-                history = History.reopen(folder / str(data["history"]), row_shapes(self.scene, disc))
-                self.result = from_arrays(self.scene, data, disc, history)
-            else:                                   # written before the rows had their own files: they are here
-                self.result = from_arrays(self.scene, data, disc)
-                self.result.keep_in(folder)
-            self.x, self.lam, self.step = np.array(data["x"]), np.array(data["lam"]), float(data["step"])
+        data = _read(folder)
+        saved = _scene(data, folder / CHECKPOINT)
+        self.scene = saved if scene is None else _continuing(saved, scene)
+        disc = Discretization(self.scene, checked_mesh(folder, data, self.scene.dim, "resume"))
+        _check_counts(folder / CHECKPOINT, data, disc)
+        if "history" in data:
+            sums = json.loads(str(data["checksums"])) if "checksums" in data else None
+            history = History.reopen(folder / str(data["history"]), row_shapes(self.scene, disc), int(data["rows"]),
+                                     sums)
+            self.result = from_arrays(self.scene, data, disc, history)
+        else:                                       # written before the rows had their own files: they are here
+            self.result = from_arrays(self.scene, data, disc)
+            self.result.keep_in(folder)
+        self.result.mesh_digest = str(data["mesh_sha256"]) if "mesh_sha256" in data else None
+        self.x, self.lam, self.step = np.array(data["x"]), np.array(data["lam"]), float(data["step"])
         self.result.status = "completed"
+
+
+def _check_counts(path: Path, data: dict, disc) -> None:
+    """The checkpoint's contact points are the mesh's; its Newton records are one per counted row (+ a failure)."""
+    if not np.array_equal(data["contact_points"], disc.points.coords):
+        raise FolderError("resume", f"{path.parent / 'mesh.vol'} is not the mesh of {path.name} (its contact "
+                                    "points differ)")
+    rows = int(data["rows"]) if "rows" in data else len(data["times"])
+    records = len(data["newton_iterations"])
+    if records - rows not in (0, 1) or len(data["lam"]) != disc.points.n:
+        raise FolderError("resume", f"{path} is damaged ({records} Newton records for {rows} steps, {len(data['lam'])} "
+                                    f"multipliers for {disc.points.n} contact points)")
 
 
 def _continuing(saved: Scene, scene: Scene) -> Scene:
@@ -112,3 +151,41 @@ def _value(scene: Scene, key: str):
     for part in key.split("."):
         node = node.get(part) if isinstance(node, dict) else None
     return node
+
+
+class Saver:
+    """A run's checkpoints into ``folder`` (None: none): every ``seconds`` of wall time (0: never) and at its end.
+
+    A checkpoint that finds the disk full is not written (the last one stays) and ends the run (``full``).
+    """
+
+    def __init__(self, folder, seconds: float):
+        self.folder, self.seconds, self.last = folder, seconds, time.perf_counter()
+        self.full: OSError | None = None
+        self.rows = 0                       # the steps the last checkpoint written keeps
+
+    def maybe(self, result: Result) -> bool:
+        """Checkpoint if it is time; whether the run may go on."""
+        if self.folder is not None and self.seconds > 0 and time.perf_counter() - self.last >= self.seconds:
+            self.write(result)
+        return self.full is None
+
+    def write(self, result: Result) -> None:
+        if self.folder is not None and result.continuation is not None:
+            try:
+                write_checkpoint(self.folder, result)
+            except OSError as err:
+                if not no_space(err):
+                    raise
+                self.full = err
+                return
+            self.last, self.rows = time.perf_counter(), len(result.times)
+
+    def kept(self, result: Result) -> str:
+        """What a run stopped by a full disk keeps, in one line."""
+        t = result.times[-1] if len(result.times) else 0.0
+        stopped = f"no space left on device in {self.folder}: the run stopped after step {result.steps} (t = {t:.4g})"
+        if not self.rows:
+            return f"{stopped}; no checkpoint fitted: free space and run again"
+        return (f"{stopped}; its checkpoint keeps steps 0-{self.rows - 1} (t <= {result.times[self.rows - 1]:.4g}): "
+                "free space, then resume from it")

@@ -6,14 +6,24 @@ every checkpoint.  With an output folder the rows live in files ``steps-<id>/<na
 order, no header) mapped into memory: the kernel writes them out and drops them from memory as they fill,
 and a checkpoint flushes the mapping and records how many rows count, so that it writes only what is new.
 Rows past that count belong to steps after the checkpoint and are written again when the run resumes.
+
+The room for the rows is reserved on disk (``posix_fallocate``) before it is mapped: a full disk is an
+``OSError`` (ENOSPC) when the run starts or its rows grow, never a SIGBUS when a page of the mapping is
+first written.  A checkpoint also records the CRC-32 of each file's counted rows, carried on from the last
+checkpoint over the rows added since, and a resume maps the files only once their sizes and checksums say
+that they hold those rows.
 """
 from __future__ import annotations
 
+import os
 import shutil
 import uuid
+import zlib
 from pathlib import Path
 
 import numpy as np
+
+from .folder import FolderError
 
 PREFIX = "steps-"
 
@@ -23,6 +33,8 @@ class History:
 
     def __init__(self, buffers: dict[str, np.ndarray], folder: Path | None = None):
         self.buffers, self.folder = buffers, folder
+        self._sums: dict[str, int] = {}             # CRC-32 of the first ``_summed`` rows of each array
+        self._summed = 0
 
     @classmethod
     def empty(cls, shapes: dict[str, tuple], capacity: int, folder=None) -> History:
@@ -32,51 +44,96 @@ class History:
         home = Path(folder) / f"{PREFIX}{uuid.uuid4().hex[:12]}"
         home.mkdir(parents=True)
         history = cls({}, home)
-        for name, shape in shapes.items():
-            history.buffers[name] = history._mapped(name, shape, capacity, "w+")
+        try:
+            for name, shape in shapes.items():
+                history.buffers[name] = history._mapped(name, shape, capacity)
+        except OSError:                             # no room for the rows: nothing of them left behind
+            shutil.rmtree(home, ignore_errors=True)
+            raise
         return history
 
     @classmethod
-    def reopen(cls, home, shapes: dict[str, tuple]) -> History:
-        """The files of ``home`` (a ``steps-<id>`` folder) mapped again, to be appended to."""
+    def reopen(cls, home, shapes: dict[str, tuple], rows: int, sums: dict[str, int] | None = None) -> History:
+        """The files of ``home`` (a ``steps-<id>`` folder) mapped again, to be appended to.
+
+        Only once they hold the ``rows`` rows a checkpoint counts: every file is there, of whole rows, at
+        least ``rows`` of them, and (``sums`` given) with the checkpoint's CRC-32; else a FolderError naming
+        the file.
+        """
         home = Path(home)
+        if not home.is_dir():
+            raise FolderError("resume", f"{home} is missing (it holds the steps its checkpoint counts)")
         history = cls({}, home)
-        capacity = (home / "times.f64").stat().st_size // 8          # the rows all grow together
         for name, shape in shapes.items():
-            history.buffers[name] = history._mapped(name, shape, capacity, "r+")
+            row, path = 8 * int(np.prod(shape, dtype=int)), home / f"{name}.f64"
+            if not row:
+                history.buffers[name] = np.zeros((rows, *shape))
+                continue
+            if not path.is_file():
+                raise FolderError("resume", f"{path} is missing (its checkpoint counts {rows} rows)")
+            size = path.stat().st_size
+            if size % row or size // row < rows:
+                raise FolderError("resume", f"{path} holds {size / row:.6g} rows of {row} bytes, its checkpoint "
+                                            f"counts {rows}: the file was cut short or changed")
+            history.buffers[name] = (np.memmap(path, dtype=np.float64, mode="r+", shape=(size // row, *shape))
+                                     if size else history._mapped(name, shape, 1))
+        for name, found in history.checksums(rows).items():
+            if sums is not None and name in sums and found != sums[name]:
+                raise FolderError("resume", f"{home / name}.f64: its first {rows} rows are not those of its "
+                                            "checkpoint (their CRC-32 differs): the file was changed")
         return history
 
-    def _mapped(self, name: str, shape: tuple, capacity: int, mode: str) -> np.ndarray:
+    def _mapped(self, name: str, shape: tuple, capacity: int) -> np.ndarray:
+        """The rows of ``name`` in its file, with room for ``capacity`` rows reserved on disk first."""
         if not np.prod(shape, dtype=int):          # no columns (δ of a run without a plate): nothing to keep
             return np.zeros((capacity, *shape))
-        return np.memmap(self.folder / f"{name}.f64", dtype=np.float64, mode=mode, shape=(capacity, *shape))
+        path = self.folder / f"{name}.f64"
+        _reserve(path, capacity * 8 * int(np.prod(shape, dtype=int)))
+        return np.memmap(path, dtype=np.float64, mode="r+", shape=(capacity, *shape))
 
     def put(self, name: str, row: int, value) -> np.ndarray:
-        """Write ``value`` into ``row`` (doubling the capacity when full); the rows up to it."""
+        """Write ``value`` into ``row`` (doubling the capacity of every array when full); the rows up to it."""
+        if len(self.buffers[name]) <= row:
+            self._grow(2 * (row + 1))
         buffer = self.buffers[name]
-        if len(buffer) <= row:
-            buffer = self._grown(name, 2 * (row + 1))
         buffer[row] = value
         return buffer[:row + 1]
 
-    def _grown(self, name: str, capacity: int) -> np.ndarray:
-        old = self.buffers[name]
-        if not isinstance(old, np.memmap):
-            new = np.zeros((capacity, *old.shape[1:]))
-            new[:len(old)] = old
-        else:
-            old.flush()
-            with open(self.folder / f"{name}.f64", "r+b") as file:
-                file.truncate(capacity * old[0].nbytes)
-            new = self._mapped(name, old.shape[1:], capacity, "r+")
-        self.buffers[name] = new
-        return new
+    def _grow(self, capacity: int) -> None:
+        """Room for ``capacity`` rows in every array: on disk for all files first, or (a full disk) for none."""
+        short = {name: buffer for name, buffer in self.buffers.items() if len(buffer) < capacity}
+        files = {name: self.folder / f"{name}.f64" for name, buffer in short.items() if isinstance(buffer, np.memmap)}
+        sizes = {name: path.stat().st_size for name, path in files.items()}
+        try:
+            for name, path in files.items():
+                _reserve(path, capacity * 8 * int(np.prod(short[name].shape[1:], dtype=int)))
+        except OSError:                             # give back what was reserved: the checkpoint still fits
+            for name, path in files.items():
+                os.truncate(path, sizes[name])
+            raise
+        for name, old in short.items():
+            if name in files:
+                old.flush()
+                new = np.memmap(files[name], dtype=np.float64, mode="r+", shape=(capacity, *old.shape[1:]))
+            else:
+                new = np.zeros((capacity, *old.shape[1:]))
+                new[:len(old)] = old
+            self.buffers[name] = new
 
     def flush(self) -> None:
         """Write the mapped rows to their files."""
         for buffer in self.buffers.values():
             if isinstance(buffer, np.memmap):
                 buffer.flush()
+
+    def checksums(self, rows: int) -> dict[str, int]:
+        """The CRC-32 of the bytes of each array's first ``rows`` rows; reads only the rows not summed before."""
+        if rows < self._summed:
+            self._sums, self._summed = {}, 0
+        for name, buffer in self.buffers.items():
+            self._sums[name] = zlib.crc32(buffer[self._summed:rows], self._sums.get(name, 0))
+        self._summed = rows
+        return dict(self._sums)
 
     def is_in(self, folder) -> bool:
         """Whether the rows live in files of ``folder`` (not in memory, not in another folder)."""
@@ -89,6 +146,12 @@ class History:
         for name, buffer in self.buffers.items():
             copy.buffers[name][:rows] = buffer[:rows]
         return copy
+
+
+def _reserve(path: Path, size: int) -> None:
+    """Allocate the first ``size`` bytes of ``path`` on disk (created or extended, never cut): ENOSPC or room."""
+    with open(path, "ab") as file:
+        os.posix_fallocate(file.fileno(), 0, size)
 
 
 def remove_others(folder, keep: Path) -> None:

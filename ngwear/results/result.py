@@ -37,6 +37,7 @@ from ..model.kinematics import Slip
 from ..model.scene import Scene
 from ..numerics.forms import initial_distance
 from ..numerics.solver import NewtonRecord
+from .folder import FolderError, NoSpace, digest, no_space
 from .history import History
 
 ARRAYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces", "plate_displacement")
@@ -70,18 +71,27 @@ class Result:
     discretization: object = field(default=None, repr=False)
     continuation: tuple | None = field(default=None, repr=False)   # (x, λ, next step): to go on from the last step
     history: History | None = field(default=None, repr=False)   # the rows behind the arrays
+    mesh_digest: str | None = field(default=None, repr=False)   # SHA-256 of the mesh.vol written for it
 
     @classmethod
     def empty(cls, scene: Scene, disc, folder=None) -> Result:
         """A result with room for the scene's steps, in memory or (``folder``) in mapped files there.
 
-        The public arrays are views of the completed rows (:mod:`ngwear.results.history`).
+        The public arrays are views of the completed rows (:mod:`ngwear.results.history`); NoSpace when the
+        folder has no room for them.
         """
         shapes, coefficients = row_shapes(scene, disc), disc.coefficients
         result = cls(scene, disc.points.coords, disc.points.weights,
                      *(np.zeros((0, *shapes[name])) for name in ARRAYS), coefficients.friction, coefficients.wear,
                      coefficients.stiffness, discretization=disc)
-        result.history = History.empty(shapes, scene.time.steps + 1, folder)
+        try:
+            result.history = History.empty(shapes, scene.time.steps + 1, folder)
+        except OSError as err:
+            if not no_space(err):
+                raise
+            size = (scene.time.steps + 1) * sum(8 * int(np.prod(shape, dtype=int)) for shape in shapes.values())
+            raise NoSpace(f"no space left on device in {folder} for the rows of {scene.time.steps + 1} steps "
+                          f"({size / 1e6:.4g} MB); nothing was computed") from None
         return result
 
     def append(self, t, w, s, p, lam, forces, delta, record: NewtonRecord) -> None:
@@ -249,15 +259,15 @@ class Result:
         out.mkdir(parents=True, exist_ok=True)
         steps = self.stored_steps
         fields = np.array([self.displacement(s) for s in steps]) if self.discretization else np.zeros((0, 0))
+        mesh = {"mesh_sha256": np.array(keep_mesh(self, out))} if self.discretization is not None else {}
         with replacing(out / "result.npz") as tmp:
             np.savez(tmp, **self.arrays(), **{name: getattr(self, name) for name in PART},   # zlib: 10x slower
-                     field_steps=np.array(steps, dtype=int), fields=fields)                 # for 20 % less
+                     field_steps=np.array(steps, dtype=int), fields=fields, **mesh)         # for 20 % less
         with replacing(out / "scene.json") as tmp:
             tmp.write_text(json.dumps(self.scene.to_dict(), indent=2))
         with replacing(out / "summary.json") as tmp:
             tmp.write_text(json.dumps(self.summary(), indent=2))
         if self.discretization is not None:
-            save_mesh(self.discretization.mesh, out)
             from .vtk import write_series
             write_series(self, out)
         return out
@@ -270,7 +280,7 @@ def load_result(directory) -> Result:
         raise FileNotFoundError(f"{src}: no result.npz (not a saved ngwear result)")
     data = np.load(src / "result.npz")
     scene = Scene.from_dict(json.loads((src / "scene.json").read_text()))
-    result = from_arrays(scene, data, _discretization(scene, src))
+    result = from_arrays(scene, data, _discretization(scene, src, data))
     result.fields = {int(s): f for s, f in zip(data["field_steps"], data["fields"])}
     return result
 
@@ -297,13 +307,47 @@ def from_arrays(scene: Scene, data, disc, history: History | None = None) -> Res
                   discretization=disc, history=history)
 
 
-def _discretization(scene: Scene, folder: Path):
+def _discretization(scene: Scene, folder: Path, data):
     """The discretization of a saved run on the mesh of its folder (None without one)."""
     if not (folder / "mesh.vol").is_file():
         return None
-    from ..model.geometry import load_mesh
     from ..numerics.discrete import Discretization
-    return Discretization(scene, load_mesh(folder / "mesh.vol", scene.dim))
+    return Discretization(scene, checked_mesh(folder, data, scene.dim, "directory"))
+
+
+def checked_mesh(folder: Path, data, dim: int, key: str):
+    """The folder's ``mesh.vol`` once it is seen to be the mesh ``data`` was computed on (else a FolderError).
+
+    Its SHA-256 must be ``data``'s ``mesh_sha256``; older files without one are read in a child process first
+    (:func:`ngwear.model.cad.describe`) and must be of dimension ``dim``.
+    """
+    from ..model.cad import PartError, describe
+    from ..model.geometry import load_mesh
+
+    path = Path(folder) / "mesh.vol"
+    if not path.is_file():
+        raise FolderError(key, f"{folder} holds no mesh.vol (the mesh its results were computed on)")
+    if "mesh_sha256" in data:
+        if digest(path) != str(data["mesh_sha256"]):
+            raise FolderError(key, f"{path} is not the mesh its results were computed on (its SHA-256 differs: "
+                                   "replaced or damaged)")
+        return load_mesh(path, dim)
+    try:
+        part = describe(str(path), "mesh")
+    except PartError as err:
+        raise FolderError(key, f"{path}: {err}") from None
+    if part.dim != dim:
+        raise FolderError(key, f"{path} is a {part.dim}D mesh, its results are of a {dim}D scene")
+    return load_mesh(path, dim)
+
+
+def keep_mesh(result: Result, folder) -> str:
+    """Write the result's mesh as ``mesh.vol`` in ``folder`` unless it is there already; its SHA-256."""
+    path = Path(folder) / "mesh.vol"
+    if result.mesh_digest is None or not path.is_file() or digest(path) != result.mesh_digest:
+        save_mesh(result.discretization.mesh, Path(folder))
+        result.mesh_digest = digest(path)
+    return result.mesh_digest
 
 
 def records_to_arrays(newton: list[NewtonRecord]) -> dict[str, np.ndarray]:
@@ -314,20 +358,23 @@ def records_to_arrays(newton: list[NewtonRecord]) -> dict[str, np.ndarray]:
             "newton_damped": np.array([r.damped for r in newton], dtype=int),
             "newton_bulk": np.array([r.bulk for r in newton], dtype=int),
             "newton_tangents": np.array([r.tangents for r in newton], dtype=int),
+            "newton_cutbacks": np.array([r.cutbacks for r in newton], dtype=int),
             "newton_lengths": np.array([len(r.residuals) for r in newton], dtype=int),
             "newton_residuals": np.array([v for r in newton for v in r.residuals], dtype=float)}
 
 
 def records_from_arrays(data) -> list[NewtonRecord]:
-    """The Newton records that :func:`records_to_arrays` flattened."""
+    """The Newton records that :func:`records_to_arrays` flattened (files without cut-backs: 0)."""
     bounds = np.concatenate([[0], np.cumsum(data["newton_lengths"])])
     residuals = data["newton_residuals"]
     zero = np.zeros(len(data["newton_iterations"]), dtype=int)
-    bulk, tangents = (data[name] if name in data else zero for name in ("newton_bulk", "newton_tangents"))
-    return [NewtonRecord(bool(c), int(i), [float(v) for v in residuals[a:b]], int(act), int(dmp), int(blk), int(tan))
-            for i, c, act, dmp, blk, tan, a, b in zip(data["newton_iterations"], data["newton_converged"],
-                                                      data["newton_active"], data["newton_damped"], bulk, tangents,
-                                                      bounds[:-1], bounds[1:])]
+    cutbacks, bulk, tangents = (data[name] if name in data else zero
+                                for name in ("newton_cutbacks", "newton_bulk", "newton_tangents"))
+    return [NewtonRecord(bool(c), int(i), [float(v) for v in residuals[a:b]], int(act), int(dmp), bulk=int(blk),
+                         tangents=int(tan), cutbacks=int(cut))
+            for i, c, act, dmp, blk, tan, cut, a, b in zip(data["newton_iterations"], data["newton_converged"],
+                                                           data["newton_active"], data["newton_damped"], bulk,
+                                                           tangents, cutbacks, bounds[:-1], bounds[1:])]
 
 
 @contextmanager

@@ -22,7 +22,7 @@ def write_series(result, directory: Path) -> Path:
     with tempfile.TemporaryDirectory(dir=directory, prefix=".fields-") as scratch:
         vtk = ngs.VTKOutput(mesh, coefs=[u, wear], names=["displacement", "wear"],
                             filename=str(Path(scratch) / "fields"), subdivision=result.scene.mesh.order - 1)
-        body = mesh.Materials("body").Mask()
+        body = _body(mesh)
         for step in result.stored_steps:
             u.vec.FV().NumPy()[:] = result.displacement(step)
             disc.set_nodal(wear, result.wear[step])
@@ -32,3 +32,10 @@ def write_series(result, directory: Path) -> Path:
         for new in sorted(Path(scratch).iterdir(), key=lambda f: f.suffix == ".pvd"):   # the index last
             shutil.move(str(new), directory / new.name)
     return directory / "fields.pvd"
+
+
+def _body(mesh: ngs.Mesh) -> ngs.BitArray:
+    """The elements of region ``body``: VTKOutput's ``drawelems`` marks elements (a region's Mask() marks regions)."""
+    elements = mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()
+    names = mesh.GetMaterials()
+    return ngs.BitArray([names[index - 1] == "body" for index in elements.NumPy()["index"]])

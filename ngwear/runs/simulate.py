@@ -9,21 +9,31 @@ fields are recovered (one back-substitution each) only for the steps that are wr
 Nothing is lost on an interrupt: a set ``stop`` event (the CLI's SIGINT/SIGTERM) or Ctrl-C ends the
 run at a step boundary with status ``interrupted`` and every completed step; with an output folder
 the run writes checkpoints there (:mod:`ngwear.results.checkpoint`) from which ``resume`` goes on.
+The run holds its folders (:func:`ngwear.results.folder.hold`); when the disk fills it stops at a step
+boundary, writes what fits and raises :class:`~ngwear.results.folder.NoSpace` saying which steps are kept.
+
+Every step is checked against the invariants (:mod:`ngwear.results.invariants`) before it is recorded:
+the first step that breaks one stops the run (status naming the step, the invariant and by how much),
+keeping the steps before it.
 """
 from __future__ import annotations
 
 import logging
 import time
+from contextlib import ExitStack
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
 from ..model.coefficients import bound, describe
-from ..model.scene import Scene
+from ..model.scene import Scene, SceneError
 from ..numerics.discrete import Discretization
 from ..numerics.solver import ConvergenceError
-from ..numerics.wear import WearIntegrator, explicit_stability
-from ..results.checkpoint import Checkpoint, write_checkpoint
+from ..numerics.wear import WearIntegrator, diverging, explicit_stability
+from ..results.checkpoint import Checkpoint, Saver
+from ..results.folder import NoSpace, hold, no_space
+from ..results.invariants import StepCheck
 from ..results.result import Result
 from .clock import Clock
 from .stepper import Stepper
@@ -48,9 +58,25 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
         extend ``time.T``; ``None`` takes the checkpoint's scene.  Checkpoints go on in that folder.
     stop : threading.Event, optional
         When set, the run stops at the next step boundary with status ``interrupted``.
+
+    Raises
+    ------
+    FolderError
+        ``checkpoint`` or ``resume`` is in use by another run, or a file of ``resume`` is missing or damaged.
+    NoSpace
+        The disk filled: the run stopped, its checkpoint keeps the steps that fit (see the message).
     """
+    with ExitStack() as held:
+        for folder, key in ((checkpoint, "checkpoint"), (resume, "resume")):
+            if folder is not None:
+                new = key == "checkpoint" and (resume is None or Path(folder).resolve() != Path(resume).resolve())
+                held.enter_context(hold(folder, key, create=new))
+        return _simulate(scene, discretization, progress, checkpoint, resume, stop)
+
+
+def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Result:
     start = time.perf_counter()
-    stages = _Stages(scene.name if scene is not None else "resume", progress)
+    stages = Stages(scene.name if scene is not None else "resume", progress)
     if resume is not None:
         saved = stages.run("reading the checkpoint and its mesh", lambda: Checkpoint(resume, scene))
         scene, result, disc = saved.scene, saved.result, saved.result.discretization
@@ -62,20 +88,27 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
             disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene))
         else:
             disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
+        refusal = diverging(scene, disc.largest_rate())
+        if refusal:
+            stages.close()
+            raise SceneError(refusal)
         result = Result.empty(scene, disc, checkpoint)
-        warning = None if scene.time.adaptive else explicit_stability(scene, disc.largest_alpha())
+        warning = None if scene.time.adaptive else explicit_stability(scene, disc.largest_rate())
         if warning:
             log.warning("%s", warning)
             result.warnings.append(warning)
     stages.prepare(disc)
-    clock = Clock(scene, disc.largest_alpha(), result.rejected)
+    clock = Clock(scene, disc.largest_rate(), result.rejected)
     if resume is not None:
         clock.step, result.continuation = saved.step, (saved.x, saved.lam, saved.step)
-    stepper = Stepper(disc)
+        clock.replay(result.times, [disc.alpha(t) * p for t, p in zip(result.times, result.pressure)])
+    stepper = Stepper(disc, StepCheck(result))
     if resume is None:
         x, lam = stepper.unknowns(), np.zeros(disc.points.n)
     integrator = WearIntegrator(scene.wear.integrator, disc.law, disc.points.n)
-    saver = _Saver(checkpoint, scene.output.checkpoint_seconds)
+    saver = Saver(checkpoint, scene.output.checkpoint_seconds)
+    if resume is not None and result.history.is_in(resume):
+        saver.rows = len(result.times)          # what the checkpoint read keeps
     bar = _progress(scene, result) if progress else None
     before = result.wall_time
     try:
@@ -93,10 +126,16 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
             result.continuation = (x, lam, clock.next_step)
             if bar is not None:
                 bar.update(1 if not scene.time.adaptive else result.times[-1] - result.times[-2])
-            saver.maybe(result)
+            if not saver.maybe(result):
+                break
     except KeyboardInterrupt:
         result.settle()
         result.interrupt()
+    except OSError as err:                      # the rows found no room to grow
+        if not no_space(err):
+            raise
+        result.settle()
+        saver.full = err
     result.wall_time, result.rejected = before + time.perf_counter() - start, clock.rejected
     if clock.unmet:
         result.warnings.append(f"time.tolerance: steps at time.min_step = {scene.time.min_step:g} missed the "
@@ -104,6 +143,8 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
     saver.write(result)
     if bar is not None:
         bar.close()
+    if saver.full is not None:
+        raise NoSpace(saver.kept(result), result, resumable=saver.rows > 0)
     if result.status != "completed":
         log.warning("%s: %s", scene.name, result.status)
     return result
@@ -133,13 +174,22 @@ def _solve(stepper, integrator, t: float, t_prev: float | None, x, lam) -> _Atte
     return _Attempt(x, lam, s, delta, pressure, integrator.wear_at(s - disc.condensation.d0), record)
 
 
-def _record(result: Result, stepper, t: float, attempt: _Attempt) -> None:
+def _record(result: Result, stepper, t: float, attempt: _Attempt) -> bool:
+    """Record the step if it keeps the invariants; else stop the run there (False)."""
+    broken = stepper.check(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam)
+    if broken is not None:
+        name, value = broken
+        result.fail(f"step {len(result.times)} (t = {t:.4g}): invariant {name} broken by {value:.3g} "
+                    f"(allowed {stepper.check.checker.allowed[name]:.0e}; see ngwear.results.invariants); "
+                    f"try wear.integrator = 'implicit' or more time.steps", attempt.record)
+        return False
     disc = stepper.disc
     result.append(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam,
                   disc.contact_forces(attempt.pressure, attempt.lam, t), attempt.delta, attempt.record)
     displacement = stepper.displacement(attempt.x)
     if displacement is not None:          # a nonlinear body's field is kept for the frames and the last step
         result.keep_field(displacement)
+    return True
 
 
 def _failed(result: Result, scene: Scene, j: int, t: float, err: Exception) -> None:
@@ -177,12 +227,13 @@ def _next(stepper, integrator, clock: Clock, result: Result, x, lam):
             _failed(result, stepper.scene, j + 1, t_next, err)
             return None
         if clock.judge([*times, t_next], [*rates, disc.alpha(t_next) * attempt.pressure]):
-            _record(result, stepper, t_next, attempt)
-            return attempt.x, attempt.lam
+            return (attempt.x, attempt.lam) if _record(result, stepper, t_next, attempt) else None
 
 
-class _Stages:
-    """The set-up before the first step, stage by stage on a progress bar (minutes on large 3D meshes).
+class Stages:
+    """Work outside the time loop, stage by stage on a progress bar.
+
+    The set-up before the first step (minutes on large 3D meshes), the CLI's uniqueness check after the last.
 
     Stages already done (a reused discretization) are skipped; without ``show`` nothing is drawn.
     """
@@ -203,24 +254,13 @@ class _Stages:
         if disc.scene.solver.method == "condensed":
             for label, build in disc.stages():
                 self.run(label, build)
+        self.close()
+
+    def close(self) -> None:
         if self.bar is not None:
             self.bar.close()
 
 
-class _Saver:
-    """Checkpoints into an output folder: every ``seconds`` of wall time (0: never) and at the end."""
-
-    def __init__(self, folder, seconds: float):
-        self.folder, self.seconds, self.last = folder, seconds, time.perf_counter()
-
-    def maybe(self, result: Result) -> None:
-        if self.folder is not None and self.seconds > 0 and time.perf_counter() - self.last >= self.seconds:
-            self.write(result)
-
-    def write(self, result: Result) -> None:
-        if self.folder is not None and result.continuation is not None:
-            write_checkpoint(self.folder, result)
-            self.last = time.perf_counter()
 
 
 def _remedy(scene: Scene, record) -> str:

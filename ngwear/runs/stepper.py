@@ -17,6 +17,7 @@ from ..numerics.discrete import Discretization
 from ..numerics.recycle import ComplianceMemory, Recycler
 from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, KrylovSystem, PlateRows, semismooth_newton
 from ..numerics.wear import WearIntegrator
+from ..results.invariants import StepCheck
 
 log = logging.getLogger(__name__)
 
@@ -40,8 +41,8 @@ class Stepper:
 
     CUTBACKS = (2, 4, 8)
 
-    def __init__(self, disc: Discretization):
-        self.disc, self.scene = disc, disc.scene
+    def __init__(self, disc: Discretization, check: StepCheck):
+        self.disc, self.scene, self.check = disc, disc.scene, check
         self._matrices: dict = {}
         self._factors: dict = {}
         nonlinear = not disc.elastic.linear and not self._full     # the full path linearises the laws itself
@@ -181,16 +182,18 @@ class Stepper:
             start = 0.0 if t_prev is None else self.disc.load_factor(t_prev)
             if t_prev is None:
                 x, lam = np.zeros_like(x), np.zeros_like(lam)
-            for m in self.CUTBACKS:
+            for tried, m in enumerate(self.CUTBACKS, start=1):
                 try:
                     xs, ls = x, lam
                     for theta in np.arange(1, m + 1) / m:
                         xs, ls, record = self._newton(t, start + theta * (target - start), law, xs, ls,
                                                       integrator)
                     log.info("t = %.4g: converged after cutting the load step into %d", t, m)
+                    record.cutbacks = tried
                     return xs, ls, record
                 except ConvergenceError:
                     continue
+            first.record.cutbacks = len(self.CUTBACKS)
             raise first
 
     def _newton(self, t, load_factor, law, x, lam, integrator):

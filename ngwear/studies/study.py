@@ -2,7 +2,8 @@
 
 A study is TOML (or the same nested dict)::
 
-    name = "friction_wear"                  # optional, default: the file's stem
+    name = "friction_wear"                  # optional, default: the file's stem; a plain name, as a scene's
+    max_cases = 100000                      # optional: a larger study is refused before it is built
     scene = "../paper_strip.toml"           # base scene, relative to the study file, or a [scene] table
     outputs = ["max_wear", "worn_volume"]   # optional, default: every output of ngwear.studies.outputs
 
@@ -24,13 +25,18 @@ A study is TOML (or the same nested dict)::
 
 Each block gives a list of parameter sets; the study's cases are the product of the blocks given
 (a grid alone is its product, cases alone are their list, a grid with cases runs every case at every
-grid point).  Unquoted dotted keys (``contact.friction = [...]``) are nested tables in TOML and read the
-same way.  Tables inside a case or a grid are read as dotted keys
-(``"loads.traction" = {top = [0, -0.2]}`` sets ``loads.traction.top`` only).  Every case's scene is
-built before anything runs: the study is refused with a
-:class:`StudyError` naming the field when a field of the study is malformed, when a varied key is
+grid point): n = Π_grid |values| · |cases| · count, refused above ``max_cases`` before anything is built.
+Unquoted dotted keys (``contact.friction = [...]``) are nested tables in TOML and read the same way.
+Tables inside a case or a grid are read as dotted keys (``"loads.traction" = {top = [0, -0.2]}`` sets
+``loads.traction.top`` only).  Every case's scene is built before anything runs: the study is refused
+with a :class:`StudyError` naming the field when a field of the study is malformed, when a varied key is
 accepted for none of its values (``grid.contact.frictoin: unknown key (allowed: ...)``) or when no case
 is valid; a case whose value alone is invalid is kept as a ``rejected`` case with the scene's message.
+
+Each case runs once, so a study that would run one scene twice is refused naming where: a scene key
+given twice (``"contact.friction"`` beside ``[grid.contact] friction``, ``[set]`` beside ``[grid]``,
+a key inside another: ``loads.traction`` beside ``loads.traction.top``), a value listed twice, two equal
+``[[cases]]`` or sample draws, and two cases whose scenes are equal once validated (``1`` and ``1.0``).
 """
 from __future__ import annotations
 
@@ -38,6 +44,7 @@ import hashlib
 import itertools
 import json
 import math
+import re
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
@@ -49,9 +56,12 @@ from ..model.keys import Level
 from ..model.scene import Scene, SceneError, load_scene
 from .outputs import OUTPUTS
 
-FIELDS = ("name", "scene", "outputs", "set", "grid", "cases", "sample")
+FIELDS = ("name", "scene", "outputs", "max_cases", "set", "grid", "cases", "sample")
 SAMPLE_FIELDS = ("method", "count", "seed", "ranges")
 SAMPLE_METHODS = ("latin_hypercube", "random")
+BARE = re.compile(r"[A-Za-z0-9_-]+")                 # a TOML bare key; other keys are written quoted
+MAX_CASES = 100_000
+"""Default of a study's ``max_cases``: a larger study is refused before its cases are built."""
 
 
 class StudyError(ValueError):
@@ -115,74 +125,92 @@ def study_from_dict(data: dict, *, base_dir: str | Path = ".", name: str = "stud
     for key in data:
         if key not in FIELDS:
             raise StudyError(f"{key}: unknown study field (allowed: {', '.join(FIELDS)})")
-    name = data.get("name", name)
-    if not isinstance(name, str) or not name:
-        raise StudyError(f"name: must be a non-empty string (got {name!r})")
+    name = _name(data.get("name", name))
+    limit = _whole(data.get("max_cases", MAX_CASES), "max_cases", 1)
     base = _base(data.get("scene"), Path(base_dir))
-    fixed = {**_flat(_table(data, "set"), "set"), **(overrides or {})}
+    fixed = _flat(_table(data, "set"), "set")
     try:
-        base = base.replace(**fixed)
+        base = base.replace(**{**fixed, **(overrides or {})})
     except SceneError as err:
         raise StudyError(f"set.{err}") from None
-    blocks = _blocks(data)
+    blocks = []                            # (where, its keys, its sizes, its parameter sets when built)
+    if "grid" in data:
+        grid = _grid(data)
+        blocks.append(("grid", list(grid), [len(v) for v in grid.values()],
+                       lambda: [dict(zip(grid, combo)) for combo in itertools.product(*grid.values())]))
+    if "cases" in data:
+        listed = _listed(data)
+        blocks.append(("cases", list(dict.fromkeys(k for c in listed for k in c)), [len(listed)], lambda: listed))
+    if "sample" in data:
+        sample = _sample(_table(data, "sample"))
+        blocks.append(("sample.ranges", list(sample[3]), [sample[1]], lambda: _draw(*sample)))
     if not blocks:
         raise StudyError("grid: nothing to vary (give a [grid], [[cases]] or [sample])")
-    owner = {key: where for where, sets in blocks for params in sets for key in params}
-    for where, sets in blocks:
-        for key in {k for params in sets for k in params}:
-            if owner[key] != where:
-                raise StudyError(f"{where}.{key}: also varied by {owner[key]}")
-    cases = tuple(_case(i, {k: v for p in combo for k, v in p.items()}, base, owner)
-                  for i, combo in enumerate(itertools.product(*(sets for _, sets in blocks))))
+    _refuse_large({where.split(".")[0]: sizes for where, _, sizes, _ in blocks}, limit)
+    owner = {k: where for where, keys, _, _ in blocks for k in keys}
+    _refuse_conflicts([*(("set", k) for k in fixed), *((where, k) for where, keys, _, _ in blocks for k in keys),
+                       *(("--set", k) for k in overrides or ())])
+    cases = tuple(_case(i, {k: v for p in combo for k, v in p.items()}, base)
+                  for i, combo in enumerate(itertools.product(*(build() for *_, build in blocks))))
     _refuse_invalid(cases, owner)
-    grid = tuple(k for k, where in owner.items() if where == "grid")
-    return Study(name, base, cases, tuple(owner), grid, _outputs(data.get("outputs")))
+    _refuse_same_scenes(cases, owner)
+    grid_keys = tuple(k for k, where in owner.items() if where == "grid")
+    return Study(name, base, cases, tuple(owner), grid_keys, _outputs(data.get("outputs")))
 
 
 # ---------------------------------------------------------------- blocks
 
 
-def _blocks(data: dict) -> list[tuple[str, list[dict]]]:
-    """(where, list of parameter sets) for each block given, in the order grid, cases, sample."""
-    blocks = []
-    if "grid" in data:
-        grid = _flat(_table(data, "grid"), "grid")
-        for key, values in grid.items():
-            if not isinstance(values, list) or not values:
-                raise StudyError(f"grid.{key}: must be a non-empty list of values (got {values!r})")
-        blocks.append(("grid", [dict(zip(grid, combo)) for combo in itertools.product(*grid.values())]))
-    if "cases" in data:
-        cases = data["cases"]
-        if not isinstance(cases, list) or not cases or not all(isinstance(c, dict) for c in cases):
-            raise StudyError(f"cases: must be a non-empty list of tables ([[cases]]) (got {cases!r})")
-        blocks.append(("cases", [_flat(c, f"cases[{i}]") for i, c in enumerate(cases)]))
-    if "sample" in data:
-        blocks.append(("sample.ranges", _sample(_table(data, "sample"))))
-    for where, sets in blocks:
-        if not all(sets):
-            raise StudyError(f"{where}: names no scene key")
-    return blocks
+def _grid(data: dict) -> dict[str, list]:
+    """The grid's lists by dotted key, each non-empty and without a value listed twice."""
+    grid = _flat(_table(data, "grid"), "grid")
+    if not grid:
+        raise StudyError("grid: names no scene key")
+    for key, values in grid.items():
+        if not isinstance(values, list) or not values:
+            raise StudyError(f"grid.{key}: must be a non-empty list of values (got {values!r})")
+        if repeat := _repeat(values):
+            raise StudyError(f"grid.{key}: {_text(values[repeat[0]])} is listed twice (give each value once)")
+    return grid
 
 
-def _sample(spec: dict) -> list[dict]:
-    """Parameter sets of a Latin-hypercube (scipy.stats.qmc) or uniformly random sample of the ranges."""
+def _listed(data: dict) -> list[dict]:
+    """The ``[[cases]]`` as dotted keys, each naming a key and none given twice."""
+    cases = data["cases"]
+    if not isinstance(cases, list) or not cases or not all(isinstance(c, dict) for c in cases):
+        raise StudyError(f"cases: must be a non-empty list of tables ([[cases]]) (got {cases!r})")
+    cases = [_flat(c, f"cases[{i}]") for i, c in enumerate(cases)]
+    for i, params in enumerate(cases):
+        if not params:
+            raise StudyError(f"cases[{i}]: names no scene key")
+        _refuse_conflicts([(f"cases[{i}]", k) for k in params])
+    if repeat := _repeat(cases):
+        raise StudyError(f"cases[{repeat[1]}]: same as cases[{repeat[0]}] (give each case once)")
+    return cases
+
+
+def _sample(spec: dict) -> tuple[str, int, int, dict[str, list]]:
+    """The sample's method, count, seed and ranges, validated (nothing drawn yet)."""
     for key in spec:
         if key not in SAMPLE_FIELDS:
             raise StudyError(f"sample.{key}: unknown field (allowed: {', '.join(SAMPLE_FIELDS)})")
     method = spec.get("method", "latin_hypercube")
     if method not in SAMPLE_METHODS:
         raise StudyError(f"sample.method: must be one of {', '.join(SAMPLE_METHODS)} (got {method!r})")
-    count, seed = spec.get("count"), spec.get("seed", 0)
-    if isinstance(count, bool) or not isinstance(count, int) or count < 1:
-        raise StudyError(f"sample.count: must be a whole number >= 1 (got {count!r})")
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise StudyError(f"sample.seed: must be a whole number >= 0 (got {seed!r})")
+    count, seed = _whole(spec.get("count"), "sample.count", 1), _whole(spec.get("seed", 0), "sample.seed", 0)
     ranges = _flat(_table(spec, "ranges", "sample"), "sample.ranges")
+    if not ranges:
+        raise StudyError("sample.ranges: names no scene key")
     for key, bounds in ranges.items():
         ok = (isinstance(bounds, list) and len(bounds) == 2
               and all(isinstance(b, (int, float)) and not isinstance(b, bool) and math.isfinite(b) for b in bounds))
         if not ok or bounds[0] >= bounds[1]:
             raise StudyError(f"sample.ranges.{key}: must be [low, high] with low < high (got {bounds!r})")
+    return method, count, seed, ranges
+
+
+def _draw(method: str, count: int, seed: int, ranges: dict[str, list]) -> list[dict]:
+    """Parameter sets of a Latin-hypercube (scipy.stats.qmc) or uniformly random sample of the ranges."""
     from scipy.stats import qmc  # scipy.stats takes 0.7 s to import: only when sampling
 
     rng = np.random.default_rng(seed)
@@ -193,13 +221,64 @@ def _sample(spec: dict) -> list[dict]:
         whole = isinstance(lo, int) and isinstance(hi, int)
         for params, u in zip(sets, unit[:, column]):
             params[key] = min(int(lo + u * (hi - lo + 1)), hi) if whole else float(lo + u * (hi - lo))
+    if repeat := _repeat(sets):
+        raise StudyError(f"sample.ranges: draws {repeat[0]} and {repeat[1]} are the same ({_show(sets[repeat[0]])}): "
+                         "whole-number ranges repeat values (draw fewer, or vary them in a [grid])")
     return sets
+
+
+def _refuse_large(factors: dict[str, list[int]], limit: int) -> None:
+    """Refuse a study of more than ``limit`` cases, counted from the blocks' sizes before any case is built."""
+    sizes = [n for block in factors.values() for n in block]
+    count = math.prod(sizes)
+    if count > limit:
+        product = f"{' × '.join(map(str, sizes))} = " if len(sizes) > 1 else ""
+        raise StudyError(f"{'/'.join(factors)}: {product}{count} cases, more than max_cases = {limit} "
+                         f"(give max_cases = {count} in the study to run them all)")
+
+
+def _refuse_conflicts(given: list[tuple[str, str]]) -> None:
+    """Refuse a scene key given twice, or inside another one given, by blocks applied to one scene.
+
+    ``given``: (where, dotted key) in the order set, grid, cases, sample.ranges, --set, the keys of the
+    cases once each (different cases vary the same keys); ``--set`` overrides ``[set]``.
+    """
+    exact: dict[str, list] = {}
+    inside: dict[str, list] = {}                   # a proper prefix of a key given → who gave that key
+    for where, key in given:
+        prefixes = [key.rsplit(".", n)[0] for n in range(1, key.count(".") + 1)]
+        earlier = [*exact.get(key, ()), *inside.get(key, ()), *(e for p in prefixes for e in exact.get(p, ()))]
+        for w, k in earlier:
+            if (w, where) != ("set", "--set") and not w == where == "cases":
+                label = f"--set {key}" if where == "--set" else where if key == k else f"{where}.{key}"
+                raise StudyError(f"{w}.{k}: also {'fixed' if where in ('set', '--set') else 'varied'} by {label}")
+        exact.setdefault(key, []).append((where, key))
+        for p in prefixes:
+            inside.setdefault(p, []).append((where, key))
+
+
+def _repeat(items: list) -> tuple[int, int] | None:
+    """The first (i, j), i < j, of two items equal as written (``1`` and ``1.0`` differ), or None."""
+    seen: dict[str, int] = {}
+    for j, item in enumerate(items):
+        i = seen.setdefault(_text(item), j)
+        if i != j:
+            return i, j
+    return None
+
+
+def _text(value: Any) -> str:
+    return json.dumps(value, sort_keys=True, default=str)
+
+
+def _show(params: dict, keys=None) -> str:
+    return ", ".join(f"{k} = {_text(params[k])}" for k in (keys or params) if k in params) or "as the base scene"
 
 
 # ---------------------------------------------------------------- cases
 
 
-def _case(index: int, params: dict, base: Scene, owner: dict) -> Case:
+def _case(index: int, params: dict, base: Scene) -> Case:
     try:
         return Case(index, params, base.replace(**params))
     except SceneError as err:
@@ -219,14 +298,30 @@ def _refuse_invalid(cases: tuple[Case, ...], owner: dict) -> None:
         raise StudyError(f"{_where(first, owner)}: no valid case; case 0: {first.error}")
 
 
+def _refuse_same_scenes(cases: tuple[Case, ...], owner: dict) -> None:
+    """Refuse two valid cases whose scenes are equal though written differently (``1`` and ``1.0``)."""
+    first: dict[str, Case] = {}
+    for case in cases:
+        if case.scene is None:
+            continue
+        a = first.setdefault(case.id, case)
+        if a is not case:
+            keys = dict.fromkeys([*a.params, *case.params])
+            differ = [k for k in keys if k not in a.params or k not in case.params
+                      or _text(a.params[k]) != _text(case.params[k])] or list(keys)
+            field_name = f"{owner[differ[0]]}.{differ[0]}" if len(differ) == 1 else _where(a, owner, differ)
+            raise StudyError(f"{field_name}: cases {a.index} ({_show(a.params, differ)}) and {case.index} "
+                             f"({_show(case.params, differ)}) give the same scene (give each case once)")
+
+
 def _names(error: str, key: str) -> bool:
     """Whether a scene error names ``key`` or a table on its path (e.g. ``contact`` for ``contact.friction``)."""
     field_name = error.split(":", 1)[0]
     return key == field_name or key.startswith(field_name + ".")
 
 
-def _where(case: Case, owner: dict) -> str:
-    return "/".join(dict.fromkeys(owner[k] for k in case.params))
+def _where(case: Case, owner: dict, keys=None) -> str:
+    return "/".join(dict.fromkeys(owner[k] for k in keys or case.params))
 
 
 # ---------------------------------------------------------------- fields
@@ -246,6 +341,21 @@ def _base(spec: Any, base_dir: Path) -> Scene:
     raise StudyError(f"scene: must be a scene file path or a [scene] table (got {spec!r})")
 
 
+def _name(name: Any) -> str:
+    """The study's name, checked by the rule and message of a scene's name (it names a folder: no path)."""
+    try:
+        Scene.from_dict({"name": name})
+    except SceneError as err:
+        raise StudyError(str(err)) from None
+    return name
+
+
+def _whole(value: Any, name: str, low: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < low:
+        raise StudyError(f"{name}: must be a whole number >= {low} (got {value!r})")
+    return value
+
+
 def _table(data: dict, key: str, prefix: str = "") -> dict:
     value = data.get(key, {})
     if not isinstance(value, dict):
@@ -255,15 +365,27 @@ def _table(data: dict, key: str, prefix: str = "") -> dict:
 
 
 def _flat(table: dict, where: str) -> dict[str, Any]:
-    """``{"contact": {"friction": x}}`` and ``{"contact.friction": x}`` → ``{"contact.friction": x}``."""
-    out = {}
+    """``{"contact": {"friction": x}}`` and ``{"contact.friction": x}`` → ``{"contact.friction": x}``.
+
+    Two spellings of one key in ``table`` (``"contact.friction"`` beside ``contact = {friction = ...}``)
+    are refused naming both.
+    """
+    out, spelled = {}, {}
+    for path, value in _leaves(table, ()):
+        key, spelling = ".".join(path), ".".join(p if BARE.fullmatch(p) else json.dumps(p) for p in path)
+        if key in out:
+            raise StudyError(f"{where}.{key}: given twice, as {where}.{spelled[key]} and {where}.{spelling} "
+                             "(give it once)")
+        out[key], spelled[key] = value, spelling
+    return out
+
+
+def _leaves(table: dict, path: tuple[str, ...]):
     for key, value in table.items():
         if isinstance(value, dict):
-            for sub, leaf in _flat(value, f"{where}.{key}").items():
-                out[f"{key}.{sub}"] = leaf
+            yield from _leaves(value, (*path, key))
         else:
-            out[key] = value
-    return out
+            yield (*path, key), value
 
 
 def _outputs(names: Any) -> tuple[str, ...]:

@@ -7,11 +7,12 @@ under their dotted keys, the study's outputs (:mod:`ngwear.studies.outputs`), ``
 ``warnings``, ``wall_time`` (seconds on the worker), ``worker`` (its address), ``factorised`` and
 ``case_id``; ``table.attrs["summary"]`` says what the study did.
 
-Reuse.  Cases are submitted grouped by mesh and material (:attr:`Case.group`).  Each worker process
+Reuse.  Cases are submitted grouped by mesh and material (:attr:`Case.group`).  A worker runs its
+cases in a case process of its own (:class:`~ngwear.studies.child.Child`, one per worker thread), which
 keeps the discretizations of the last :data:`CACHED_GROUPS` groups it ran and passes them to
 ``simulate(scene, discretization=...)``, so a worker meshes and factorises once per group it meets.
-A case ``factorised`` when its discretization's ``operator`` (the factorised stiffness) was built
-anew; the summary counts them.
+A case ``factorised`` when the change from its group's last case rebuilt the stiffness (:meth:`Discretization.reuse`)
+or it is the first of its group in its process; the summary counts them.
 
 Files in ``out``: ``cases/<case_id>/`` holds the case's ``Result.save`` folder (written by the worker
 into a temporary folder and shipped back, so workers need no shared file system) and ``row.json``,
@@ -20,11 +21,14 @@ written last; ``results.parquet``, ``results.csv``, ``summary.json`` and ``plots
 
 Robustness.  A case whose scene is invalid, or that raises a SceneError while running (a layer too thin
 to mesh), is ``rejected``; one whose Newton iteration fails is ``stopped`` (its completed steps are
-kept); both carry their one-line message in ``error``.  Any other exception is retried by Dask
-(:data:`RETRIES`) and the cases of a worker that dies are rescheduled on the others (the scheduler's
-``allowed-failures``); what still fails is ``crashed``.  A re-run in the same ``out`` skips every case
-with a ``row.json`` (completed, stopped or rejected), so an interrupted study resumes; crashed cases
-run again.
+kept); both carry their one-line message in ``error``.  A case that kills its case process (a
+segmentation fault, ``os._exit``, the kernel's OOM killer) fails alone: the worker and the cases queued
+on it live on, and the next case starts a new case process.  Such a death and any other exception are
+retried by Dask (:data:`RETRIES`); what still fails is ``crashed`` with one line (``the process running
+it died of SIGSEGV (Segmentation fault)``).  The cases of a worker that dies itself are rescheduled on
+the others (the scheduler's ``allowed-failures``).  A re-run in the same ``out`` skips every case with
+a ``row.json`` (completed, stopped or rejected), so an interrupted study resumes; crashed cases run
+again.
 """
 from __future__ import annotations
 
@@ -43,11 +47,13 @@ from typing import TYPE_CHECKING, Any
 from ..model.keys import Level
 from ..model.scene import SceneError
 from ..runs.simulate import simulate
+from .child import Child, ChildError
 from .outputs import OUTPUTS, outputs
 from .study import Case, Study, StudyError, load_study, study_from_dict
 
 RETRIES = 2
-"""Dask re-runs a case whose task raised (not a rejected or stopped case: those are results) this often."""
+"""Dask re-runs a case whose task raised or whose process died (not a rejected or stopped case: those are
+results) this often."""
 CACHED_GROUPS = 2
 """Discretizations (mesh, factorisation) each worker process keeps, most recently used first."""
 FINISHED = ("completed", "stopped", "rejected")
@@ -118,44 +124,58 @@ def summary_text(summary: dict) -> str:
 
 # ---------------------------------------------------------------- on the workers
 
+_IDLE: list[tuple[Child, str]] = []
+"""This worker's case processes that run no case now, each with the group of its last case."""
+_IDLE_LOCK = threading.Lock()
 _CACHE: OrderedDict = OrderedDict()
-_LOCKS: dict[str, threading.Lock] = {}
-_GUARD = threading.Lock()
 
 
 def run_case(scene, group: str) -> tuple[dict, dict[str, bytes]]:
-    """Run one case on this worker, reusing the discretization of its group; (row, saved files).
+    """Run one case on this Dask worker, in a case process of the worker; (row, saved files).
 
-    The row holds every output of :data:`~ngwear.studies.outputs.OUTPUTS`; the files are the result
-    folder of ``Result.save`` as {relative path: bytes}.  Cases of one group run one at a time per
-    process (they share the factorisation).
+    The case runs in a :class:`~ngwear.studies.child.Child` of this worker that keeps the
+    discretizations of its groups (one that ran ``group`` last is taken when idle), so a case that
+    kills its process fails alone with :class:`~ngwear.studies.child.ChildError`, and the worker, with
+    the cases queued on it, lives on.
     """
-    with _GUARD:
-        lock = _LOCKS.setdefault(group, threading.Lock())
-    with lock, _quiet():
+    with _IDLE_LOCK:
+        index = next((i for i, (_, last) in enumerate(_IDLE) if last == group), len(_IDLE) - 1)
+        child = _IDLE.pop(index)[0] if _IDLE else Child()
+    try:
+        with tempfile.TemporaryDirectory() as tmp:
+            row = child.call(simulate_case, scene, group, tmp)
+            files = {p.relative_to(tmp).as_posix(): p.read_bytes() for p in sorted(Path(tmp).rglob("*"))
+                     if p.is_file()}
+    finally:
+        with _IDLE_LOCK:
+            _IDLE.append((child, group))
+    return row | {"worker": _worker()}, files
+
+
+def simulate_case(scene, group: str, folder: str) -> dict:
+    """Run one case in this process, reusing the discretization of its group, and save it into ``folder``.
+
+    Returns the row: every output of :data:`~ngwear.studies.outputs.OUTPUTS` and the bookkeeping.  A
+    case process runs one case at a time.
+    """
+    with _quiet():
         start = perf_counter()
         cached = _CACHE.get(group)
         factorised = cached is None or cached.reuse(scene).rebuilt <= Level.STIFFNESS
         try:
             result = simulate(scene, discretization=cached, progress=False)
         except SceneError as err:
-            return _row(status="rejected", error=str(err), wall_time=perf_counter() - start,
-                        worker=_worker(), factorised=False), {}
+            return _row(status="rejected", error=str(err), wall_time=perf_counter() - start, factorised=False)
         disc = result.discretization
-        with _GUARD:
-            _CACHE[group] = disc
-            _CACHE.move_to_end(group)
-            while len(_CACHE) > CACHED_GROUPS:
-                _CACHE.popitem(last=False)
-        with tempfile.TemporaryDirectory() as tmp:
-            result.save(tmp)
-            files = {p.relative_to(tmp).as_posix(): p.read_bytes() for p in sorted(Path(tmp).rglob("*"))
-                     if p.is_file()}
-        row = _row(**outputs(result), status="completed" if result.completed else "stopped",
-                   error=None if result.completed else result.status,
-                   warnings="; ".join(result.warnings) or None, wall_time=perf_counter() - start,
-                   worker=_worker(), factorised=factorised)
-    return row, files
+        _CACHE[group] = disc
+        _CACHE.move_to_end(group)
+        while len(_CACHE) > CACHED_GROUPS:
+            _CACHE.popitem(last=False)
+        result.save(folder)
+        return _row(**outputs(result), status="completed" if result.completed else "stopped",
+                    error=None if result.completed else result.status,
+                    warnings="; ".join(result.warnings) or None, wall_time=perf_counter() - start,
+                    factorised=factorised)
 
 
 @contextmanager
@@ -195,6 +215,9 @@ def _connect(client, workers):
             remote = Client(client, timeout=CONNECT_TIMEOUT)
         except OSError as err:
             raise StudyError(f"scheduler: cannot connect to {client} ({err})") from None
+        except ValueError as err:       # distributed's parser of addresses: no port, unknown scheme, ...
+            raise StudyError(f"scheduler: {client!r} is not a scheduler address such as tcp://host:8786 "
+                             f"({err})") from None
         with remote:
             _wait(remote, workers)
             yield remote
@@ -236,9 +259,9 @@ def _run(client, cases: list[Case], out: Path, name: str, total: int, progress: 
             try:
                 row, files = future.result()
             except Exception as err:  # the task raised on every try, or its workers kept dying
-                message = str(err).strip().splitlines()
-                row, files = _row(status="crashed",
-                                  error=f"{type(err).__name__}: {message[0] if message else ''}"), {}
+                line = (str(err).strip().splitlines() or [""])[0]
+                row, files = _row(status="crashed", error=line if isinstance(err, ChildError)
+                                  else f"{type(err).__name__}: {line}"), {}
             rows[case.index] = _save_case(out, case, row, files)
             future.release()
             bar.update()

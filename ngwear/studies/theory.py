@@ -1,11 +1,25 @@
-"""The paper's smallness hypothesis (H_S):  c₀² L_p ‖μ‖_∞ < m_F  (uniqueness, Theorem 1).
+"""The uniqueness hypothesis (H_S) of the paper (Theorem 1), in its own form and in the run's energy norm.
 
-c₀ is the trace constant of (9), ‖v‖_{L²(Γ_C)} ≤ c₀ ‖ε(v)‖_{L²(Ω)} on V = {v = 0 on Γ_D}.  On the
-scene's mesh, c₀² is the largest eigenvalue of  M_C v = c₀² A_ε v  (M_C the Γ_C mass matrix, A_ε the
-form (ε(u), ε(v))), computed on the contact DOFs through the Schur complement S of A_ε: densely, or,
-beyond ``condense.DENSE_LIMIT`` contact DOFs, by Lanczos in shift-invert mode on S v = c₀⁻² M_C v
-(each step one back-substitution with A_ε's factorisation, which is a second factorisation of the mesh).
-For Hooke's law m_F = 2η; L_p is the largest slope of p on [0, g].
+**The paper's form**  c₀² L_p ‖μ‖_∞ < m_F: c₀ is the trace constant of (9), ‖v‖_{L²(Γ_C)} ≤ c₀ ‖ε(v)‖_{L²(Ω)}
+on V = {v = 0 on Γ_D}, m_F the strong monotonicity of F (2η for Hooke's law), L_p the largest slope of p on
+[0, g].  On the scene's mesh c₀² is the largest eigenvalue of M_C v = c₀² A_ε v (M_C the Γ_C mass matrix, A_ε
+the form (ε(u), ε(v))), on the contact DOFs through the Schur complement S of A_ε: densely, or, beyond
+``condense.DENSE_LIMIT`` contact DOFs, by Lanczos in shift-invert mode on S v = c₀⁻² M_C v (each step one
+back-substitution with A_ε's factorisation, a second factorisation of the mesh): :func:`smallness`.
+
+**The energy form** (what ``ngwear run`` reports): with ‖v‖_K² = vᵀKv, K the run's own stiffness, the elastic
+operator is strongly monotone with m = 1 and the trace inequality of the discrete problem,
+Σ_i m_i |v(x_i)|² ≤ c_K² ‖v‖_K² (the nodal rule the contact terms use), holds with
+
+    c_K² = λ_max(W^½ P K⁻¹ Pᵀ W^½),   W = diag(m_i) per component,  P the point evaluation,
+
+the largest eigenvalue of the weighted point compliance.  The uniqueness argument of Theorem 1 then needs
+c_K² L_p ‖μ‖_∞ < 1.  Since ‖v‖_K² ≥ m_F ‖ε(v)‖², c_K² ≤ c₀²/m_F (with c₀ for the nodal trace): the paper's
+condition implies this one, which is sharper, needs no second factorisation (Lanczos on the compliance, each
+product one back-substitution with the run's factorisation, or two triangular solves with the Cholesky factor
+of its Schur complement), and stays meaningful for any symmetric positive definite K (several materials,
+anisotropy; the tangent of a nonlinear law).  Both use the clamping of the run's factorisation (a plate's
+boundary held).
 """
 from __future__ import annotations
 
@@ -18,12 +32,11 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..numerics.discrete import Discretization
-from ..numerics.wear import largest_slope
 
 
 @dataclass(frozen=True)
 class SmallnessCheck:
-    """Numbers of (H_S) for a scene's mesh."""
+    """Numbers of the paper's (H_S) for a scene's mesh."""
 
     c0: float
     lipschitz: float
@@ -44,8 +57,60 @@ class SmallnessCheck:
                 f"{self.product:.3g} {'<' if self.holds else '>='} m_F = {self.monotonicity:.3g}: {verdict}")
 
 
+@dataclass(frozen=True)
+class EnergyCheck:
+    """(H_S) in the run's energy norm: c_K² L_p μ < 1 (see the module docstring)."""
+
+    trace: float
+    lipschitz: float
+    friction: float
+
+    @property
+    def product(self) -> float:
+        return self.trace * self.lipschitz * self.friction
+
+    @property
+    def holds(self) -> bool:
+        return self.product < 1.0
+
+    def message(self) -> str:
+        verdict = "holds: the solution is unique" if self.holds else "fails: uniqueness is not guaranteed"
+        return (f"(H_S) c_K² L_p μ = {self.trace:.3g} · {self.lipschitz:.3g} · {self.friction:.3g} = "
+                f"{self.product:.3g} {'<' if self.holds else '>='} 1 (energy norm of K): {verdict}")
+
+
+def energy_trace(disc: Discretization, interrupted=None) -> float:
+    """c_K², the largest eigenvalue of W^½ P K⁻¹ Pᵀ W^½ with the run's factorisation of K (Lanczos).
+
+    ``interrupted``: called before each product; a true value aborts with KeyboardInterrupt.
+    Raises scipy's ``ArpackNoConvergence`` when Lanczos does not converge.
+    """
+    op, P = disc.elastic.operator, disc.points.P
+    root = np.sqrt(np.repeat(disc.points.weights, disc.scene.dim))
+    c = op.contact_dofs
+    local = P[:, c].tocsr()
+
+    def compliance(x):
+        if interrupted is not None and interrupted():
+            raise KeyboardInterrupt
+        f = root * np.ravel(x)
+        if op.condensed:
+            return root * (local @ op.contact_solve(local.T @ f))
+        return root * (P @ op.solve(P.T @ f))
+
+    n = P.shape[0]          # from the uniform load W^½ 1 (deterministic; about 20 products on the brake pad)
+    top = spla.eigsh(spla.LinearOperator((n, n), matvec=compliance, dtype=float), k=1, which="LA", tol=1e-4,
+                     v0=root, return_eigenvectors=False)
+    return float(top[0])
+
+
+def uniqueness(disc: Discretization, interrupted=None) -> EnergyCheck:
+    """(H_S) in the energy norm of the run's K, from its factorisation (see :func:`energy_trace`)."""
+    return EnergyCheck(energy_trace(disc, interrupted), *_largest_slope_and_friction(disc))
+
+
 def trace_constant(disc: Discretization) -> float:
-    """Discrete c₀ on the discretization's mesh and clamping."""
+    """Discrete c₀ on the discretization's mesh and clamping (the paper's, with A_ε's own factorisation)."""
     strain_only = disc.with_scene(disc.scene.replace(material={"lame_lambda": 0.0, "lame_mu": 0.5}))
     op = strain_only.elastic.operator
     u, v = disc.fes.TnT()
@@ -76,7 +141,12 @@ def trace_constant(disc: Discretization) -> float:
 
 
 def smallness(disc: Discretization) -> SmallnessCheck:
-    """Evaluate (H_S) for the discretization's scene."""
-    contact = disc.scene.contact
+    """Evaluate the paper's (H_S) for the discretization's scene (a second factorisation: the strain form's)."""
     _, eta = disc.scene.material.lame
-    return SmallnessCheck(trace_constant(disc), largest_slope(contact), contact.friction, 2 * eta)
+    return SmallnessCheck(trace_constant(disc), *_largest_slope_and_friction(disc), 2 * eta)
+
+
+def _largest_slope_and_friction(disc: Discretization) -> tuple[float, float]:
+    """max_i L_p,i and max_i μ_i over the contact points (their product bounds max_i μ_i L_p,i of a field)."""
+    slopes = np.broadcast_to(disc.law.slope(disc.scene.contact.gap), (disc.points.n,))
+    return float(slopes.max(initial=0.0)), float(disc.coefficients.friction.max(initial=0.0))

@@ -1,4 +1,4 @@
-"""Convergence studies against a fine reference computed by the tool (paper Theorems 4–5).
+"""Convergence studies against a fine reference computed by the tool (paper Theorems 4–5), and the stability study.
 
 Errors are measured in the paper's norms: the V-norm ‖v‖_V = ‖ε(v)‖_{L²(Ω)} of the displacement
 and the L²(Γ_C) norm of the wear, both
@@ -7,21 +7,29 @@ and the L²(Γ_C) norm of the wear, both
 * and at the final time.
 
 Theorem 5 predicts E² ≲ k² + k h² + h for P1 (so E = O(h^{1/2} + k)); observed orders are the
-least-squares slopes of log E against log h (or log k).  Coarse displacements are interpolated
-onto the reference mesh (NGSolve ``Set``), wear profiles onto the reference contact points.
+least-squares slopes of log E against log h (or log k).  On another mesh than the reference's, ε(u) is
+evaluated at the reference's quadrature points and the wear, as the finite element function on Γ_C it is,
+at the reference's contact points (:mod:`ngwear.numerics.transfer`: robust where curved faces put points
+of one mesh outside the other).  The h-study refines every size of the scene (``mesh.maxh`` and
+``mesh.contact_maxh``) by the same factor and checks that the meshes do get finer.
 """
 from __future__ import annotations
 
+import logging
 import time
 from dataclasses import dataclass
 
-import ngsolve as ngs
 import numpy as np
 
-from ..model.scene import Scene
+from ..model.scene import Scene, SceneError
 from ..numerics.discrete import Discretization
+from ..numerics.transfer import ContactTrace, Locator, StrainQuadrature
+from ..results.invariants import overshoot
 from ..results.result import Result
 from ..runs.simulate import simulate
+
+SIZES = ("mesh.maxh", "mesh.contact_maxh")
+"""The scene keys that set a mesh size: the h-study scales each one that is set."""
 
 
 @dataclass(frozen=True)
@@ -34,57 +42,74 @@ class Errors:
     W_final: float
 
 
+class StoppedRun(RuntimeError):
+    """A run of a study did not complete (its status says why)."""
+
+
 def _run(scene: Scene) -> tuple[Result, float]:
     start = time.perf_counter()
     result = simulate(scene, progress=False)
     if not result.completed:
-        raise RuntimeError(f"{scene.name}: {result.status}")
+        raise StoppedRun(f"{scene.name}: {result.status}")
     return result, time.perf_counter() - start
 
 
-def _wear_on(result: Result, ref: Result, step: int) -> np.ndarray:
-    """Wear of ``result`` at ``step`` at the reference contact points.
+def refined(scene: Scene, factor: float) -> Scene:
+    """The scene with every mesh size (:data:`SIZES`, where set) multiplied by ``factor``."""
+    if scene.mesh.maxh is None:
+        raise SceneError("mesh.maxh: a mesh file (geometry.kind = 'mesh') has one resolution; no h-study")
+    sizes = {"mesh.maxh": scene.mesh.maxh, "mesh.contact_maxh": scene.mesh.contact_maxh}
+    return scene.replace(**{key: value * factor for key, value in sizes.items() if value is not None})
 
-    Linear interpolation along Γ_C in 2D; in 3D the scalar finite element function with the wear's
-    nodal values (:attr:`ContactPoints.Q`).
-    """
-    if result.contact_points.shape == ref.contact_points.shape and np.allclose(
-            result.contact_points, ref.contact_points):
-        return result.wear[step]
-    nu = np.array(result.scene.contact.direction)
-    if result.scene.dim == 3:
+
+class Reference:
+    """A reference run with what comparing other runs against it needs (quadrature, Γ_C of each mesh)."""
+
+    def __init__(self, result: Result):
+        self.result, disc = result, result.discretization
+        order, dim = result.scene.mesh.order, result.scene.dim     # |ε|² exactly, points inside the elements:
+        self.quadrature = StrainQuadrature(disc.fes, 3 if (order, dim) == (1, 2) else 2 * order)
+        self._meshes: dict[int, tuple] = {}
+
+    def _on(self, disc: Discretization):
+        """(mesh points of the quadrature on ``disc``'s mesh, ``disc``'s Γ_C trace), once per mesh."""
+        key = id(disc.mesh)
+        if key not in self._meshes:
+            locator = Locator(disc.mesh)
+            self._meshes = {key: (disc.mesh, self.quadrature.on(locator),
+                                  ContactTrace(disc.mesh, disc.points, disc.scene.mesh.order, locator.reach))}
+        return self._meshes[key][1:]
+
+    def errors(self, result: Result) -> Errors:
+        """Errors of ``result`` at its times t_j, the steps k_j = t_j − t_{j−1} as weights.
+
+        The reference is taken at t_j itself when it has that time (a uniform run against a reference
+        whose steps divide it), else linearly interpolated between its two steps around t_j (an adaptive
+        run); the sums are Σ_j k_j ‖·‖² (Theorem 4's k Σ for uniform steps).
+        """
+        ref = self.result
+        if not np.isclose(ref.times[-1], result.times[-1]):
+            raise ValueError("verify: the reference must end at the run's final time")
         disc = result.discretization
-        wear = ngs.GridFunction(ngs.H1(disc.mesh, order=result.scene.mesh.order, definedon="body"))
-        disc.set_nodal(wear, result.wear[step])
-        return np.asarray(wear(disc.locate(ref.contact_points))).ravel()
-    tangent = np.array([-nu[1], nu[0]])
-    x, xr = result.contact_points @ tangent, ref.contact_points @ tangent
-    order = np.argsort(x)
-    return np.interp(xr, x[order], result.wear[step][order])
+        at, trace = self._on(disc)
+        same = result.contact_points.shape == ref.contact_points.shape and np.allclose(result.contact_points,
+                                                                                        ref.contact_points)
+        e_V, e_W = [], []
+        for j in range(1, result.steps + 1):
+            (i, a), (i1, b) = _bracket(ref.times, result.times[j])
+            u_ref = a * ref.displacement(i) + (b * ref.displacement(i1) if b else 0.0)
+            e_V.append(self.quadrature.error2(disc.gridfunction(result.displacement(j)), at, u_ref))
+            wear = result.wear[j] if same else trace(result.wear[j], ref.contact_points)
+            dw = wear - (a * ref.wear[i] + b * ref.wear[i1])
+            e_W.append(dw @ (ref.weights * dw))
+        k = np.diff(result.times)
+        return Errors(float(np.sqrt(k @ e_V)), float(np.sqrt(k @ e_W)), float(np.sqrt(e_V[-1])),
+                      float(np.sqrt(e_W[-1])))
 
 
 def errors(result: Result, ref: Result) -> Errors:
-    """Errors of ``result`` against ``ref`` at the run's times t_j, the steps k_j = t_j − t_{j−1} as weights.
-
-    The reference is taken at t_j itself when it has that time (a uniform run against a reference
-    whose steps divide it), else linearly interpolated between its two steps around t_j (an adaptive
-    run); the sums are Σ_j k_j ‖·‖² (Theorem 4's k Σ for uniform steps).
-    """
-    if not np.isclose(ref.times[-1], result.times[-1]):
-        raise ValueError("verify: the reference must end at the run's final time")
-    rdisc: Discretization = ref.discretization
-    coarse, reference = ngs.GridFunction(rdisc.fes), ngs.GridFunction(rdisc.fes)
-    e_V, e_W = [], []
-    for j in range(1, result.steps + 1):
-        (i, a), (i1, b) = _bracket(ref.times, result.times[j])
-        coarse.Set(result.discretization.gridfunction(result.displacement(j)))
-        reference.vec.FV().NumPy()[:] = a * ref.displacement(i) + (b * ref.displacement(i1) if b else 0.0)
-        diff = ngs.Sym(ngs.Grad(coarse)) - ngs.Sym(ngs.Grad(reference))
-        e_V.append(ngs.Integrate(ngs.InnerProduct(diff, diff), rdisc.mesh, definedon=rdisc.mesh.Materials("body")))
-        dw = _wear_on(result, ref, j) - (a * ref.wear[i] + b * ref.wear[i1])
-        e_W.append(dw @ (ref.weights * dw))
-    k = np.diff(result.times)
-    return Errors(float(np.sqrt(k @ e_V)), float(np.sqrt(k @ e_W)), float(np.sqrt(e_V[-1])), float(np.sqrt(e_W[-1])))
+    """Errors of ``result`` against the reference run ``ref`` (see :meth:`Reference.errors`)."""
+    return Reference(ref).errors(result)
 
 
 def _bracket(times: np.ndarray, t: float) -> tuple[tuple[int, float], tuple[int, float]]:
@@ -97,28 +122,44 @@ def _bracket(times: np.ndarray, t: float) -> tuple[tuple[int, float], tuple[int,
 
 
 def observed_order(sizes, errs) -> float:
-    """Least-squares slope of log(err) against log(size)."""
+    """Least-squares slope of log(err) against log(size); NaN when an error vanishes (nothing to converge)."""
+    errs = np.asarray(errs, dtype=float)
+    if not (errs > 0).all():
+        return float("nan")
     return float(np.polyfit(np.log(sizes), np.log(errs), 1)[0])
 
 
 def h_study(scene: Scene, maxhs, ref_maxh: float) -> list[dict]:
-    """Errors of the scene at mesh sizes ``maxhs`` against a run at ``ref_maxh`` (same time grid)."""
-    ref, _ = _run(scene.replace(**{"mesh.maxh": ref_maxh}))
+    """Errors at mesh sizes ``maxhs`` against a run at ``ref_maxh`` (same time grid).
+
+    Each size is a ``mesh.maxh``; the scene's other sizes (``mesh.contact_maxh``) scale with it.  Raises
+    SceneError when refining does not refine (the DOFs must grow from each mesh to the next and the reference).
+    """
+    h0 = scene.mesh.maxh
+    if h0 is None:
+        refined(scene, 1.0)
+    order = sorted(maxhs, reverse=True)
+    reference = Reference(_run(refined(scene, ref_maxh / h0))[0])
     rows = []
-    for h in maxhs:
-        result, seconds = _run(scene.replace(**{"mesh.maxh": h}))
-        e = errors(result, ref)
-        rows.append({"h": h, "dofs": int(result.discretization.body.free.sum()), "seconds": seconds, **e.__dict__})
+    for h in order:
+        result, seconds = _run(refined(scene, h / h0))
+        rows.append({"h": h, "dofs": int(result.discretization.body.free.sum()), "seconds": seconds,
+                     **reference.errors(result).__dict__})
+    dofs = [r["dofs"] for r in rows] + [int(reference.result.discretization.body.free.sum())]
+    if any(b <= a for a, b in zip(dofs, dofs[1:])):
+        raise SceneError(f"mesh.maxh: refining {', '.join(f'{h:g}' for h in order)} → {ref_maxh:g} gives "
+                         f"{dofs} free DOFs: the meshes do not get finer")
     return rows
 
 
 def k_study(scene: Scene, steps, ref_steps: int) -> list[dict]:
     """Errors of the scene with ``steps`` time steps against ``ref_steps`` steps (same mesh)."""
-    ref, _ = _run(scene.replace(**{"time.steps": ref_steps, "output.every": scene.time.T}))
+    final = {"output.every": scene.time.T}
+    reference = Reference(_run(scene.replace(**{"time.steps": ref_steps, **final}))[0])
     rows = []
     for n in steps:
-        result, seconds = _run(scene.replace(**{"time.steps": n, "output.every": scene.time.T}))
-        rows.append({"k": scene.time.T / n, "steps": n, "seconds": seconds, **errors(result, ref).__dict__})
+        result, seconds = _run(scene.replace(**{"time.steps": n, **final}))
+        rows.append({"k": scene.time.T / n, "steps": n, "seconds": seconds, **reference.errors(result).__dict__})
     return rows
 
 
@@ -142,34 +183,47 @@ def markdown(rows: list[dict], size: str) -> str:
     cols = [size] + [c for c in rows[0] if c != size]
     lines = table(rows, size).splitlines()
     rates = orders(rows, size)
-    lines.append("| order | " + " | ".join(f"{rates[c]:.2f}" if c in rates else "" for c in cols[1:]) + " |")
+    cell = lambda c: "" if c not in rates else ("—" if np.isnan(rates[c]) else f"{rates[c]:.2f}")  # noqa: E731
+    lines.append("| order | " + " | ".join(cell(c) for c in cols[1:]) + " |")
     return "\n".join(lines)
 
 
-def overshoot(result: Result) -> float:
-    """max_j,i (w − (u_ν − d₀))₊ / g: wear beyond the body's surface, impossible for the exact solution.
+def alpha_slope(scene: Scene) -> float:
+    """α L_p: the largest wear rate κ‖v*‖ over the contact points and the speed table, times the largest slope of p."""
+    return Discretization(scene).largest_rate()
 
-    The exact wear never passes the surface (p = 0 there), the explicit update does once
-    k α L > 1 (amplification 1 − k α L < 0), the trapezoidal one once k α L > 2.
-    """
-    beyond = result.wear - (result.normal_displacement - result.d0[None, :])
-    return float(np.maximum(beyond, 0).max(initial=0.0) / result.scene.contact.gap)
+
+def stability_steps(scene: Scene, targets=(0.5, 1.0, 1.5, 2.5, 5.0)) -> list[int]:
+    """Step counts N with k α L = T α L / N nearest to the ``targets`` (those N ≥ 1 reaches, distinct)."""
+    rate = scene.time.T * alpha_slope(scene)
+    if rate == 0:
+        return []
+    return sorted({max(1, round(rate / r)) for r in targets}, reverse=True)
 
 
 def stability_study(scene: Scene, steps, ref_steps: int = 640) -> list[dict]:
-    """Final-time wear error and overshoot of each integrator at k α L = T α L / steps."""
-    contact = scene.contact
-    alpha_l = contact.wear * float(np.linalg.norm(scene.foundation.velocity)) * contact.stiffness
-    ref, _ = _run(scene.replace(**{"time.steps": ref_steps, "wear.integrator": "trapezoidal",
-                                   "output.every": scene.time.T}))
+    """Final-time wear error and overshoot (:func:`ngwear.results.invariants.overshoot`) of each integrator.
+
+    k α L = T α L / steps with the scene's real α (the largest κ‖v*‖ over the contact points and the speed
+    table) and L (the largest slope of p on [0, g]); the explicit update is run where it diverges too
+    (``wear.allow_unstable``).  W_final = ‖w(T) − w_ref(T)‖_{L²(Γ_C)} against ``ref_steps`` trapezoidal steps.
+    """
+    rate = alpha_slope(scene)
+    final = {"output.every": scene.time.T, "wear.allow_unstable": True}
+    ref, _ = _run(scene.replace(**{"time.steps": ref_steps, "wear.integrator": "trapezoidal", **final}))
     rows = []
-    for n in steps:
-        row = {"steps": n, "k_alpha_L": scene.time.T * alpha_l / n}
-        for integrator in ("explicit", "implicit", "trapezoidal"):
-            result, _ = _run(scene.replace(**{"time.steps": n, "wear.integrator": integrator,
-                                              "output.every": scene.time.T}))
-            dw = result.wear[-1] - ref.wear[-1]
-            row[f"{integrator}_W_final"] = float(np.sqrt(dw @ (ref.weights * dw)))
-            row[f"{integrator}_overshoot"] = overshoot(result)
-        rows.append(row)
+    loop = logging.getLogger(simulate.__module__)
+    level = loop.level
+    loop.setLevel(logging.ERROR)            # the unstable steps are asked for: their warnings say nothing new here
+    try:
+        for n in steps:
+            row = {"steps": n, "k_alpha_L": scene.time.T * rate / n}
+            for integrator in ("explicit", "implicit", "trapezoidal"):
+                result, _ = _run(scene.replace(**{"time.steps": n, "wear.integrator": integrator, **final}))
+                dw = result.wear[-1] - ref.wear[-1]
+                row[f"{integrator}_W_final"] = float(np.sqrt(dw @ (ref.weights * dw)))
+                row[f"{integrator}_overshoot"] = overshoot(result)
+            rows.append(row)
+    finally:
+        loop.setLevel(level)
     return rows

@@ -24,7 +24,6 @@ thread (JupyterLab runs widget callbacks on a subshell thread); one lock orders 
 """
 from __future__ import annotations
 
-import io
 import logging
 import threading
 import time
@@ -40,19 +39,12 @@ from ..model.scene import Scene, SceneError
 from ..numerics.discrete import Reuse
 from ..runs.simulate import simulate
 from .compare import Comparison, nearest_step
+from .errors import RunError
 from .plots import Dashboard
 from .render import Canvas
 from .sliders import sliders_for
 
 log = logging.getLogger(__name__)
-
-
-class RunError(RuntimeError):
-    """A run stopped part-way (Newton failure); ``result`` holds the steps it completed."""
-
-    def __init__(self, message: str, result):
-        super().__init__(message)
-        self.result = result
 
 
 @dataclass
@@ -263,12 +255,14 @@ class Explorer:
     def save_result(self, directory) -> Path:
         """Write the current run as ``ngwear run`` does: results, checkpoint, VTU/PVD and the pictures."""
         from ..results.checkpoint import write_checkpoint
+        from ..results.folder import hold
         from .pictures import write_pictures
         with self._lock:
             result = self.result
-        out = result.save(directory)
-        write_checkpoint(out, result)
-        write_pictures(result, out)
+        with hold(directory, "save into"):          # a FolderError while another run writes there
+            out = result.save(directory)
+            write_checkpoint(out, result)
+            write_pictures(result, out)
         return out
 
     # ---- views ------------------------------------------------------------------------------
@@ -284,18 +278,12 @@ class Explorer:
         """Release the picture's plotter."""
         self.canvas.close()
 
-    def widget(self, folder=None):
+    def widget(self, folder=None, *, confined: bool = False):
         """The explorer as ipywidgets, saving into ``folder`` (see :func:`ngwear.views.widget.explorer_widget`)."""
         from .widget import explorer_widget
-        return explorer_widget(self, folder)
+        return explorer_widget(self, folder, confined=confined)
 
 
 def _short(value) -> str:
     return f"{value:.3g}" if isinstance(value, float) else str(value)
 
-
-def png_bytes(image: np.ndarray) -> bytes:
-    """PNG bytes of an RGB image (fast compression: the explorer redraws often)."""
-    out = io.BytesIO()
-    Image.fromarray(image).save(out, format="png", compress_level=1)
-    return out.getvalue()

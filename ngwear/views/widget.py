@@ -6,32 +6,40 @@ are set from its state, so they always show the state that produced the picture.
 that fails shows the one-line error, puts the slider back and keeps the last good picture.
 Sliders act when released (a solve and both pictures take ~0.2 s; dragging would queue them).
 Every widget carries a CSS class ``ngwear-<name>`` (``ngwear-slider-<slider>`` for sliders) by
-which pages and tests find it.
+which pages and tests find it.  The widgets know the explorer by its methods only; this module
+does not import :mod:`ngwear.views.explore` (which imports it for :meth:`Explorer.widget`).
 """
 from __future__ import annotations
 
 import html
+import io
 import itertools
+import os
 import threading
 from pathlib import Path
 
 import ipywidgets as W
+import numpy as np
+from PIL import Image
 
 from ..model.scene import SceneError
-from .explore import Explorer, RunError, png_bytes
+from .errors import RunError
 
 LABEL = {"description_width": "100px"}
 
 
-def explorer_widget(explorer: Explorer, folder=None) -> W.VBox:
-    """The widgets of ``explorer``; they stay reachable as ``explorer.controls[name]``.
+def explorer_widget(explorer, folder=None, *, confined: bool = False) -> W.VBox:
+    """The widgets of ``explorer`` (an :class:`~ngwear.views.explore.Explorer`), reachable as ``explorer.controls[name]``.
 
     ``name`` is a slider's name, ``"time"``, ``"folder"``, ``"save_scene"``, ``"save_picture"``,
     ``"save_result"``, ``"pin"``, ``"progress"``, ``"status"``, ``"message"``, ``"picture"`` or
     ``"plots"``.  Setting a slider's ``value`` from Python acts like moving it.  The save buttons
-    write numbered files into ``folder`` (default ``out/<scene name>-explore``).
+    write numbered files into the *save into* folder, initially ``folder`` (default
+    ``out/<scene name>-explore``).  ``confined`` (the app): *save into* must name ``folder`` or a
+    folder inside it (relative to it, symlinks followed); the buttons refuse any other.
     """
-    view = _View(explorer, Path(folder or Path("out") / f"{explorer.base.name}-explore"))
+    folder = Path(folder or Path("out") / f"{explorer.base.name}-explore").expanduser()
+    view = _View(explorer, folder.resolve() if confined else folder, confined)
     explorer.controls = view.controls
     explorer.on_change(view.refresh)
     view.refresh()
@@ -39,8 +47,8 @@ def explorer_widget(explorer: Explorer, folder=None) -> W.VBox:
 
 
 class _View:
-    def __init__(self, explorer: Explorer, folder: Path):
-        self.explorer = explorer
+    def __init__(self, explorer, folder: Path, confined: bool):
+        self.explorer, self.root = explorer, folder if confined else None
         self.syncing = threading.local()
         c = self.controls = {}
         for s in explorer.sliders:
@@ -151,18 +159,34 @@ class _View:
 
     def _save(self, save, suffix: str, what: str) -> None:
         folder = Path(self.controls["folder"].value).expanduser()
+        if self.root is not None:
+            folder = (self.root / folder).resolve()
+            if not folder.is_relative_to(self.root):
+                self._error(f"save into: {self.controls['folder'].value} is outside {self.root}, "
+                            "the folder this app saves into (name it or a folder inside it)")
+                return
         path = _numbered(folder, self.explorer.scene.name, suffix)
         try:
             written = save(path)
         except OSError as err:
             self._error(f"save into: cannot write {err.filename or path} ({err.strerror or err})")
             return
+        except SceneError as err:                   # the folder is in use by a run
+            self._error(str(err))
+            return
         self.controls["message"].value = _text(f"saved {what}: {written.resolve()}")
 
 
 def _numbered(folder: Path, stem: str, suffix: str) -> Path:
-    """The first ``folder/stem-N{suffix}`` (N = 1, 2, …) that does not exist."""
-    return next(p for n in itertools.count(1) if not (p := folder / f"{stem}-{n}{suffix}").exists())
+    """The first ``folder/stem-N{suffix}`` (N = 1, 2, …) that does not exist, not even as a broken symlink."""
+    return next(p for n in itertools.count(1) if not os.path.lexists(p := folder / f"{stem}-{n}{suffix}"))
+
+
+def png_bytes(image: np.ndarray) -> bytes:
+    """PNG bytes of an RGB image (fast compression: the explorer redraws often)."""
+    out = io.BytesIO()
+    Image.fromarray(image).save(out, format="png", compress_level=1)
+    return out.getvalue()
 
 
 def _text(text: str, colour: str | None = None) -> str:

@@ -1,0 +1,176 @@
+"""Reference tables generated from the code while the site builds, so that they cannot drift from it.
+
+* ``{scene-keys} SECTION`` — the keys of one table of a scene file: the rows of
+  :func:`ngwear.model.messages.reference_table` (the declarations) whose key is in SECTION (``name`` for the
+  top-level key), with the level a change of the key invalidates (its declared ``invalidates``).
+* ``{result-keys} FILE`` — the keys of ``result.npz``, ``summary.json`` or ``checkpoint.npz`` with their
+  meaning.  The keys are those of files really written by a small run at build time; a key the code writes
+  that :data:`MEANING` does not explain, or one it explains that the code no longer writes, fails the build.
+"""
+from __future__ import annotations
+
+import json
+import tempfile
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+from docutils import nodes
+from docutils.statemachine import StringList
+from sphinx.errors import ExtensionError
+from sphinx.util.docutils import SphinxDirective
+
+SHAPES = {"N": "completed steps + 1", "n": "contact points", "d": "dimension", "r": "plate unknowns"}
+
+MEANING = {
+    "result.npz": {
+        "times": ("(N,)", "t_j of each completed step (not uniform with `time.adaptive`)"),
+        "wear": ("(N, n)", "w at the contact points"),
+        "normal_displacement": ("(N, n)", "u_ν = u·ν at the contact points"),
+        "pressure": ("(N, n)", "p(u_ν − d₀ − w), the compliance's traction"),
+        "reaction": ("(N, n)", "λ ≥ 0, the multiplier of u_ν − d₀ ≤ g (the rigid reaction)"),
+        "forces": ("(N, n, d)", "the contact forces on the body at the points (what recovers u)"),
+        "plate_displacement": ("(N, r)", "δ of a rigid plate: its translation along ν, then its tilts (r = 0: none)"),
+        "normal_force": ("(N,)", "Σ m_i (p_i + λ_i): the force the foundation carries"),
+        "torque": ("(N,)", "Σ m_i μ p_i ((x_i − c) × n*_i)·e: friction moment about the counterface's axis "
+                           "(negative: braking)"),
+        "contact_area": ("(N,)", "Σ m_i over the points with p_i + λ_i > 0"),
+        "wear_volume": ("(N,)", "Σ m_i w_i: the worn volume (an area in 2D)"),
+        "contact_points": ("(n, d)", "x_i, the contact points"),
+        "friction_coefficient": ("(n,)", "μ_i at the contact points (`contact.friction`, a number or a field)"),
+        "wear_coefficient": ("(n,)", "κ_i at the contact points (`contact.wear`)"),
+        "contact_stiffness": ("(n,)", "L_i at the contact points (`contact.stiffness`)"),
+        "weights": ("(n,)", "m_i, their quadrature weights: ∫_ΓC f ≈ Σ m_i f_i"),
+        "newton_iterations": ("(N,)", "Newton iterations of each step"),
+        "newton_converged": ("(N,)", "whether each step's Newton converged"),
+        "newton_active": ("(N,)", "size of the active set (points held at u_ν − d₀ = g) at each step's last iteration"),
+        "newton_damped": ("(N,)", "iterations of each step whose Newton step was shortened by the line search"),
+        "newton_lengths": ("(N,)", "length of each step's residual history in `newton_residuals`"),
+        "newton_residuals": ("(Σ lengths,)", "the residual histories, concatenated"),
+        "newton_bulk": ("(N,)", "a nonlinear material's bulk iterations in each step (images u = G(u); 0: linear)"),
+        "newton_tangents": ("(N,)", "tangent stiffnesses factorised in the run up to each step (nonlinear material)"),
+        "newton_cutbacks": ("(N,)", "load cut-backs each step needed before its Newton converged (0: none)"),
+        "status": ("()", "`completed`, `interrupted`, or the message of the step that failed"),
+        "wall_time": ("()", "seconds the run took"),
+        "rejected": ("()", "rejected steps of an adaptive run"),
+        "warnings": ("(·,)", "warnings of the run (e.g. the explicit update's stability)"),
+        "mesh_sha256": ("()", "SHA-256 of `mesh.vol` beside it: read only with the mesh it was computed on"),
+        "field_steps": ("(F,)", "the frames: steps whose full displacement is stored"),
+        "fields": ("(F, DOFs)", "the displacement's DOF vector at each frame"),
+    },
+    "summary.json": {
+        "status": ("", "as in result.npz"),
+        "steps": ("", "index of the last completed step"),
+        "contact_points": ("", "n"),
+        "max_wear": ("", "max over the run of w"),
+        "max_penetration": ("", "max over the run of u_ν − d₀ (≤ g)"),
+        "gap": ("", "g"),
+        "normal_force": ("", "at the last step"),
+        "torque": ("", "at the last step"),
+        "contact_area": ("", "at the last step"),
+        "wear_volume": ("", "at the last step"),
+        "plate_displacement": ("", "δ at the last step (only with `loads.plate`)"),
+        "contact_fraction": ("", "share of the points with p > 0 at the last step"),
+        "active_fraction": ("", "share of the points with λ > 0 (u_ν − d₀ = g) at the last step"),
+        "rejected_steps": ("", "rejected steps (only with `time.adaptive`)"),
+        "newton_iterations_total": ("", "all Newton iterations of the converged steps"),
+        "newton_iterations_max": ("", "the most of one step"),
+        "wall_time_s": ("", "seconds the run took"),
+    },
+    "checkpoint.npz": {
+        "rows": ("()", "how many steps count"),
+        "history": ("()", "name of the `steps-<id>` folder whose files hold the steps' rows"),
+        "x": ("(·,)", "the solver's unknowns at the last step (its warm start)"),
+        "lam": ("(n,)", "λ at the last step"),
+        "step": ("()", "the adaptive clock's next step size"),
+        "scene": ("()", "the scene, as JSON"),
+        "checksums": ("()", "CRC-32 of each file of the steps' rows, as JSON: a damaged row file is refused"),
+    },
+}
+HEADER = ("contact_points weights newton_iterations newton_converged newton_active newton_damped newton_lengths "
+          "newton_residuals newton_cutbacks newton_bulk newton_tangents friction_coefficient wear_coefficient "
+          "contact_stiffness mesh_sha256 status wall_time rejected warnings").split()
+MEANING["checkpoint.npz"] = {**{k: MEANING["result.npz"][k] for k in HEADER}, **MEANING["checkpoint.npz"]}
+
+
+def scene_key_rows(section: str) -> list[str]:
+    """The rows of the declared reference table whose key is in ``section`` (``name``: the top-level key)."""
+    from ngwear.model.messages import reference_table
+
+    rows = reference_table().splitlines()[2:]
+    prefix = "| `name`" if section == "name" else f"| `{section}."
+    return [row for row in rows if row.startswith(prefix)]
+
+
+def scene_key_table(section: str) -> str:
+    """The Markdown table of ``section``'s keys, with what a change of each invalidates."""
+    from ngwear.model.sections import declared_keys
+
+    levels = {name: info.json_schema_extra["invalidates"] for name, info in declared_keys()}
+    rows = scene_key_rows(section)
+    if not rows:
+        raise ExtensionError(f"scene-keys: no declared key in section {section!r}")
+    lines = ["| key | meaning | default | allowed | a change rebuilds |", "|---|---|---|---|---|"]
+    for row in rows:
+        name = row.split("`")[1]
+        lines.append(f"{row} {levels.get(name, 'nothing')} |")
+    return "\n".join(lines)
+
+
+@cache
+def written_keys() -> dict[str, list[str]]:
+    """The keys of the files a small run writes: a strip under a rigid plate, adaptive steps, checkpointed."""
+    import ngwear
+
+    scene = ngwear.Scene.from_dict({
+        "name": "reference", "mesh": {"maxh": 0.5}, "contact": {"friction": 0.5, "wear": 1.0},
+        "loads": {"plate": {"boundary": "top", "force": [0.0, -0.3]}},
+        "time": {"T": 0.2, "steps": 4, "adaptive": True}})
+    with tempfile.TemporaryDirectory() as folder:
+        result = ngwear.simulate(scene, progress=False, checkpoint=folder)
+        result.save(folder)
+        out = Path(folder)
+        with np.load(out / "result.npz") as data, np.load(out / "checkpoint.npz") as checkpoint:
+            return {"result.npz": list(data.keys()), "checkpoint.npz": list(checkpoint.keys()),
+                    "summary.json": list(json.loads((out / "summary.json").read_text()))}
+
+
+def result_key_table(name: str) -> str:
+    """The Markdown table of a result file's keys; an error when the code and :data:`MEANING` disagree."""
+    if name not in MEANING:
+        raise ExtensionError(f"result-keys: unknown file {name!r} (known: {', '.join(MEANING)})")
+    keys, meaning = written_keys()[name], MEANING[name]
+    unexplained, gone = set(keys) - set(meaning), set(meaning) - set(keys)
+    if unexplained or gone:
+        raise ExtensionError(f"result-keys {name}: written but not explained: {sorted(unexplained)}; explained but "
+                             f"not written: {sorted(gone)} (update docs/_ext/ngwear_reference.py)")
+    shaped = name.endswith(".npz")
+    lines = ["| key | shape | meaning |" if shaped else "| key | meaning |", "|---|---|---|" if shaped else "|---|---|"]
+    for key in keys:
+        shape, text = meaning[key]
+        lines.append(f"| `{key}` | {shape} | {text} |" if shaped else f"| `{key}` | {text} |")
+    return "\n".join(lines)
+
+
+class _Table(SphinxDirective):
+    required_arguments = 1
+    make = staticmethod(str)
+
+    def run(self):
+        container = nodes.container()
+        self.state.nested_parse(StringList(self.make(self.arguments[0]).splitlines()), self.content_offset, container)
+        return container.children
+
+
+class SceneKeys(_Table):
+    make = staticmethod(scene_key_table)
+
+
+class ResultKeys(_Table):
+    make = staticmethod(result_key_table)
+
+
+def setup(app):
+    app.add_directive("scene-keys", SceneKeys)
+    app.add_directive("result-keys", ResultKeys)
+    return {"parallel_read_safe": True, "parallel_write_safe": True}

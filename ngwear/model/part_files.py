@@ -1,0 +1,141 @@
+"""Reading part files (STEP / IGES / BREP shapes, Netgen .vol and Gmsh .msh meshes), safely.
+
+Files from outside are read first in a child process (:func:`describe`, cached by path, size and mtime):
+Netgen and OpenCASCADE trust their input, and a damaged file (a ``.vol`` cut short) can crash them, which
+in the child is a :class:`PartError` naming the file instead of the end of the run, the explorer or a
+study's client.  :func:`read_mesh` and :func:`read_shape` read a file in this process only once it has
+been described.  The child runs this file as a script (``python -P part_files.py KIND PATH``), so it
+imports nothing of ngwear.
+"""
+from __future__ import annotations
+
+import json
+import signal
+import subprocess
+import sys
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+
+import netgen.meshing
+import numpy as np
+from netgen.occ import OCCGeometry, TopoDS_Shape
+
+SHAPE_FILES = (".step", ".stp", ".iges", ".igs", ".brep")
+MESH_FILES = (".vol", ".msh")
+SUFFIXES = {"step": SHAPE_FILES, "mesh": MESH_FILES}
+
+
+class PartError(ValueError):
+    """A part file cannot be read (the scene turns this into a message naming ``geometry.file``)."""
+
+
+@dataclass(frozen=True)
+class Part:
+    """What validation needs to know of a part file: dimension, boundary names, bounding-box diagonal."""
+
+    dim: int
+    boundaries: tuple[str, ...]
+    extent: float
+
+
+def describe(path: str, kind: str) -> Part:
+    """The dimension, named boundaries and size of a part file, or a PartError saying why it cannot be read.
+
+    The file is read in a child process (see the module docstring); the answer is cached by path, size and mtime.
+    """
+    file = Path(path)
+    if not file.is_file():
+        raise PartError(f"{path} does not exist")
+    suffixes = SUFFIXES[kind]
+    if file.suffix.lower() not in suffixes:
+        raise PartError(f"{file.name} is not a {' / '.join(suffixes)} file")
+    stat = file.stat()
+    return _describe(str(file.resolve()), kind, stat.st_size, stat.st_mtime_ns)
+
+
+@lru_cache(maxsize=32)
+def _describe(path: str, kind: str, size: int, mtime: int) -> Part:
+    """:func:`_read` in a child process (this file run as a script), whose crash is a PartError."""
+    done = subprocess.run([sys.executable, "-P", __file__, kind, path], capture_output=True, text=True)
+    name = Path(path).name
+    if done.returncode < 0:
+        reader = "OpenCASCADE" if kind == "step" else "Netgen"
+        raise PartError(f"{reader} crashed reading {name} ({signal.Signals(-done.returncode).name}): the file is "
+                        "damaged or cut short")
+    answers = [line for line in done.stdout.splitlines() if line.startswith("{")]   # the readers print too
+    if done.returncode or not answers:
+        reason = (done.stderr.strip().splitlines() or ["no answer"])[-1]
+        raise PartError(f"cannot read {name} ({reason})")
+    answer = json.loads(answers[-1])
+    if "error" in answer:
+        raise PartError(answer["error"])
+    return Part(answer["dim"], tuple(answer["boundaries"]), answer["extent"])
+
+
+def _read(path: str, kind: str) -> Part:
+    """Dimension, boundary names and extent of a part file, read in this process."""
+    if kind == "step":
+        shape = _load_shape(path)
+        if not shape.faces:
+            raise PartError(f"{Path(path).name} holds no shape (no faces): empty, or not a STEP / IGES / BREP file")
+        lo, hi = (np.array(corner) for corner in shape.bounding_box)
+        names = {face.name for face in shape.faces if face.name}
+        return Part(3, tuple(sorted(names)), float(np.linalg.norm(hi - lo)))
+    mesh = _load_mesh(path)
+    points = np.array([p.p for p in mesh.Points()])
+    if not len(points):
+        raise PartError(f"{Path(path).name} holds no mesh (no points): empty, or not a Netgen .vol / Gmsh .msh file")
+    names = set(mesh.GetRegionNames(codim=1))
+    extent = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
+    return Part(mesh.dim, tuple(sorted(n for n in names if n)), extent)
+
+
+def read_shape(path: str) -> TopoDS_Shape:
+    """The OCC shape of a STEP / IGES / BREP file (a BREP's face names from its sidecar), once described."""
+    describe(path, "step")
+    return _load_shape(path)
+
+
+def read_mesh(path: str) -> netgen.meshing.Mesh:
+    """The Netgen mesh of a ``.vol`` or Gmsh ``.msh`` file, every region renamed ``body``, once described."""
+    describe(path, "mesh")
+    return _load_mesh(path)
+
+
+def _load_shape(path: str) -> TopoDS_Shape:
+    try:
+        shape = OCCGeometry(str(path)).shape
+    except Exception as err:  # Netgen raises its own exception type with the reader's message
+        raise PartError(f"cannot read {Path(path).name} ({err})") from None
+    sidecar = Path(f"{path}.names.json")
+    if sidecar.is_file():
+        names = json.loads(sidecar.read_text())
+        if len(names) != len(shape.faces):
+            raise PartError(f"{sidecar.name} names {len(names)} faces, the shape has {len(shape.faces)}")
+        for face, name in zip(shape.faces, names):
+            if name:
+                face.name = name
+    return shape
+
+
+def _load_mesh(path: str) -> netgen.meshing.Mesh:
+    try:
+        if Path(path).suffix.lower() == ".msh":
+            from netgen.read_gmsh import ReadGmsh
+            mesh = ReadGmsh(str(path))
+        else:
+            mesh = netgen.meshing.Mesh()
+            mesh.Load(str(path))
+    except Exception as err:  # as above
+        raise PartError(f"cannot read {Path(path).name} ({err})") from None
+    for index in range(1, mesh.GetNDomains() + 1):
+        mesh.SetMaterial(index, "body")
+    return mesh
+
+
+if __name__ == "__main__":        # the child of _describe: ``python -P cad.py KIND PATH`` prints the Part as JSON
+    try:
+        print(json.dumps(_read(sys.argv[2], sys.argv[1]).__dict__))
+    except PartError as err:
+        print(json.dumps({"error": str(err)}))

@@ -1,0 +1,140 @@
+"""An output folder: held by one run at a time, and what goes wrong with its files.
+
+A run (``simulate(checkpoint=...)``, ``resume``, ``ngwear run``, the explorer's *save result*) holds its
+folder for its whole duration: an exclusive ``flock`` on ``.ngwear.lock`` there, which holds the PID and
+host of the holder.  A second run into the folder is refused, naming the holder; the kernel releases the
+lock when its process ends, however it ends, so the lock of a dead process is simply taken over.  On NFS,
+Linux turns ``flock`` into a whole-file POSIX lock held by the server (NFSv4, or NLM for v3), so runs on
+different machines exclude each other too, unless the file system is mounted with ``nolock`` (then each
+machine only excludes its own runs).  Within a process the lock is re-entrant for the thread that holds
+it (the CLI holds the folder around ``simulate``, which holds it again) and refused to other threads.
+
+A full disk ends a run with :class:`NoSpace`, which says what was kept; a damaged or foreign file of a
+folder is a :class:`FolderError` naming it (a run's ``mesh.vol`` is known by its :func:`digest`).
+"""
+from __future__ import annotations
+
+import errno
+import fcntl
+import hashlib
+import os
+import socket
+import threading
+from contextlib import contextmanager
+from functools import lru_cache
+from pathlib import Path
+
+from ..model.scene import SceneError
+
+LOCK = ".ngwear.lock"
+NO_SPACE = (errno.ENOSPC, errno.EDQUOT)
+
+_held: dict[Path, list] = {}        # folder → [thread, depth, open lock file]
+_guard = threading.Lock()
+
+
+class FolderError(SceneError):
+    """A folder in use, or a file of it that is missing, damaged or from another run; ``key`` names the argument."""
+
+    def __init__(self, key: str, message: str):
+        super().__init__(f"{key}: {message}")
+        self.key, self.message = key, message
+
+    def named(self, key: str) -> str:
+        """The message with the argument called ``key`` (the CLI's flag for a Python argument)."""
+        return f"{key}: {self.message}"
+
+
+class NoSpace(OSError):
+    """The disk filled during a run; the message says which steps are kept.
+
+    ``result``: the run so far; ``resumable``: whether its folder's checkpoint lets it go on.
+    """
+
+    def __init__(self, message: str, result=None, resumable: bool = False):
+        super().__init__(errno.ENOSPC, message)
+        self.result, self.resumable = result, resumable
+
+    def __str__(self) -> str:
+        return self.strerror
+
+
+def no_space(err: BaseException) -> bool:
+    """Whether ``err`` is a full disk (or quota)."""
+    return isinstance(err, OSError) and err.errno in NO_SPACE
+
+
+@contextmanager
+def hold(folder, key: str, create: bool = True):
+    """Hold ``folder`` for the block, or raise a FolderError naming its holder.
+
+    ``create``: make the folder if missing (an output folder; removed again when the block wrote nothing
+    into it, e.g. a refused run); else (a folder to read from) a missing or read-only folder is not held:
+    no run of ours writes there.
+    """
+    folder = Path(folder)
+    made = create and not folder.exists()
+    if create:
+        folder.mkdir(parents=True, exist_ok=True)
+    elif not folder.is_dir() or not os.access(folder, os.W_OK):
+        yield folder
+        return
+    path, me = folder.resolve(), threading.get_ident()
+    with _guard:
+        entry = _held.get(path)
+        if entry is not None and entry[0] != me:
+            raise FolderError(key, f"{folder} is in use by ngwear (PID {os.getpid()}, another thread)")
+        if entry is None:
+            entry = _held[path] = [me, 0, _take(folder, key)]
+        entry[1] += 1
+    try:
+        yield folder
+    finally:
+        with _guard:
+            entry[1] -= 1
+            if not entry[1]:
+                del _held[path]
+                if made and [p.name for p in folder.iterdir()] == [LOCK]:
+                    (folder / LOCK).unlink()            # still locked: nobody takes it in between
+                    folder.rmdir()
+                entry[2].close()                    # releases the lock
+
+
+def _take(folder: Path, key: str):
+    """The open lock file of ``folder``, locked and holding our PID."""
+    file = open(folder / LOCK, "a+")                # not truncated: a refused run reads the holder from it
+    try:
+        fcntl.flock(file, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        file.seek(0)
+        holder = file.read().split()
+        file.close()
+        raise FolderError(key, f"{folder} is in use by ngwear ({_holder(holder)})") from None
+    except BaseException:
+        file.close()
+        raise
+    file.seek(0)
+    file.truncate()
+    file.write(f"{os.getpid()} {socket.gethostname()}\n")
+    file.flush()
+    os.fsync(file.fileno())                         # on NFS: to the server, where a refused run reads it
+    return file
+
+
+def _holder(words: list[str]) -> str:
+    if not words:
+        return "PID unknown: it is starting"
+    pid, host = words[0], " ".join(words[1:])
+    return f"PID {pid}" if host in ("", socket.gethostname()) else f"PID {pid} on {host}"
+
+
+def digest(path) -> str:
+    """The SHA-256 of a file (cached by path, size and mtime: a mesh is hashed once per run)."""
+    stat = os.stat(path)
+    return _digest(str(Path(path).resolve()), stat.st_size, stat.st_mtime_ns)
+
+
+@lru_cache(maxsize=16)
+def _digest(path: str, size: int, mtime: int) -> str:
+    with open(path, "rb") as file:
+        return hashlib.file_digest(file, "sha256").hexdigest()

@@ -1,0 +1,203 @@
+"""Invariants of a run, checked at every step as it is recorded and over whole runs (stress matrix, tests).
+
+With z = u_ν − d₀ at the contact points, g the layer, w the wear, p the pressure, λ the reaction:
+
+* ``finite``: no NaN or infinity;
+* ``contact``: |min(λ/c, g − z)| / S ≤ solver.tolerance (+ round-off), the complementarity z ≤ g, λ ≥ 0,
+  λ (z − g) = 0 in the form Newton's merit measures it (c_i ≥ the solver's scaling 1/(H_ii m_i), S its
+  length scale max(‖s_F(t) K⁻¹f‖∞, g), or g on the full-system path); ``gap`` (z − g)₊ / S and
+  ``reaction_sign`` (−λ)₊ / (c S) are its two halves;
+* ``wear_sign`` (−w)₊ / g and ``wear_monotone`` (w_j − w_{j+1})₊ / g;
+* ``pressure_law``: |p − p(z − w)| / max p, beyond the round-off of forming z − w;
+* ``archard``: the integrator's nodal update |w_{j+1} − w_j − k (θ_old α_j p_j + θ_new α_{j+1} p_{j+1})| / g;
+* ``wear_le_penetration``: (w_j − max_{m≤j} (z_m)₊)₊ / g, where the update is monotone
+  (:func:`wear_bounded`).  The exact wear never passes the largest penetration reached so far
+  (w' > 0 only while z > w); after lift-off w > z is physical, so the bound is the running maximum.
+
+Each is dimensionless and held when ≤ its allowance (:func:`allowances`): ``TOL`` for what the scheme
+makes exact (to round-off), the solver's tolerance for what Newton's convergence test guarantees.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model.coefficients import bound
+from ..model.laws import largest_slope
+from ..numerics.wear import INTEGRATORS
+
+#: allowance of the invariants the scheme makes exact (round-off)
+TOL = 1e-8
+EPS = np.finfo(float).eps
+CONTACT = ("contact", "gap", "reaction_sign")
+
+
+def k_alpha_slope(scene, rate: float | None = None) -> float:
+    """k·α·L_p: ``rate`` the largest α_i L_p,i (:meth:`Discretization.largest_rate`).
+
+    L_p,i is the largest slope of p_i on [0, g], α_i = κ_i‖v*_i‖.  Without ``rate``, that of the foundation's
+    translation (a scene that was never discretized; NaN for a coefficient field, known only at the points).
+    """
+    if rate is None:
+        speeds = [abs(f) for _, f in scene.foundation.speed_table] or [1.0]
+        wear, slope = bound(scene.contact.wear), largest_slope(scene.contact)
+        if wear is None or slope is None:
+            return math.nan
+        rate = wear * float(np.linalg.norm(scene.foundation.velocity)) * max(speeds) * slope
+    return scene.dt * rate
+
+
+def wear_bounded(scene, rate: float | None = None) -> bool:
+    """Whether the update guarantees w_j ≤ max_{m≤j} (z_m)₊ (≤ g): it is monotone.
+
+    With p(r) ≤ L_p r on [0, g]: explicit w_j ≤ max(w_{j−1}, z_{j−1}) for k α L_p ≤ 1; implicit
+    w_j ≤ max(w_{j−1}, z_j) always; trapezoidal w_j ≤ max(a_j, z_j), a_j ≤ max(w_{j−1}, z_{j−1}) for
+    k α L_p ≤ 2.  Adaptive steps stay below these limits (:func:`ngwear.numerics.wear.stable_step`).
+    """
+    if scene.time.adaptive:
+        return True
+    limit = {"implicit": math.inf, "explicit": 1.0, "trapezoidal": 2.0}[scene.wear.integrator]
+    return k_alpha_slope(scene, rate) <= limit
+
+
+def allowances(scene) -> dict[str, float]:
+    """The largest value of each invariant a valid run can show."""
+    exact = ("finite", "wear_sign", "wear_monotone", "pressure_law", "archard", "wear_le_penetration")
+    return {**dict.fromkeys(exact, TOL), **dict.fromkeys(CONTACT, scene.solver.tolerance)}
+
+
+@dataclass(frozen=True)
+class Row:
+    """The last checked step: its time, wear, wear rate α p and the running maximum of (z)₊ up to it."""
+
+    t: float
+    w: np.ndarray
+    rate: np.ndarray
+    peak: np.ndarray | float
+
+
+class Checker:
+    """The invariants of a run's rows on its discretization, vectorised: O(rows · n)."""
+
+    def __init__(self, scene, disc):
+        self.disc, self.law, self.g = disc, disc.law, scene.contact.gap
+        self.theta = INTEGRATORS[scene.wear.integrator]
+        self.bounded = wear_bounded(scene, disc.largest_rate())
+        self.allowed = allowances(scene)
+        self.inverse_c = disc.condensation.compliance_estimate * disc.points.weights   # 1/c_i = h_i m_i ≤ H_ii m_i
+        self.s_load = 0.0 if scene.solver.method == "full" else float(np.abs(disc.loads.s_load).max(initial=0.0))
+        self.d0 = disc.condensation.d0[None, :]
+        self.height = float(np.abs(disc.condensation.d0).max(initial=0.0)) + self.g
+
+    def scale(self, times: np.ndarray) -> np.ndarray:
+        """S_j, the length scale of Newton's merit at t_j."""
+        factors = np.abs([self.disc.load_factor(t) for t in times])
+        return np.maximum(factors * self.s_load, self.g)
+
+    def violations(self, times, w, s, p, lam, before: Row | None = None, halves: bool = True) -> dict[str, float]:
+        """The invariants over rows (steps × points); ``before``: the step before the first row (None: none).
+
+        ``halves``: also ``gap`` and ``reaction_sign``, which ``contact`` bounds (|min(a, b)| ≥ a₋, b₋).
+        """
+        if not all(np.isfinite(a).all() for a in (w, s, p, lam)):
+            return {"finite": math.inf}
+        g, z = self.g, s - self.d0
+        scale = self.scale(times)[:, None]
+        roundoff = 16 * EPS * (float(np.abs(s).max(initial=0.0)) + self.height) / scale   # of z, g − z and λ/c
+        out = {"finite": 0.0,
+               "contact": _excess(np.abs(np.minimum(lam * self.inverse_c, g - z)) / scale, roundoff),
+               "wear_sign": max(-float(w.min(initial=0.0)), 0.0) / g,
+               "pressure_law": self._pressure_law(z, w, p)}
+        if halves:
+            out["gap"] = _excess((z - g) / scale, roundoff)
+            out["reaction_sign"] = _excess(-lam * self.inverse_c / scale, roundoff)
+        rate = np.array([self.disc.alpha(t) for t in times]) * p
+        if before is not None:
+            times, w, rate = np.r_[before.t, times], np.vstack([before.w, w]), np.vstack([before.rate, rate])
+        if len(times) > 1:
+            dw = np.diff(w, axis=0)
+            old, new = self.theta
+            update = np.diff(times)[:, None] * (old * rate[:-1] + new * rate[1:])
+            out["wear_monotone"] = max(-float(dw.min(initial=0.0)), 0.0) / g
+            out["archard"] = float(np.abs(dw - update).max(initial=0.0)) / g
+        if self.bounded:
+            peak = 0.0 if before is None else before.peak
+            reached = np.maximum.accumulate(np.maximum(np.maximum(z, 0), peak), axis=0)
+            out["wear_le_penetration"] = max(float((w[len(w) - len(z):] - reached).max(initial=0.0)), 0.0) / g
+        return out
+
+    def _pressure_law(self, z, w, p) -> float:
+        """The largest |p − p(z − w)| / max p beyond the round-off of z − w, which p amplifies by its slope (L = 1e12)."""
+        r = z - w
+        expected = self.law(r)
+        slack = 8 * EPS * (float(np.abs(z).max(initial=0.0) + np.abs(w).max(initial=0.0)) + self.height)
+        size = max(float(p.max(initial=0.0)), float(expected.max(initial=0.0)), np.finfo(float).tiny)
+        slope = float(np.max(self.law.derivative(np.array(max(float(r.max(initial=0.0)), 0.0) + slack))))
+        return _excess(np.abs(p - expected) / size, (slack * slope + 8 * EPS * size) / size)
+
+    def broken(self, violations: dict[str, float]) -> tuple[str, float] | None:
+        """The invariant beyond its allowance by the largest factor, or None when all hold."""
+        ratios = {name: value / self.allowed[name] for name, value in violations.items() if value > self.allowed[name]}
+        if not ratios:
+            return None
+        name = max(ratios, key=ratios.get)
+        return name, violations[name]
+
+
+def _excess(values: np.ndarray, roundoff) -> float:
+    """The largest value beyond its round-off (0 if none)."""
+    return max(float((values - roundoff).max(initial=0.0)), 0.0)
+
+
+def invariants(result) -> dict[str, float]:
+    """The invariants over a run's completed steps (needs its discretization for α, c and S)."""
+    if len(result.times) == 0:
+        return {"finite": 0.0}
+    checker = Checker(result.scene, result.discretization)
+    return checker.violations(result.times, result.wear, result.normal_displacement, result.pressure, result.reaction)
+
+
+def worst(result, violations: dict[str, float]) -> tuple[str, float]:
+    """The invariant nearest to (or furthest past) its allowance, and its value."""
+    allowed = allowances(result.scene)
+    name = max(violations, key=lambda k: violations[k] / allowed[k])
+    return name, violations[name]
+
+
+class StepCheck:
+    """The invariants of each step as it is recorded (the time loop): the new row after the last one, O(n).
+
+    It carries the last row and the running maximum of (z)₊ (read from the rows kept when a run resumes).
+    """
+
+    def __init__(self, result):
+        self.checker = checker = Checker(result.scene, result.discretization)
+        self.last = None
+        if len(result.times):
+            peak = np.maximum(result.normal_displacement - checker.d0, 0).max(axis=0)
+            t = result.times[-1]
+            self.last = Row(t, result.wear[-1], checker.disc.alpha(t) * result.pressure[-1], peak)
+
+    def __call__(self, t: float, w, s, p, lam) -> tuple[str, float] | None:
+        """The worst broken invariant of the step ending at t (None: all hold, and the step becomes the last)."""
+        checker = self.checker
+        broken = checker.broken(checker.violations(np.array([t]), w[None, :], s[None, :], p[None, :], lam[None, :],
+                                                   self.last, halves=False))
+        if broken is None:
+            peak = np.maximum(s - checker.disc.condensation.d0, 0)
+            self.last = Row(t, w, checker.disc.alpha(t) * p,
+                            peak if self.last is None else np.maximum(self.last.peak, peak))
+        return broken
+
+
+def overshoot(result) -> float:
+    """max_j,i (w_j − max_{m≤j} (z_m)₊)₊ / g: wear past the largest penetration so far (the exact solution: 0).
+
+    The explicit update overshoots once k α L > 1 (amplification 1 − kαL < 0), the trapezoidal one once
+    k α L > 2, the implicit one never.  (w − z)₊ alone is no measure: after lift-off w > z is physical.
+    """
+    z = np.maximum(result.normal_displacement - result.d0[None, :], 0)
+    reached = np.maximum.accumulate(z, axis=0)
+    return float(np.maximum(result.wear - reached, 0).max(initial=0.0) / result.scene.contact.gap)

@@ -1,0 +1,121 @@
+"""The gallery's examples (docs/examples) run, and each one's number agrees with a closed form or an independent run.
+
+Each example is executed as a script in a temporary folder (it writes into ``out/`` there); the check takes
+the example's variables and compares one number with a value computed here from the theory or by another run,
+never with a stored output.  The docs build runs the same files (``tests/test_docs.py``).
+"""
+import runpy
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import ROOT
+
+EXAMPLES = ROOT / "docs" / "examples"
+
+
+def archard_identity(g):
+    """Explicit wear: worn area = k α Σ_{j<N} Σ_i m_i p_{j,i} (the discrete Archard law)."""
+    scene, result = g["scene"], g["result"]
+    alpha = scene.contact.wear * np.linalg.norm(scene.foundation.velocity)
+    k = scene.time.T / scene.time.steps
+    return result.wear_volume[-1], k * alpha * (result.pressure[:-1] @ result.weights).sum(), dict(rel=1e-12)
+
+
+def p1_space_order(g):
+    """P1 elements: ‖ε(u − u_h)‖ = O(h) for a smooth solution."""
+    return g["orders"]["V_sum"], 1.0, dict(abs=0.2)
+
+
+def uniform_wear_torque(g):
+    """A worn-in pad brakes with μ F (r_i + r_o)/2 (uniform wear), up to O(h²) and the transient left."""
+    scene, result = g["scene"], g["result"]
+    r_i, r_o = scene.geometry.size[:2]
+    force = abs(scene.loads.plate.force[2])
+    return -result.torque[-1], scene.contact.friction * force * (r_i + r_o) / 2, dict(rel=1e-3)
+
+
+def archard_rate(g):
+    """Pin on disc: dV/dt = κ ω R F, to (a/R)²/8 = 0.13 %."""
+    scene, result = g["scene"], g["result"]
+    rate = (result.wear_volume[-1] - result.wear_volume[-2]) / (result.times[-1] - result.times[-2])
+    force = abs(scene.loads.plate.force[2])
+    return rate, scene.contact.wear * scene.foundation.angular_velocity[2] * scene.geometry.position[0] * force, \
+        dict(rel=2e-3)
+
+
+def translating_archard(g):
+    """Sliding at v with no rigid contact: V(T) = κ v F T, whatever the part's shape."""
+    scene, result = g["scene"], g["result"]
+    assert result.reaction.max() == 0.0, "the layer carries the whole force"
+    speed, force = np.linalg.norm(scene.foundation.velocity), abs(scene.loads.plate.force[2])
+    return result.wear_volume[-1], scene.contact.wear * speed * force * scene.time.T, dict(rel=1e-9)
+
+
+def study_case_is_a_run(g):
+    """A case of the study = ngwear.simulate of its scene, run here."""
+    import ngwear
+
+    case = g["table"].iloc[3]
+    scene = ngwear.load_scene(g["FOLDER"] / "paper_strip.toml").replace(**{
+        "mesh.maxh": 0.2, "time.steps": 20, "contact.friction": case["contact.friction"],
+        "contact.wear": case["contact.wear"]})
+    assert g["table"].attrs["summary"]["completed"] == 16
+    return case["max_wear"], ngwear.simulate(scene, progress=False).wear.max(), dict(rel=1e-12)
+
+
+def explorer_run_is_a_run(g):
+    """The explorer's run = ngwear.simulate of its scene, run here."""
+    import ngwear
+
+    assert (Path("out") / "explorer" / "app.png").stat().st_size > 10_000, "the app's screenshot"
+    explorer = g["explorer"]
+    return explorer.result.wear_volume[-1], ngwear.simulate(explorer.scene, progress=False).wear_volume[-1], \
+        dict(rel=1e-12)
+
+
+def resume_is_bit_identical(g):
+    """Interrupted, resumed: the wear of the uninterrupted run, to the last bit."""
+    part, resumed, whole = g["part"], g["resumed"], g["whole"]
+    assert part.status == "interrupted" and 0 < part.steps < whole.steps and resumed.steps == whole.steps
+    return float(np.abs(resumed.wear - whole.wear).max()), 0.0, dict(abs=0.0)
+
+
+def trapezoidal_order(g):
+    """The trapezoidal rule is of second order in k."""
+    return g["orders"]["trapezoidal"], 2.0, dict(abs=0.15)
+
+
+CHECKS = {
+    "01_paper_strip": archard_identity,
+    "02_convergence": p1_space_order,
+    "03_brake_pad": uniform_wear_torque,
+    "04_pin_on_disc": archard_rate,
+    "05_own_step_file": translating_archard,
+    "06_study": study_case_is_a_run,
+    "07_explorer": explorer_run_is_a_run,
+    "08_long_run": resume_is_bit_identical,
+    "09_work_precision": trapezoidal_order,
+}
+MARKS = {"07_explorer": [pytest.mark.browser]}
+
+
+def test_every_example_has_a_check():
+    assert sorted(CHECKS) == sorted(p.stem for p in EXAMPLES.glob("[0-9][0-9]_*.py"))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", [pytest.param(n, marks=MARKS.get(n, [])) for n in CHECKS])
+def test_example(name, tmp_path, monkeypatch):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    monkeypatch.chdir(tmp_path)
+    try:
+        variables = runpy.run_path(str(EXAMPLES / f"{name}.py"), run_name="__main__")
+        value, expected, tolerance = CHECKS[name](variables)
+    finally:
+        plt.close("all")
+    assert value == pytest.approx(expected, **tolerance), CHECKS[name].__doc__
+    assert list((tmp_path / "out").rglob("*.png")), "the example draws its pictures"

@@ -1,0 +1,96 @@
+"""A run whose invariants break is a failure: the time loop checks every step before recording it.
+
+The wear update is broken on purpose (a monkeypatched integrator whose sixth wear values come out 1e-3 lower
+than the scheme's): the run must stop at that step naming the invariant, keep the five steps before it bit for
+bit, and ``ngwear run`` must exit with status 1.
+"""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from conftest import PAPER
+
+import ngwear
+from ngwear.numerics.wear import WearIntegrator
+from ngwear.results.invariants import Checker, StepCheck, allowances, invariants
+
+BREAK = """
+import sys
+from ngwear.numerics.wear import WearIntegrator
+solved, wear_at = [0], WearIntegrator.wear_at
+def broken(self, z):
+    solved[0] += 1
+    return wear_at(self, z) - (1e-3 if solved[0] == 6 else 0.0)
+WearIntegrator.wear_at = broken
+from ngwear.cli import main
+sys.exit(main())
+"""
+
+
+def small(paper_scene):
+    return paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 20})
+
+
+def test_a_broken_step_stops_the_run_and_keeps_the_steps_before_it(paper_scene, monkeypatch):
+    good = ngwear.simulate(small(paper_scene), progress=False)
+    solved, wear_at = [0], WearIntegrator.wear_at
+
+    def broken(self, z):
+        solved[0] += 1
+        return wear_at(self, z) - (1e-3 if solved[0] == 6 else 0.0)
+
+    monkeypatch.setattr(WearIntegrator, "wear_at", broken)
+    result = ngwear.simulate(small(paper_scene), progress=False)
+    assert not result.completed and result.steps == 4
+    name = result.status.removeprefix("step 5 (t = 0.25): invariant ").split()[0]
+    assert name in ("wear_monotone", "archard", "pressure_law") and " broken by " in result.status, result.status
+    assert "try " in result.status                                              # a remedy
+    for name in ("times", "wear", "normal_displacement", "pressure", "reaction"):
+        assert np.array_equal(getattr(result, name), getattr(good, name)[:5]), name
+    allowed = allowances(result.scene)
+    assert all(v <= allowed[k] for k, v in invariants(result).items())
+
+
+def test_the_cli_exits_1_and_writes_the_kept_steps(tmp_path):
+    proc = subprocess.run([sys.executable, "-c", BREAK, "run", str(PAPER), "--set", "mesh.maxh=0.2", "time.steps=20",
+                           "--quiet", "--no-pictures", "--out", str(tmp_path / "out")],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 1, proc.stderr
+    assert "ngwear: run stopped early: step 5 (t = 0.25): invariant " in proc.stderr
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["steps"] == 4 and summary["status"].startswith("step 5 ")
+    assert ngwear.load_result(tmp_path / "out").wear.shape[0] == 5
+
+
+@pytest.mark.parametrize("integrator, steps", [("explicit", 20), ("implicit", 5), ("trapezoidal", 8)])
+def test_valid_runs_keep_every_invariant_at_every_step(paper_scene, integrator, steps):
+    """The monotone updates (explicit k·α·L ≤ 1, trapezoidal ≤ 2, implicit always) never pass the penetration.
+
+    k·α·L = 0.75, 3, 1.875: the check of w ≤ max (u_ν − d₀)₊ applies to each and holds; a resumed check (from
+    the kept rows) gives the same verdicts as the one that saw every step.
+    """
+    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": steps, "wear.integrator": integrator})
+    result = ngwear.simulate(scene, progress=False)
+    assert result.completed
+    checker = Checker(scene, result.discretization)
+    assert checker.bounded
+    values = invariants(result)
+    assert "wear_le_penetration" in values and checker.broken(values) is None
+    later = StepCheck(type("Rows", (), {"scene": scene, "discretization": result.discretization,
+                                        **{k: getattr(result, k)[:3] for k in ("times", "wear", "normal_displacement",
+                                                                               "pressure", "reaction")}})())
+    for j in range(3, result.steps + 1):
+        assert later(result.times[j], result.wear[j], result.normal_displacement[j], result.pressure[j],
+                     result.reaction[j]) is None
+
+
+def test_an_allowed_unstable_run_is_not_held_to_the_monotone_bound(paper_scene):
+    """Explicit at k·α·L = 3 (allowed): the wear passes the penetration, which this update does not promise."""
+    scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 10, "contact.wear": 3.0,
+                                   "wear.allow_unstable": True})
+    result = ngwear.simulate(scene, progress=False)
+    assert result.completed and not Checker(scene, result.discretization).bounded
+    reached = np.maximum.accumulate(np.maximum(result.normal_displacement - result.d0, 0), axis=0)
+    assert (result.wear - reached).max() > 0.1 * scene.contact.gap
