@@ -52,6 +52,7 @@ import ngsolve as ngs  # noqa: E402
 
 import ngwear  # noqa: E402
 from ngwear.model.geometry import build_mesh  # noqa: E402
+from ngwear.model.materials import region_laws  # noqa: E402
 from ngwear.numerics.discrete import Discretization  # noqa: E402
 from ngwear.numerics.forms import displacement_space, elastic_form, load_form  # noqa: E402
 
@@ -222,7 +223,7 @@ def elastic_reference(scene, mesh, *, taskmanager: bool = False) -> dict:
     with ctx:
         gc.collect()
         t0 = perf()
-        a = elastic_form(fes, scene)
+        a = elastic_form(fes, region_laws(scene))
         a.Assemble()
         f = load_form(fes, scene)
         f.Assemble()

@@ -48,7 +48,7 @@ def setup(scene, mesh) -> tuple[Discretization, float]:
 def backsubstitutions(disc, scene, mesh) -> dict:
     rhs = disc.loads.load
     ours = median_call(lambda: disc.elastic.operator.solve(rhs))
-    a = ngwear.numerics.forms.elastic_form(disc.fes, scene)
+    a = ngwear.numerics.forms.elastic_form(disc.fes, disc.elastic.laws)
     a.Assemble()
     f = ngwear.numerics.forms.load_form(disc.fes, scene)
     f.Assemble()

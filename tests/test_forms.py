@@ -35,10 +35,12 @@ def taylor_remainders(disc, scene, rng, epsilons):
     ε = ``epsilons[i]``: R the residual (``Apply``), J its linearisation at u (``AssembleLinearization``), δ a
     random direction on the free DOFs, u away from the law's kink by more than ε δ moves it.
     """
-    cf = contact_form(disc.fes, scene, compliance_from(scene.contact), with_elastic=True)
+    cf = contact_form(disc.fes, scene, compliance_from(scene.contact), disc.elastic.laws)
     u, w = state_away_from_kink(disc, rng)
+    coefficients = disc.with_scene(scene)       # μ and L of ``scene`` (a change that rebuilds nothing)
     disc.set_nodal(cf.w, w)
-    for gf, component in zip(cf.n_star, disc.n_star(0.0).T):
+    disc.set_nodal(cf.stiffness, coefficients.coefficients.stiffness)
+    for gf, component in zip(cf.friction, coefficients.friction_directions(0.0).T):
         disc.set_nodal(gf, component)
     delta = u.vec.CreateVector()
     delta.FV().NumPy()[:] = rng.standard_normal(disc.fes.ndof) * disc.body.free
@@ -93,10 +95,11 @@ def test_linearisation_of_the_linear_law_is_exact(disc, friction):
 def test_contact_form_is_nodal(disc):
     """Apply of the contact form alone equals Pᵀ f_c with f_i = m_i p_i (ν + μ n*)."""
     rng = np.random.default_rng(2)
-    cf = contact_form(disc.fes, disc.scene, disc.law, with_elastic=False)
+    cf = contact_form(disc.fes, disc.scene, disc.law, None)
     u, w = state_away_from_kink(disc, rng)
     disc.set_nodal(cf.w, w)
-    for gf, component in zip(cf.n_star, disc.n_star(0.0).T):
+    disc.set_nodal(cf.stiffness, disc.coefficients.stiffness)
+    for gf, component in zip(cf.friction, disc.friction_directions(0.0).T):
         disc.set_nodal(gf, component)
     res = u.vec.CreateVector()
     cf.form.Apply(u.vec, res)

@@ -129,7 +129,7 @@ def test_stop_event_and_resume_in_python(tmp_path, monkeypatch):
 
 def test_ctrl_c_in_a_notebook_keeps_the_completed_steps(monkeypatch):
     scene = small()
-    original = ngwear.runs.simulate._Stepper.solve
+    original = ngwear.runs.stepper.Stepper.solve
     calls = []
 
     def interrupting(stepper, *args):
@@ -138,7 +138,7 @@ def test_ctrl_c_in_a_notebook_keeps_the_completed_steps(monkeypatch):
             raise KeyboardInterrupt
         return original(stepper, *args)
 
-    monkeypatch.setattr(ngwear.runs.simulate._Stepper, "solve", interrupting)
+    monkeypatch.setattr(ngwear.runs.stepper.Stepper, "solve", interrupting)
     result = ngwear.simulate(scene, progress=False)
     assert result.status == "interrupted" and result.steps == 7
     assert len(result.newton) == 8 and len(result.wear) == 8

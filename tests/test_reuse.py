@@ -7,12 +7,14 @@ contact compliance, loads) are those of the level the key declares, no fewer and
 import shutil
 from pathlib import Path
 
+import ngsolve as ngs
 import numpy as np
 import pytest
 from conftest import ROOT
 
 import ngwear
 from ngwear.model.keys import Level, level_of
+from ngwear.model.kinds import KINDS
 from ngwear.model.sections import declared_keys
 from ngwear.numerics.discrete import Discretization
 
@@ -53,6 +55,28 @@ def geometry(scene, **changes):
     return {"geometry": {**table, **{k: v for k, v in changes.items() if v is not None}}}
 
 
+def young(scene) -> float:
+    """The scene's isotropic Young's modulus."""
+    lam, eta = scene.material.lame
+    return eta * (3 * lam + 2 * eta) / (lam + eta)
+
+
+def transversely_isotropic(scene, **change) -> dict:
+    """A transversely isotropic material as stiff as the scene's, with ``change``."""
+    e = young(scene)
+    table = {"law": "transversely_isotropic", "young_plane": 2 * e, "young_axis": e, "poisson_plane": 0.3,
+             "poisson_axis": 0.2, "shear_axis": 0.4 * e}
+    return {"material": {**table, **change}}
+
+
+def compaction_energy(scene):
+    """ψ of the compaction law with the scene's constants and β = 5λ + η (a Python function for material.energy)."""
+    lam, eta = scene.material.lame
+    beta = 5 * lam + eta
+    return lambda e: eta * ngs.InnerProduct(e, e) + lam / 2 * ngs.Trace(e) ** 2 + beta / 2 * ngs.IfPos(
+        ngs.Trace(e), 0, ngs.Trace(e) ** 2)
+
+
 def plate_only(fn):
     return lambda s: fn(s) if s.loads.plate is not None else None
 
@@ -71,6 +95,8 @@ CHANGES = {
     "geometry.end": lambda s: geometry(s, end="flat", end_radius=None) if s.geometry.kind == "pin" else None,
     "geometry.end_radius": lambda s: {"geometry.end_radius": 1.2 * s.geometry.end_radius}
     if s.geometry.end == "sphere" else None,
+    "geometry.backing": lambda s: {"geometry.backing": 0.25 * s.geometry.size[KINDS[s.geometry.kind].thickness]}
+    if KINDS[s.geometry.kind].thickness is not None else None,
     "geometry.file": lambda s: {"geometry.file": str(copy_of(s.geometry.file))} if s.geometry.file else None,
     "mesh.maxh": lambda s: {"mesh.maxh": 0.9 * s.mesh.maxh} if s.mesh.maxh else None,
     "mesh.order": lambda s: {"mesh.order": 2},
@@ -80,6 +106,17 @@ CHANGES = {
     "mesh.grading": lambda s: {"mesh.grading": 0.5} if s.mesh.maxh else None,
     "material.lame_lambda": lambda s: {"material.lame_lambda": 2.0} if s.material.lame_lambda is not None else None,
     "material.lame_mu": lambda s: {"material.lame_mu": 1.5} if s.material.lame_mu is not None else None,
+    "material.regions": lambda s: {"material.regions": {"body": {"lame_mu": 2.0} if s.material.lame_mu else
+                                                         {"young": 2 * s.material.young, "poisson": 0.2}}},
+    "material.law": lambda s: {"material.law": "compaction", "material.compaction_modulus": 5 * young(s)},
+    "material.compaction_modulus": lambda s: {"material.law": "compaction", "material.compaction_modulus": young(s)},
+    "material.energy": lambda s: {"material": {"law": "energy", "energy": compaction_energy(s)}},
+    "material.young_plane": lambda s: transversely_isotropic(s, young_plane=3 * young(s)),
+    "material.young_axis": lambda s: transversely_isotropic(s, young_axis=0.5 * young(s)),
+    "material.poisson_plane": lambda s: transversely_isotropic(s, poisson_plane=0.1),
+    "material.poisson_axis": lambda s: transversely_isotropic(s, poisson_axis=0.1),
+    "material.shear_axis": lambda s: transversely_isotropic(s, shear_axis=0.2 * young(s)),
+    "material.axis": lambda s: transversely_isotropic(s, axis=[1.0] + [0.0] * (s.dim - 1)),
     "material.young": lambda s: {"material.young": 1.5 * s.material.young} if s.material.young else None,
     "material.poisson": lambda s: {"material.poisson": 0.1} if s.material.young else None,
     "contact.law": lambda s: {"contact.law": "power"},

@@ -5,8 +5,9 @@ from conftest import ROOT
 from test_cli import assert_one_line_error, ngwear
 
 import ngwear as ng
+from ngwear.model.laws import largest_slope
 from ngwear.numerics.discrete import Discretization
-from ngwear.numerics.wear import diverging, explicit_stability, largest_slope, steps_cap
+from ngwear.numerics.wear import diverging, explicit_stability, steps_cap
 from ngwear.results.invariants import k_alpha_slope
 
 PAD = ROOT / "geometries" / "brake_pad.toml"
@@ -30,23 +31,25 @@ def test_the_rate_is_the_largest_over_the_contact_points(paper_scene):
     assert k_alpha_slope(pad) == 0.0
     radius = max(np.hypot(*Discretization(pad).points.coords[:, :2].T))
     assert alpha == pytest.approx(pad.contact.wear * 50.0 * radius, rel=1e-12)
-    r = pad.dt * alpha * largest_slope(pad.contact)
-    message = diverging(pad, alpha)
+    rate = alpha * largest_slope(pad.contact)
+    assert Discretization(pad).largest_rate() == pytest.approx(rate, rel=1e-12)
+    r = pad.dt * rate
+    message = diverging(pad, rate)
     assert r > 2 and message.startswith(f"time.steps: explicit wear with k·α·L = {r:.3g} > 2 diverges")
-    assert diverging(pad.replace(**{"wear.allow_unstable": True}), alpha) is None
-    assert diverging(pad.replace(**{"wear.integrator": "implicit"}), alpha) is None
-    assert diverging(pad.replace(**{"time.steps": int(np.ceil(20 * r / 2))}), alpha) is None
+    assert diverging(pad.replace(**{"wear.allow_unstable": True}), rate) is None
+    assert diverging(pad.replace(**{"wear.integrator": "implicit"}), rate) is None
+    assert diverging(pad.replace(**{"time.steps": int(np.ceil(20 * r / 2))}), rate) is None
 
 
 def test_remedies_stay_within_the_caps(paper_scene):
     """L = 1e8: k·α·L = 1.5e8 at N = 100, N ≥ 1.5e10 would be needed — beyond time.steps ≤ 1e6: not suggested."""
     stiff = paper_scene.replace(**{"contact.stiffness": 1e8})
-    alpha = 1.5
+    rate = 1.5 * 1e8                                      # α L
     assert steps_cap() == 1_000_000
-    for text in (diverging(stiff, alpha), explicit_stability(stiff, alpha),
-                 explicit_stability(stiff.replace(**{"wear.integrator": "trapezoidal"}), alpha)):
+    for text in (diverging(stiff, rate), explicit_stability(stiff, rate),
+                 explicit_stability(stiff.replace(**{"wear.integrator": "trapezoidal"}), rate)):
         assert text.startswith("time.steps:") and "time.steps >=" not in text and "'implicit'" in text
-    assert "time.steps >= 1500" in diverging(paper_scene.replace(**{"time.steps": 10, "contact.wear": 150.0}), 150.0)
+    assert "time.steps >= 1500" in diverging(paper_scene.replace(**{"time.steps": 10, "contact.wear": 150.0}), 1500.0)
 
 
 def test_allowed_it_runs_with_the_warning_and_overshoots(paper_scene):
@@ -62,4 +65,4 @@ def test_adaptive_explicit_runs_are_never_refused(paper_scene):
     """The clock keeps the explicit step below 1/(αL): nothing to refuse."""
     scene = paper_scene.replace(**{"mesh.maxh": 0.2, "time.steps": 1, "time.adaptive": True,
                                    "wear.integrator": "explicit"})
-    assert diverging(scene, 1.5) is None
+    assert diverging(scene, 15.0) is None

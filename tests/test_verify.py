@@ -5,10 +5,10 @@ import pytest
 from conftest import ROOT
 
 import ngwear
+from ngwear.model.laws import largest_slope
 from ngwear.numerics import discrete
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.forms import elastic_form, load_form
-from ngwear.numerics.wear import largest_slope
 from ngwear.studies import verify
 from ngwear.studies.theory import smallness, trace_constant
 
@@ -45,7 +45,7 @@ def test_trace_constant_bounds_a_rayleigh_quotient(paper_scene):
     """c₀² is the maximum of ‖v‖²_ΓC / ‖ε(v)‖² over V: any v (here the elastic response) stays below it."""
     disc = Discretization(paper_scene.replace(**{"mesh.maxh": 0.2}))
     c0 = trace_constant(disc)
-    a, f = elastic_form(disc.fes, disc.scene), load_form(disc.fes, disc.scene)
+    a, f = elastic_form(disc.fes, disc.elastic.laws), load_form(disc.fes, disc.scene)
     a.Assemble(), f.Assemble()
     v = ngs.GridFunction(disc.fes)
     v.vec.data = a.mat.Inverse(disc.fes.FreeDofs()) * f.vec

@@ -37,6 +37,9 @@ MEANING = {
         "contact_area": ("(N,)", "Σ m_i over the points with p_i + λ_i > 0"),
         "wear_volume": ("(N,)", "Σ m_i w_i: the worn volume (an area in 2D)"),
         "contact_points": ("(n, d)", "x_i, the contact points"),
+        "friction_coefficient": ("(n,)", "μ_i at the contact points (`contact.friction`, a number or a field)"),
+        "wear_coefficient": ("(n,)", "κ_i at the contact points (`contact.wear`)"),
+        "contact_stiffness": ("(n,)", "L_i at the contact points (`contact.stiffness`)"),
         "weights": ("(n,)", "m_i, their quadrature weights: ∫_ΓC f ≈ Σ m_i f_i"),
         "newton_iterations": ("(N,)", "Newton iterations of each step"),
         "newton_converged": ("(N,)", "whether each step's Newton converged"),
@@ -44,6 +47,8 @@ MEANING = {
         "newton_damped": ("(N,)", "iterations of each step whose Newton step was shortened by the line search"),
         "newton_lengths": ("(N,)", "length of each step's residual history in `newton_residuals`"),
         "newton_residuals": ("(Σ lengths,)", "the residual histories, concatenated"),
+        "newton_bulk": ("(N,)", "a nonlinear material's bulk iterations in each step (images u = G(u); 0: linear)"),
+        "newton_tangents": ("(N,)", "tangent stiffnesses factorised in the run up to each step (nonlinear material)"),
         "newton_cutbacks": ("(N,)", "load cut-backs each step needed before its Newton converged (0: none)"),
         "status": ("()", "`completed`, `interrupted`, or the message of the step that failed"),
         "wall_time": ("()", "seconds the run took"),
@@ -82,8 +87,9 @@ MEANING = {
         "checksums": ("()", "CRC-32 of each file of the steps' rows, as JSON: a damaged row file is refused"),
     },
 }
-HEADER = "contact_points weights newton_iterations newton_converged newton_active newton_damped newton_lengths " \
-         "newton_residuals newton_cutbacks mesh_sha256 status wall_time rejected warnings".split()
+HEADER = ("contact_points weights newton_iterations newton_converged newton_active newton_damped newton_lengths "
+          "newton_residuals newton_cutbacks newton_bulk newton_tangents friction_coefficient wear_coefficient "
+          "contact_stiffness mesh_sha256 status wall_time rejected warnings").split()
 MEANING["checkpoint.npz"] = {**{k: MEANING["result.npz"][k] for k in HEADER}, **MEANING["checkpoint.npz"]}
 
 

@@ -51,6 +51,17 @@ Vector = tuple[Number, ...]
 Table = tuple[tuple[Number, Number], ...]
 
 
+def range_text(lo=None, hi=None, lo_open=False, hi_open=False) -> str:
+    """``> 0``, ``>= 1``, ``<= 2`` or ``in (0, 3.0]``."""
+    if lo is not None and hi is not None:
+        return f"in {'(' if lo_open else '['}{lo}, {hi}{')' if hi_open else ']'}"
+    if lo is not None:
+        return f"{'>' if lo_open else '>='} {lo}"
+    if hi is not None:
+        return f"{'<' if hi_open else '<='} {hi}"
+    return ""
+
+
 def key(default: Any, doc: str, *, reuse: Level, shown: str | None = None, allowed: str | None = None,
         **limits) -> Any:
     """A declared scene key: default, one line of documentation, what a change invalidates, limits.

@@ -11,6 +11,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
+from .keys import SceneError
+
 KINDS: dict[str, Kind] = {}
 
 FEATURE = 1e-3
@@ -26,7 +28,8 @@ class Kind:
     takes the validated ``[geometry]`` table and raises a SceneError for a bad size or option; ``defaults``
     fills the kind's defaults into a raw ``[geometry]`` dict; ``extent`` is the part's largest dimension
     from its size; ``build`` makes the netgen.occ shape from ``(geometry, mesh)`` (None: a mesh file).
-    ``options`` are the keys (dotted) that only this kind takes; ``files`` the suffixes of its part files.
+    ``options`` are the keys (dotted) that only this kind takes; ``files`` the suffixes of its part files;
+    ``thickness`` the index in ``size`` of the height above Γ_C (where a ``geometry.backing`` is stacked).
     """
 
     name: str
@@ -42,10 +45,19 @@ class Kind:
     build: Callable | None = None
     options: tuple[str, ...] = ()
     files: tuple[str, ...] = ()
+    thickness: int | None = None
 
     @property
     def from_file(self) -> bool:
         return bool(self.files)
+
+
+def check_features(name: str, size, features: dict[str, float], extent: float) -> None:
+    """Refuse a part whose thinnest feature is below FEATURE × its largest dimension (``name``: the key to blame)."""
+    what, thinnest = min(features.items(), key=lambda item: item[1])
+    if thinnest < FEATURE * extent:
+        raise SceneError(f"{name}: the part's {what} ({thinnest:.3g}) must be at least {FEATURE:g} × its largest "
+                         f"dimension {extent:.3g} (got {list(size) if isinstance(size, (list, tuple)) else size})")
 
 
 def register(kind: Kind) -> Kind:

@@ -1,8 +1,8 @@
-"""Constitutive laws: normal compliance p and Hooke's elasticity.
+"""The normal compliance p (paper H(p)) and the piecewise-linear time tables.
 
-Compliance (paper H(p)): p Lipschitz, non-decreasing, p(r) = 0 for r ≤ 0.
-``linear``: p(r) = L r₊ (paper: L = 10);  ``power``: p(r) = c r₊^e, e ≥ 1.
-Elasticity (paper §5): F(ε) = 2η ε + λ tr(ε) I.
+p Lipschitz, non-decreasing, p(r) = 0 for r ≤ 0: ``linear`` p(r) = L r₊ (paper: L = 10), ``power``
+p(r) = L r₊^e, e ≥ 1; L a number or one value per contact point (p(x, r), :mod:`ngwear.model.coefficients`).
+The elasticity laws are in :mod:`ngwear.model.materials`.
 """
 from __future__ import annotations
 
@@ -13,11 +13,11 @@ import ngsolve as ngs
 import numpy as np
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Compliance:
-    """p(r) = stiffness · r₊^exponent (exponent 1: the paper's linear law)."""
+    """p(r) = stiffness · r₊^exponent (exponent 1: the paper's linear law); stiffness a number or per point."""
 
-    stiffness: float
+    stiffness: float | np.ndarray
     exponent: float = 1.0
 
     def __call__(self, r: np.ndarray) -> np.ndarray:
@@ -34,30 +34,47 @@ class Compliance:
             return np.where(r >= 0, self.stiffness, 0.0)
         return np.where(r > 0, self.stiffness * self.exponent * rp ** (self.exponent - 1), 0.0)
 
-    def cf(self, r: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
-        """The same law as an NGSolve CoefficientFunction of r (its derivative at r = 0 is that of :meth:`derivative`)."""
+    def cf(self, r: ngs.CoefficientFunction, stiffness=None) -> ngs.CoefficientFunction:
+        """The law as an NGSolve CoefficientFunction of r (its derivative at r = 0 is that of :meth:`derivative`).
+
+        ``stiffness``: L as a CoefficientFunction (a field: its nodal GridFunction), else the number.
+        """
+        L = self.stiffness if stiffness is None else stiffness
         if self.exponent == 1.0:
-            return self.stiffness * ngs.IfPos(-r, 0, r)
-        return self.stiffness * ngs.IfPos(r, r ** self.exponent, 0)   # pow inside: its derivative at 0 is 0, not NaN
+            return L * ngs.IfPos(-r, 0, r)
+        return L * ngs.IfPos(r, r ** self.exponent, 0)   # pow inside: its derivative at 0 is 0, not NaN
+
+    def slope(self, gap: float):
+        """L_p = L e g^(e−1), the largest slope of p over [0, g] (per point for a field; inf where it overflows)."""
+        try:
+            factor = self.exponent * gap ** (self.exponent - 1)
+        except OverflowError:
+            return math.inf
+        with np.errstate(over="ignore"):
+            return self.stiffness * factor
 
 
-def compliance_from(contact) -> Compliance:
-    """The compliance law a scene's ``[contact]`` table describes."""
-    return Compliance(contact.stiffness, contact.exponent if contact.law == "power" else 1.0)
+    def energy_cf(self, r: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
+        """Its primitive P(r) = ∫₀^r p = stiffness · r₊^(exponent+1) / (exponent + 1), so P' = :meth:`cf`.
+
+        For the linear law P'' = L at r = 0 too (the r ≥ 0 branch is taken there, as in :meth:`derivative`).
+        """
+        if self.exponent == 1.0:
+            return 0.5 * self.stiffness * ngs.IfPos(-r, 0, r * r)
+        return self.stiffness / (self.exponent + 1) * ngs.IfPos(r, r ** (self.exponent + 1), 0)
 
 
-def largest_slope(contact) -> float:
-    """L_p, the largest slope of the compliance p over [0, g]: L e g^(e−1) (inf where it overflows)."""
-    e = contact.exponent if contact.law == "power" else 1.0
-    try:
-        return contact.stiffness * e * contact.gap ** (e - 1)
-    except OverflowError:
-        return math.inf
+def compliance_from(contact, stiffness=None) -> Compliance:
+    """The compliance law of a scene's ``[contact]`` table; ``stiffness``: L at the contact points (a field)."""
+    return Compliance(contact.stiffness if stiffness is None else stiffness,
+                      contact.exponent if contact.law == "power" else 1.0)
 
 
-def hooke_stress(strain: ngs.CoefficientFunction, lam: float, eta: float, dim: int):
-    """σ = 2η ε + λ tr(ε) I."""
-    return 2 * eta * strain + lam * ngs.Trace(strain) * ngs.Id(dim)
+def largest_slope(contact) -> float | None:
+    """L_p, the largest slope of p over [0, g], from ``contact.stiffness`` (None for a field: see the points')."""
+    from .coefficients import bound
+    top = bound(contact.stiffness)
+    return None if top is None else float(compliance_from(contact, top).slope(contact.gap))
 
 
 def piecewise_linear(table, t: float) -> float:

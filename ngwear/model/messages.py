@@ -11,9 +11,8 @@ from typing import Annotated, Any, Literal, get_args, get_origin
 from pydantic import BaseModel
 from pydantic.fields import FieldInfo
 
-from .keys import SceneError, Table, Vector
+from .keys import SceneError, Table, Vector, range_text
 from .kinds import KINDS
-from .rules import range_text
 from .sections import declared_keys
 
 NAME_RULE = "a plain name of at most 100 letters, digits, '.', '_', '-' or spaces, not a path"
@@ -132,6 +131,9 @@ def _field(loc: tuple, scene_model) -> tuple[str, FieldInfo | None, type[BaseMod
     model, info, used = scene_model, None, []
     for part in names:
         used.append(part)
+        if isinstance(model, _DictOf):         # the name of an entry of a table of tables (a region)
+            model, info = model.value, None
+            continue
         if model is None:                      # an entry of a dict-valued key: declared by the key
             break
         info = model.model_fields.get(part)
@@ -141,11 +143,19 @@ def _field(loc: tuple, scene_model) -> tuple[str, FieldInfo | None, type[BaseMod
         if isinstance(base, type) and issubclass(base, BaseModel):
             model, info = base, None
         elif get_origin(base) is dict:
-            model = None
+            value = get_args(base)[1]
+            model = _DictOf(value) if isinstance(value, type) and issubclass(value, BaseModel) else None
         else:
             break
     owner = model if info is None else None
     return ".".join(used) or "scene", info, owner
+
+
+class _DictOf:
+    """The entries of a table of tables (``material.regions``): each a table of the model ``value``."""
+
+    def __init__(self, value: type[BaseModel]):
+        self.value = value
 
 
 def _what(info: FieldInfo, name: str, data: Any) -> tuple[str, str]:

@@ -10,15 +10,17 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from .keys import SceneError
-from .kinds import KINDS, owners
+from .coefficients import bound, describe
+from .keys import SceneError, range_text
+from .kinds import KINDS, check_features, owners
 from .laws import largest_slope
+from .materials import check_table, law_of
 
 
 def check(scene) -> None:
     """Every rule of this module, in the order a reader fixes a scene: geometry first, time last."""
     _check_geometry(scene)
-    _check_material(scene.material)
+    _check_material(scene)
     _check_contact(scene)
     _check_motion(scene)
     _check_loads(scene)
@@ -26,17 +28,6 @@ def check(scene) -> None:
     if scene.solver.method == "full" and scene.wear.integrator != "explicit":
         raise SceneError(f"solver.method: 'full' supports only wear.integrator = 'explicit' "
                          f"(got {scene.wear.integrator!r}; use solver.method = 'condensed')")
-
-
-def range_text(lo=None, hi=None, lo_open=False, hi_open=False) -> str:
-    """``> 0``, ``>= 1``, ``<= 2`` or ``in (0, 3.0]``."""
-    if lo is not None and hi is not None:
-        return f"in {'(' if lo_open else '['}{lo}, {hi}{')' if hi_open else ']'}"
-    if lo is not None:
-        return f"{'>' if lo_open else '>='} {lo}"
-    if hi is not None:
-        return f"{'<' if hi_open else '<='} {hi}"
-    return ""
 
 
 def vector(value, name: str, dim: int) -> tuple[float, ...]:
@@ -98,22 +89,33 @@ def _check_size(g, kind) -> None:
         raise SceneError(f"geometry.size: every length must be > 0 (got {list(g.size)})")
     if kind.check is not None:
         kind.check(g)
+    if g.backing is not None:
+        check_features("geometry.backing", g.backing, {"backing": g.backing}, g.extent)
 
 
 # ---------------------------------------------------------------- material and contact
 
 
-def _check_material(mat) -> None:
-    lame = [k for k in ("lame_lambda", "lame_mu") if getattr(mat, k) is not None]
-    engineering = [k for k in ("young", "poisson") if getattr(mat, k) is not None]
-    if lame and engineering:
-        raise SceneError(f"material.{engineering[0]}: cannot be combined with material.{lame[0]} "
-                         "(give either lame_lambda and lame_mu, or young and poisson)")
-    missing = [k for k in (("young", "poisson") if engineering else ("lame_lambda", "lame_mu"))
-               if getattr(mat, k) is None]
-    if missing:
-        together = "young and poisson" if engineering else "lame_lambda and lame_mu"
-        raise SceneError(f"material.{missing[0]}: missing ({together} go together)")
+def _check_material(scene) -> None:
+    """Each region's material (its table over ``[material]``) fits its law and is positive definite; regions exist."""
+    material, regions = scene.material, scene.geometry.regions
+    for name in material.regions:
+        if name not in regions:
+            raise SceneError(f"material.regions.{name}: unknown region (the part's regions: {', '.join(regions)})")
+    if not material.given:
+        bare = [r for r in regions if r not in material.regions or not material.regions[r].given]
+        if bare:
+            raise SceneError(f"material.regions.{bare[0]}: missing (give its constants, or constants in [material] "
+                             "for every region without a table)")
+    tables = ({"material": material} if material.given else {}) | {
+        f"material.regions.{name}" if name in material.regions else "material": table
+        for name, table in material.by_region(regions).items()}
+    for key, table in tables.items():
+        check_table(table, key)
+        if table.kind != "energy":
+            law_of(table, scene.dim, scene.contact.direction or (0.0,) * (scene.dim - 1) + (-1.0,), key)
+        if table.axis is not None:
+            vector(table.axis, f"{key}.axis", scene.dim)
 
 
 def _check_contact(scene) -> None:
@@ -121,9 +123,10 @@ def _check_contact(scene) -> None:
     vector(c.direction, "contact.direction", scene.dim)
     if c.law == "linear" and c.exponent != 1:
         raise SceneError(f"contact.exponent: must be 1 with contact.law = 'linear' (got {c.exponent!r})")
-    if not largest_slope(c) <= BIG:
+    slope = largest_slope(c)
+    if slope is not None and not slope <= BIG:
         raise SceneError(f"contact.stiffness: the layer's largest slope L·e·g^(e−1) must be <= {BIG:g} (got L = "
-                         f"{c.stiffness:g}, e = {c.exponent:g}, g = {c.gap:g})")
+                         f"{describe(c.stiffness)}, e = {c.exponent:g}, g = {c.gap:g})")
 
 
 # ---------------------------------------------------------------- foundation motion
@@ -145,11 +148,11 @@ def _check_motion(scene) -> None:
     tangential = math.hypot(*(v - vn * n for v, n in zip(velocity, nu)))
     # a rotation slides Γ_C over the foundation when its axis is not parallel to the contact plane
     spin = abs(omega or 0.0) if scene.dim == 2 else abs(sum(a * b for a, b in zip(omega or (0, 0, 0), nu)))
-    if c.friction > 0 and tangential <= 1e-12 * speed and spin == 0:
+    if (bound(c.friction) or 0) > 0 and tangential <= 1e-12 * speed and spin == 0:
         raise SceneError("foundation.velocity: must have a non-zero part tangential to contact.direction "
                          "(or give foundation.angular_velocity about an axis along it) when contact.friction > 0 "
                          f"(got {list(velocity)})")
-    if c.wear > 0 and speed == 0 and spin == 0:
+    if (bound(c.wear) or 0) > 0 and speed == 0 and spin == 0:
         raise SceneError("foundation.velocity: must be non-zero (or give foundation.angular_velocity) when "
                          f"contact.wear > 0 (got {list(velocity)})")
     _check_rates(scene)
@@ -166,10 +169,11 @@ def _check_rates(scene) -> None:
     if not slide <= BIG:
         name = "foundation.angular_velocity" if rotation > translation else "foundation.velocity"
         raise SceneError(f"{name}: the foundation's largest speed at the part, {slide:.3g}, must be <= {BIG:g}")
-    rate = c.wear * slide * largest_slope(c) * scene.time.T
-    if not rate <= BIG:
+    wear, slope = bound(c.wear), largest_slope(c)
+    rate = None if wear is None or slope is None else wear * slide * slope * scene.time.T
+    if rate is not None and not rate <= BIG:
         raise SceneError(f"contact.wear: κ‖v*‖·L·T = {rate:.3g} must be <= {BIG:g} (the wear of a run this fast "
-                         f"overflows; κ = {c.wear:g})")
+                         f"overflows; κ = {describe(c.wear)})")
 
 
 def _reach(scene) -> float:

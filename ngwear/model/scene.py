@@ -19,10 +19,11 @@ from typing import Any
 
 from pydantic import ConfigDict, ValidationError, model_validator
 
-from . import cad, messages, rules
+from . import cad, functions, messages, rules
 from .keys import Level, SceneError, Section, key, level_of
 from .kinds import KINDS
 from .sections import (
+    PARAMETRISATIONS,
     Contact,
     Foundation,
     Geometry,
@@ -176,6 +177,10 @@ def json_schema() -> dict[str, Any]:
 def _prepared(data: dict[str, Any]) -> dict[str, Any]:
     """The raw tables with a Python part stored, the part file read and the defaults that depend on other keys."""
     data = {name: dict(v) if isinstance(v, dict) else v for name, v in data.items()}
+    if isinstance(data.get("material", {}).get("regions"), dict):
+        data["material"]["regions"] = {k: dict(v) if isinstance(v, dict) else v
+                                       for k, v in data["material"]["regions"].items()}
+    functions.tokenised(data)
     g = data.get("geometry", {})
     if isinstance(g, dict) and "shape" in g:
         _store_shape(g)
@@ -194,8 +199,9 @@ def _prepared(data: dict[str, Any]) -> dict[str, Any]:
     _default(data, "contact", "direction", [0.0] * (dim - 1) + [-1.0])
     _default(data, "foundation", "velocity", [1.0] + [0.0] * (dim - 1))
     material = data.get("material", {})
-    if isinstance(material, dict) and not {"young", "poisson"} & set(material):
-        _default(data, "material", "lame_lambda", 1.0)
+    others = {k for group in PARAMETRISATIONS for k in group} - {"lame_lambda", "lame_mu", "compaction_modulus"}
+    if isinstance(material, dict) and not others & set(material) and not material.get("regions"):
+        _default(data, "material", "lame_lambda", 1.0)         # the paper's dimensionless λ = η = 1
         _default(data, "material", "lame_mu", 1.0)
     time = data.get("time", {}) if isinstance(data.get("time", {}), dict) else {}
     final = time.get("T", 1.0)

@@ -8,15 +8,17 @@
 from __future__ import annotations
 
 import math
-from typing import Literal, get_args
+from typing import Literal, get_args, get_origin
 
 from pydantic import Field, field_validator
 
 from . import cad, shapes  # noqa: F401 - they register the part kinds
+from .coefficients import normalised
 from .keys import Flag, Level, Number, SceneError, Section, Table, Vector, Whole, key
 from .kinds import KINDS, ordered
 
 KindName = Literal[tuple(kind.name for kind in ordered())]
+Coefficient = float | str | tuple[float, ...]
 
 
 class Geometry(Section):
@@ -39,6 +41,9 @@ class Geometry(Section):
                                     shown="a", allowed="[a, a²/(2·10⁻³ size)]: a cap at least 10⁻³ of the pin deep")
     file: str | None = key(None, "`step`, `mesh`: the part file (relative to the scene file); its named "
                            "boundaries, one of them `contact`", reuse=Level.MESH, shown="—", allowed="an existing file")
+    backing: Number | None = key(None, "`strip`, `box`, `pad`, `pin`: thickness t_b of a second region `backing` "
+                                 "glued onto the face opposite Γ_C (a backing plate); the face between them is "
+                                 "`interface`", reuse=Level.MESH, shown="none", allowed="> 0", gt=0)
 
     @property
     def part(self) -> cad.Part | None:
@@ -55,8 +60,18 @@ class Geometry(Section):
 
     @property
     def extent(self) -> float:
-        """The part's largest dimension (the bound of ``mesh.maxh``)."""
-        return self.part.extent if self.file is not None else KINDS[self.kind].extent(self.size)
+        """The part's largest dimension, its backing included (the bound of ``mesh.maxh``)."""
+        if self.file is not None:
+            return self.part.extent
+        kind, size = KINDS[self.kind], list(self.size)
+        if self.backing is not None:
+            size[kind.thickness] += self.backing
+        return kind.extent(size)
+
+    @property
+    def regions(self) -> tuple[str, ...]:
+        """The names of the part's regions: ``body`` (which carries Γ_C) and ``backing``, or the file's."""
+        return ("body", "backing") if self.backing is not None else ("body",)
 
 
 class MeshSpec(Section):
@@ -75,36 +90,109 @@ class MeshSpec(Section):
                                  ge=0.1, le=1.0)
 
 
-class Material(Section):
-    """Hooke's law σ = 2η ε + λ tr(ε) I, from Lamé (λ, η) or from Young's modulus E and Poisson ν."""
+class MaterialLaw(Section):
+    """One material: its ``law`` and constants (σ = F(ε), paper H(F)); see :mod:`ngwear.model.materials`."""
 
+    law: Literal["linear", "transversely_isotropic", "compaction", "energy"] | None = key(
+        None, "`linear` Hooke σ = 2η ε + λ tr ε I; `transversely_isotropic` (the `*_plane`, `*_axis` keys); "
+        "`compaction` Hooke stiffened in compression, σ += β min(tr ε, 0) I; `energy` σ = ∂ψ/∂ε of a Python "
+        "function ψ(ε) (`material.energy`)", reuse=Level.STIFFNESS, shown="linear")
     lame_lambda: Number | None = key(None, "Lamé λ (Hooke: σ = 2η ε + λ tr ε I)", reuse=Level.STIFFNESS, shown="1",
                                      ge=0)
     lame_mu: Number | None = key(None, "Lamé η", reuse=Level.STIFFNESS, shown="1", gt=0)
     young: Number | None = key(None, "Young's modulus E (instead of Lamé, with `material.poisson`)",
                                reuse=Level.STIFFNESS, gt=0)
     poisson: Number | None = key(None, "Poisson's ratio ν", reuse=Level.STIFFNESS, gt=-1, le=0.499)
+    young_plane: Number | None = key(None, "`transversely_isotropic`: E_p, Young's modulus in the plane ⟂ axis",
+                                     reuse=Level.STIFFNESS, gt=0)
+    young_axis: Number | None = key(None, "`transversely_isotropic`: E_a, Young's modulus along the axis",
+                                    reuse=Level.STIFFNESS, gt=0)
+    poisson_plane: Number | None = key(None, "`transversely_isotropic`: ν_p, of a strain in the plane under stress "
+                                       "in the plane", reuse=Level.STIFFNESS, allowed="|ν_p| < 1")
+    poisson_axis: Number | None = key(None, "`transversely_isotropic`: ν_ap, of a strain in the plane under stress "
+                                      "along the axis", reuse=Level.STIFFNESS,
+                                      allowed="ν_ap² < (1 − ν_p) E_a / (2 E_p)")
+    shear_axis: Number | None = key(None, "`transversely_isotropic`: G_a, the shear modulus of planes containing "
+                                    "the axis", reuse=Level.STIFFNESS, gt=0)
+    axis: Vector | None = key(None, "`transversely_isotropic`: the symmetry axis", reuse=Level.STIFFNESS,
+                              shown="`contact.direction`", allowed="non-zero vector of d numbers")
+    compaction_modulus: Number | None = key(None, "`compaction`: β, the extra bulk stiffness in compression "
+                                            "(σ = 2η ε + λ tr ε I + β min(tr ε, 0) I)", reuse=Level.STIFFNESS, ge=0)
+    energy: str | None = key(None, "`energy` (Python only): a function ψ(ε) of the strain tensor returning an "
+                             "NGSolve expression", reuse=Level.STIFFNESS, shown="—", allowed="a Python function")
+
+    @property
+    def kind(self) -> str:
+        """The law (``linear`` when none is given)."""
+        return self.law or "linear"
 
     @property
     def lame(self) -> tuple[float, float]:
-        """(λ, η); converts (E, ν) when those are given."""
+        """(λ, η) of the isotropic constants; converts (E, ν) when those are given."""
         if self.young is not None:
             e, nu = self.young, self.poisson
             return e * nu / ((1 + nu) * (1 - 2 * nu)), e / (2 * (1 + nu))
         return self.lame_lambda, self.lame_mu
+
+    @property
+    def given(self) -> bool:
+        """Whether the table gives any constant (or ψ)."""
+        return any(getattr(self, name) is not None for group in PARAMETRISATIONS for name in group)
+
+
+PARAMETRISATIONS = (("lame_lambda", "lame_mu"), ("young", "poisson"),
+                    ("young_plane", "young_axis", "poisson_plane", "poisson_axis", "shear_axis", "axis"),
+                    ("compaction_modulus",), ("energy",))
+"""The ways to give a material's constants.  A region's table that gives constants of other ways than
+``[material]`` (or another ``law``) replaces ``[material]``'s constants and law."""
+_CONSTANT_KEYS = {k for group in PARAMETRISATIONS for k in group}
+
+
+class Material(MaterialLaw):
+    """``[material]``, the material of every region; ``[material.regions.NAME]`` (the same keys) overrides it."""
+
+    regions: dict[str, MaterialLaw] = key({}, "`material.regions.<region>`: the material of one region (a table of "
+                                          "the keys above), merged over `[material]`; another law, or constants "
+                                          "given another way, replace `[material]`'s", reuse=Level.STIFFNESS,
+                                          shown="none",
+                                          allowed="the part's regions (`body`, `backing`, a file's)")
+
+    def by_region(self, names) -> dict[str, MaterialLaw]:
+        """The material of each of the regions ``names``: its own table merged over this default."""
+        default = self.model_dump(exclude_none=True, exclude={"regions"})
+        mine = {k for group in PARAMETRISATIONS if set(group) & set(default) for k in group}
+        out = {}
+        for name in names:
+            own = self.regions[name].model_dump(exclude_none=True) if name in self.regions else {}
+            alien = {k for k in own if k in _CONSTANT_KEYS and k not in mine}
+            replaced = own.get("law", default.get("law")) != default.get("law") or alien
+            out[name] = MaterialLaw.model_validate(own if replaced else {**default, **own})
+        return out
 
 
 class Contact(Section):
     """Normal compliance p, soft-layer thickness g, friction μ, wear κ, contact direction ν (a unit vector)."""
 
     law: Literal["linear", "power"] = key("linear", "compliance p: `linear` L r₊, `power` L r₊^e", reuse=Level.NOTHING)
-    stiffness: Number = key(10.0, "L", reuse=Level.NOTHING, gt=0)
+    stiffness: Coefficient = key(10.0, "L, a number or a field over Γ_C (as `contact.friction`)", reuse=Level.NOTHING,
+                                 allowed="> 0 at every contact point")
     exponent: Number = key(1.0, "e (power law only)", reuse=Level.NOTHING, ge=1, le=10)
     gap: Number = key(0.2, "g, thickness of the soft layer", reuse=Level.NOTHING, gt=0)
-    friction: Number = key(0.0, "μ", reuse=Level.NOTHING, ge=0)
-    wear: Number = key(0.0, "κ", reuse=Level.NOTHING, ge=0)
+    friction: Coefficient = key(0.0, "μ: a number, or a field over Γ_C: an expression in x, y, z with + − * / **, "
+                                "sqrt, exp, log, sin, cos, atan2, hypot, abs, min, max, pi and where(condition, a, b) "
+                                "(e.g. `where(hypot(x, y) < 0.12, 0.3, 0.45)`); in Python also an array over the "
+                                "contact points or a function of them", reuse=Level.NOTHING,
+                                allowed=">= 0 at every contact point")
+    wear: Coefficient = key(0.0, "κ, a number or a field over Γ_C (as `contact.friction`)", reuse=Level.NOTHING,
+                            allowed=">= 0 at every contact point")
     direction: Vector | None = key(None, "ν, the contact direction (outward normal of a flat Γ_C)",
                                    reuse=Level.DIRECTION, shown="(0, −1) / (0, 0, −1)", allowed="non-zero vector")
+
+    @field_validator("friction", "wear", "stiffness", mode="before")
+    @classmethod
+    def _coefficient(cls, value, info):
+        """A number, an expression (its syntax checked), a function's token or an array; ranges where known."""
+        return normalised(value, info.field_name)
 
     @field_validator("direction")
     @classmethod
@@ -211,7 +299,9 @@ SECTIONS = {"geometry": Geometry, "mesh": MeshSpec, "material": Material, "conta
 
 
 def nested_table(info) -> type[Section] | None:
-    """The section a field holds (``loads.plate``: :class:`Plate`), or None for a key."""
+    """The section a field holds (``loads.plate``: :class:`Plate`), or None for a key (a table of tables too)."""
+    if get_origin(info.annotation) is dict:
+        return None
     for candidate in (info.annotation, *get_args(info.annotation)):
         if isinstance(candidate, type) and issubclass(candidate, Section):
             return candidate

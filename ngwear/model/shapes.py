@@ -15,26 +15,21 @@ above x_d = 0, touching it:
 * ``pin``: a cylinder of radius a about the vertical line through ``geometry.position``, from z = 0 to
   z = length: contact (the flat end, or a spherical cap of radius R touching z = 0), back, side.
 
-Every feature of a part (a side, the pad's inner arc, the pin's cap) must be at least
-:data:`~ngwear.model.kinds.FEATURE` of its largest dimension: thinner ones cannot be built or meshed.
-``mesh.contact_maxh`` sets the element size on Γ_C.
+``geometry.backing = t_b`` (strip, box, pad, pin) glues a second region ``backing`` of thickness t_b onto
+the face opposite Γ_C, meshed conformingly with the body: the face between them is ``interface``, the
+backing's outer face takes the name of the face it covers (``top`` of a strip or box, ``back`` of a pad or
+pin) and its sides the names of the body's sides.  Every feature of a part (a side, the pad's inner arc,
+the pin's cap, the backing) must be at least :data:`~ngwear.model.kinds.FEATURE` of its largest dimension:
+thinner ones cannot be built or meshed.  ``mesh.contact_maxh`` sets the element size on Γ_C.
 """
 from __future__ import annotations
 
 import math
 
-from netgen.occ import ArcOfCircle, Axis, Box, Face, Pnt, Rectangle, Segment, Wire, X, Y, Z
+from netgen.occ import ArcOfCircle, Axis, Box, Face, Glue, MoveTo, Pnt, Segment, Wire, X, Y, Z
 
 from .keys import SceneError
-from .kinds import FEATURE, Kind, register
-
-
-def _features(name: str, size, features: dict[str, float], extent: float) -> None:
-    """Refuse a part whose thinnest feature is below FEATURE × its largest dimension."""
-    what, thinnest = min(features.items(), key=lambda item: item[1])
-    if thinnest < FEATURE * extent:
-        raise SceneError(f"{name}: the part's {what} ({thinnest:.3g}) must be at least {FEATURE:g} × its largest "
-                         f"dimension {extent:.3g} (got {list(size)})")
+from .kinds import FEATURE, Kind, check_features, register
 
 
 def _refine_contact(face, mesh) -> None:
@@ -46,37 +41,59 @@ def _refine_contact(face, mesh) -> None:
 
 
 def _check_sides(g) -> None:
-    _features("geometry.size", g.size, {"shortest side": min(g.size)}, max(g.size))
+    check_features("geometry.size", g.size, {"shortest side": min(g.size)}, max(g.size))
+
+
+def _stacked(make, geometry, mesh, height: float):
+    """The body from 0 to ``height`` above Γ_C; with ``geometry.backing`` t_b, the backing glued on from there.
+
+    ``make(low, high, bottom, top, region)`` builds one region between the heights, its faces (2D: edges)
+    there named ``bottom`` and ``top``; the top face of the whole part is ``None`` (the kind's own name).
+    """
+    backing = geometry.backing
+    body = make(0.0, height, "contact", "interface" if backing else None, "body")
+    if not backing:
+        return body
+    return Glue([body, make(height, height + backing, "interface", None, "backing")])
 
 
 def _strip(geometry, mesh):
     lx, ly = geometry.size
-    body = Rectangle(lx, ly).Face()
-    body.faces.name = "body"
-    body.edges.Min(X).name = "left"
-    body.edges.Max(X).name = "right"
-    body.edges.Max(Y).name = "top"
-    body.edges.Min(Y).name = "contact"
-    _refine_contact(body.edges.Min(Y), mesh)
-    return body
+
+    def make(low, high, bottom, top, region):
+        part = MoveTo(0, low).Rectangle(lx, high - low).Face()
+        part.faces.name = region
+        part.edges.Min(X).name, part.edges.Max(X).name = "left", "right"
+        part.edges.Max(Y).name, part.edges.Min(Y).name = top or "top", bottom
+        if bottom == "contact":
+            _refine_contact(part.edges.Min(Y), mesh)
+        return part
+
+    return _stacked(make, geometry, mesh, ly)
 
 
 def _box(geometry, mesh):
     lx, ly, lz = geometry.size
-    body = Box(Pnt(0, 0, 0), Pnt(lx, ly, lz))
-    body.solids.name = "body"
-    for name, face in (("left", body.faces.Min(X)), ("right", body.faces.Max(X)),
-                       ("front", body.faces.Min(Y)), ("back", body.faces.Max(Y)),
-                       ("top", body.faces.Max(Z)), ("contact", body.faces.Min(Z))):
-        face.name = name
-    _refine_contact(body.faces.Min(Z), mesh)
-    return body
+
+    def make(low, high, bottom, top, region):
+        part = Box(Pnt(0, 0, low), Pnt(lx, ly, high))
+        part.solids.name = region
+        for name, face in (("left", part.faces.Min(X)), ("right", part.faces.Max(X)), ("front", part.faces.Min(Y)),
+                           ("back", part.faces.Max(Y)), (top or "top", part.faces.Max(Z)), (bottom, part.faces.Min(Z))):
+            face.name = name
+        if bottom == "contact":
+            _refine_contact(part.faces.Min(Z), mesh)
+        return part
+
+    return _stacked(make, geometry, mesh, lz)
 
 
 register(Kind("strip", "`strip` [0,Lx]×[0,Ly] (2D)", 2, (3.0, 1.0), "`strip` [Lx, Ly]",
-              ("left", "right", "top", "contact"), ("left",), check=_check_sides, build=_strip))
+              ("left", "right", "top", "contact"), ("left",), check=_check_sides, build=_strip,
+              options=("geometry.backing",), thickness=1))
 register(Kind("box", "`box` [0,Lx]×[0,Ly]×[0,Lz]", 3, (1.0, 0.5, 0.5), "`box` [Lx, Ly, Lz]",
-              ("left", "right", "front", "back", "top", "contact"), ("left",), check=_check_sides, build=_box))
+              ("left", "right", "front", "back", "top", "contact"), ("left",), check=_check_sides, build=_box,
+              options=("geometry.backing",), thickness=2))
 
 
 # ---------------------------------------------------------------- half disk
@@ -125,7 +142,7 @@ def _check_pad(g) -> None:
     if not (inner < outer and angle < 360):
         raise SceneError("geometry.size: must be [r_inner, r_outer, angle_deg, thickness] with r_inner < r_outer "
                          f"and angle_deg < 360 (got {list(g.size)})")
-    _features("geometry.size", g.size, {"radial width": outer - inner, "thickness": thickness,
+    check_features("geometry.size", g.size, {"radial width": outer - inner, "thickness": thickness,
                                         "inner arc": inner * math.radians(angle)}, _pad_extent(g.size))
 
 
@@ -134,28 +151,34 @@ def _pad(geometry, mesh):
     inner, outer, angle, thickness = geometry.size
     half = math.radians(angle) / 2
 
-    def at(r, phi):
-        return Pnt(r * math.cos(phi), r * math.sin(phi), 0)
+    def make(low, high, bottom, top, region):
+        def at(r, phi):
+            return Pnt(r * math.cos(phi), r * math.sin(phi), low)
 
-    sector = Wire([Segment(at(inner, -half), at(outer, -half)), ArcOfCircle(at(outer, -half), at(outer, 0), at(outer, half)),
-                   Segment(at(outer, half), at(inner, half)), ArcOfCircle(at(inner, half), at(inner, 0), at(inner, -half))])
-    body = Face(sector).Extrude(thickness)
-    body.solids.name = "body"
-    body.faces.Min(Z).name, body.faces.Max(Z).name = "contact", "back"
-    sides = [f for f in body.faces if f.name not in ("contact", "back")]
-    ends = sorted((f for f in sides if abs(f.center.y) > 1e-9 * outer), key=lambda f: f.center.y)
-    arcs = sorted((f for f in sides if abs(f.center.y) <= 1e-9 * outer), key=lambda f: f.mass)
-    for face, name in zip([*ends, *arcs], ("leading", "trailing", "inner", "outer")):
-        face.name = name
-    _refine_contact(body.faces.Min(Z), mesh)
-    return body
+        sector = Wire([Segment(at(inner, -half), at(outer, -half)),
+                       ArcOfCircle(at(outer, -half), at(outer, 0), at(outer, half)),
+                       Segment(at(outer, half), at(inner, half)),
+                       ArcOfCircle(at(inner, half), at(inner, 0), at(inner, -half))])
+        part = Face(sector).Extrude(high - low)
+        part.solids.name = region
+        part.faces.Min(Z).name, part.faces.Max(Z).name = bottom, top or "back"
+        sides = [f for f in part.faces if f.name not in (bottom, top or "back")]
+        ends = sorted((f for f in sides if abs(f.center.y) > 1e-9 * outer), key=lambda f: f.center.y)
+        arcs = sorted((f for f in sides if abs(f.center.y) <= 1e-9 * outer), key=lambda f: f.mass)
+        for face, name in zip([*ends, *arcs], ("leading", "trailing", "inner", "outer")):
+            face.name = name
+        if bottom == "contact":
+            _refine_contact(part.faces.Min(Z), mesh)
+        return part
+
+    return _stacked(make, geometry, mesh, thickness)
 
 
 register(Kind("pad", "`pad` an annular-sector brake pad r_i ≤ r ≤ r_o, |φ| ≤ angle/2, 0 ≤ z ≤ thickness (faces "
               "contact z = 0, back, inner, outer, leading φ = −angle/2, trailing)", 3, (0.6, 1.0, 60.0, 0.15),
               "`pad` [r_inner, r_outer, angle_deg, thickness]",
               ("contact", "back", "inner", "outer", "leading", "trailing"), check=_check_pad, extent=_pad_extent,
-              build=_pad))
+              build=_pad, options=("geometry.backing",), thickness=3))
 
 
 # ---------------------------------------------------------------- pin
@@ -177,7 +200,7 @@ def _check_pin(g) -> None:
     radius, length = g.size
     if g.position is None or len(g.position) != 2:
         raise SceneError(f"geometry.position: must be a list of 2 numbers (got {list(g.position or ())})")
-    _features("geometry.size", g.size, {"shortest side": min(g.size)}, max(g.size))
+    check_features("geometry.size", g.size, {"shortest side": min(g.size)}, max(g.size))
     if g.end != "sphere":
         if g.end_radius is not None:
             raise SceneError("geometry.end_radius: only for geometry.end = 'sphere'")
@@ -196,31 +219,36 @@ def _pin(geometry, mesh):
 
     Its profile in a half-plane through the axis, revolved about the axis (robust, unlike booleans of
     a sphere and a cylinder): the axis, the back, the side down to the cap's rim, the end to the tip.
+    A backing is the cylinder continued above the pin.
     """
     radius, length = geometry.size
     x, y = geometry.position
 
-    def at(r, z):
-        return Pnt(x + r, y, z)
+    def make(low, high, bottom, top, region):
+        def at(r, z):
+            return Pnt(x + r, y, z)
 
-    if geometry.end == "sphere":
-        cap_radius = geometry.end_radius
-        cap = _cap(radius, cap_radius)
-        half = 0.5 * math.asin(radius / cap_radius)
-        end = ArcOfCircle(at(radius, cap), at(cap_radius * math.sin(half), cap_radius * (1 - math.cos(half))),
-                          at(0, 0))
-    else:
-        cap, end = 0.0, Segment(at(radius, 0), at(0, 0))
-    profile = Wire([Segment(at(0, 0), at(0, length)), Segment(at(0, length), at(radius, length)),
-                    Segment(at(radius, length), at(radius, cap)), end])
-    body = Face(profile).Revolve(Axis(Pnt(x, y, 0), Z), 360)
-    body.solids.name = "body"
-    body.faces.name = "side"
-    body.faces.Min(Z).name, body.faces.Max(Z).name = "contact", "back"
-    _refine_contact(body.faces.Min(Z), mesh)
-    return body
+        cap, end = low, Segment(at(radius, low), at(0, low))
+        if bottom == "contact" and geometry.end == "sphere":
+            cap_radius = geometry.end_radius
+            cap = _cap(radius, cap_radius)
+            half = 0.5 * math.asin(radius / cap_radius)
+            end = ArcOfCircle(at(radius, cap), at(cap_radius * math.sin(half), cap_radius * (1 - math.cos(half))),
+                              at(0, 0))
+        profile = Wire([Segment(at(0, low), at(0, high)), Segment(at(0, high), at(radius, high)),
+                        Segment(at(radius, high), at(radius, cap)), end])
+        part = Face(profile).Revolve(Axis(Pnt(x, y, 0), Z), 360)
+        part.solids.name = region
+        part.faces.name = "side"
+        part.faces.Min(Z).name, part.faces.Max(Z).name = bottom, top or "back"
+        if bottom == "contact":
+            _refine_contact(part.faces.Min(Z), mesh)
+        return part
+
+    return _stacked(make, geometry, mesh, length)
 
 
 register(Kind("pin", "`pin` a cylinder of radius a from z = 0 up to z = length (faces contact, back, side)", 3,
               (0.1, 0.3), "`pin` [a, length]", ("contact", "back", "side"), check=_check_pin,
-              defaults=_pin_defaults, build=_pin, options=("geometry.position", "geometry.end", "geometry.end_radius")))
+              defaults=_pin_defaults, build=_pin, thickness=1,
+              options=("geometry.position", "geometry.end", "geometry.end_radius", "geometry.backing")))

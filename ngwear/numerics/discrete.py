@@ -16,16 +16,22 @@ from functools import cached_property
 import ngsolve as ngs
 import numpy as np
 
+from ..model.coefficients import Coefficients
 from ..model.geometry import build_mesh
-from ..model.keys import Level
+from ..model.keys import Level, SceneError
 from ..model.kinematics import Slip
-from ..model.laws import compliance_from, largest_slope, piecewise_linear
+from ..model.laws import compliance_from, piecewise_linear
+from ..model.materials import region_laws, young_along
+from ..model.rules import BIG
 from ..model.scene import Scene
+from .bulk import Anderson, Remainder, change
 from .condense import DENSE_LIMIT, SOFT_LIMIT
 from .forms import contact_form
 from .pieces import Body, Condensation, Elastic, Loads
 
 CONTACT_SOLVES = ("auto", "dense", "krylov")
+BULK_RECOVERY = 500
+"""Most iterations of a nonlinear material's displacement recovered from its contact forces (K₀ contracts)."""
 
 
 @dataclass(frozen=True)
@@ -85,8 +91,23 @@ class Discretization:
         self.elastic = elastic or Elastic(scene, body, schur=self._dense(scene, body))
         self.condensation = condensation or Condensation(scene, body, self.elastic)
         self.loads = loads or Loads(scene, body, self.elastic, self.condensation)
-        self.law = compliance_from(scene.contact)
+        self.coefficients = Coefficients.of(scene.contact, body.points.coords)
+        self.law = compliance_from(scene.contact, self.coefficients.stiffness)
         self.slip = Slip(scene.foundation, body.points.coords, self.condensation.nu)
+        self._check_motion()
+
+    def _check_motion(self) -> None:
+        """Friction and wear need the foundation to slide; the fastest wear rate stays finite (the fields' values)."""
+        sliding = self.slip.speed.any()
+        for name, values in (("friction", self.coefficients.friction), ("wear", self.coefficients.wear)):
+            if values.any() and not sliding:
+                raise SceneError(f"foundation.velocity: must slide along Γ_C (a part tangential to contact.direction, "
+                                 f"or foundation.angular_velocity about an axis along it) when contact.{name} > 0 "
+                                 "somewhere")
+        rate = self.largest_rate() * self.scene.time.T
+        if not rate <= BIG:
+            raise SceneError(f"contact.wear: κ‖v*‖·L·T = {rate:.3g} must be <= {BIG:g} at every contact point (the "
+                             "wear of a run this fast overflows)")
 
     def reuse(self, scene: Scene) -> Reuse:
         """What a discretization of ``scene`` keeps of this one (see :class:`Reuse`; ``str()`` for a status line).
@@ -109,6 +130,13 @@ class Discretization:
         kept = [piece if rebuilt > level else None for piece, level in
                 ((self.elastic, Level.STIFFNESS), (self.condensation, Level.DIRECTION), (self.loads, Level.LOADS))]
         new._assemble(self.body if rebuilt > Level.SPACE else Body(scene, self.body.mesh), *kept)
+        return new
+
+    def tangent(self, state: np.ndarray) -> Discretization:
+        """The discretization with K the laws' tangent at the displacement ``state`` (a new factorisation)."""
+        new = Discretization.__new__(Discretization)
+        new.scene, new.contact_solve = self.scene, self.contact_solve
+        new._assemble(self.body, Elastic(self.scene, self.body, self.elastic.schur, state))
         return new
 
     def stages(self) -> list[tuple[str, callable]]:
@@ -183,47 +211,80 @@ class Discretization:
 
     def largest_alpha(self) -> float:
         """Largest α = κ ‖v*‖ over the contact points and the speed table's nodes (s_v is piecewise linear)."""
-        factors = [abs(f) for _, f in self.scene.foundation.speed_table] or [1.0]
-        return self.scene.contact.wear * float(self.slip.speed.max(initial=0.0)) * max(factors)
+        return float((self.coefficients.wear * self.slip.speed).max(initial=0.0)) * self._largest_factor()
+
+    def largest_rate(self) -> float:
+        """Largest α_i L_p,i over the contact points and time: the wear update's stiffness (its stability limit)."""
+        slopes = self.law.slope(self.scene.contact.gap)
+        with np.errstate(over="ignore"):
+            return float((self.coefficients.wear * self.slip.speed * slopes).max(initial=0.0)) * self._largest_factor()
+
+    def _largest_factor(self) -> float:
+        return max((abs(f) for _, f in self.scene.foundation.speed_table), default=1.0)
 
     def alpha(self, t: float) -> np.ndarray:
-        """α_i(t) = κ ‖v*(x_i, t)‖ (0 where the foundation does not slide)."""
-        return self.scene.contact.wear * self.slip.speeds(t)
+        """α_i(t) = κ_i ‖v*(x_i, t)‖ (0 where the foundation does not slide)."""
+        return self.coefficients.wear * self.slip.speeds(t)
+
+    def friction_directions(self, t: float) -> np.ndarray:
+        """μ_i n*_i(t), shape (n, d): the friction force per unit pressure at the contact points."""
+        return self.coefficients.friction[:, None] * self.slip.n_star(t)
 
     def n_star(self, t: float) -> np.ndarray:
         """n*_i(t) = −v*_τ/‖v*_τ‖ at the contact points, shape (n, d) (0 where the foundation does not slide)."""
         return self.slip.n_star(t)
 
     def contact_forces(self, pressure, reaction, t: float) -> np.ndarray:
-        """Point forces on the foundation side, f_i = m_i (p_i (ν + μ n*_i) + λ_i ν), shape (n, d)."""
-        m, mu, nu = self.points.weights, self.scene.contact.friction, self.condensation.nu
-        b = nu[None, :] + mu * self.n_star(t)
+        """Point forces on the foundation side, f_i = m_i (p_i (ν + μ_i n*_i) + λ_i ν), shape (n, d)."""
+        m, nu = self.points.weights, self.condensation.nu
+        b = nu[None, :] + self.friction_directions(t)
         return m[:, None] * (pressure[:, None] * b + reaction[:, None] * nu[None, :])
 
-    def recover(self, forces: np.ndarray, t: float, plate: np.ndarray) -> np.ndarray:
-        """Displacement DOF vector u = s_F(t) K⁻¹ f + D δ − K⁻¹ Pᵀ f_c (one back-substitution)."""
+    def recover(self, forces: np.ndarray, t: float, plate: np.ndarray, nonlinear: bool = True) -> np.ndarray:
+        """Displacement DOF vector under the point forces f_c: u = s_F(t) K⁻¹ f + D δ − K⁻¹ Pᵀ f_c.
+
+        One back-substitution for a linear body (or ``nonlinear=False``: the part a step solver adds to); with a
+        nonlinear material the fixed point u = that − K⁻¹ n(u) (:mod:`ngwear.numerics.bulk`), solved to the
+        Newton tolerance.
+        """
         u = self.load_factor(t) * self.loads.u_load - self.elastic.operator.solve(self.points.P.T @ forces.ravel())
         coupling = self.condensation.plate
-        return u if coupling is None else u + coupling.response @ plate
+        u = u if coupling is None else u + coupling.response @ plate
+        if not nonlinear or self.elastic.linear:
+            return u
+        remainder = Remainder(self.fes, self.elastic.laws, self.elastic.stiffness)
+        mixing, v, tolerance = Anderson(), u, self.scene.solver.tolerance
+        for _ in range(BULK_RECOVERY):
+            image = u - self.elastic.operator.solve(remainder(v))
+            if change(v, image) <= tolerance:
+                return image
+            v = mixing(v, image)
+        raise ArithmeticError(f"the displacement of the nonlinear material did not converge in {BULK_RECOVERY} "
+                              "iterations")
 
     @cached_property
     def full_form(self):
         """Elastic + contact terms as one NGSolve form (for the full-system reference path)."""
-        cf = contact_form(self.fes, self.scene, self.law, with_elastic=True)
-        cf.d0.vec.FV().NumPy()[:] = self.points.Q @ self.condensation.d0
+        cf = contact_form(self.fes, self.scene, self.law, self.elastic.laws)
+        self.set_nodal(cf.d0, self.condensation.d0)
+        self.set_nodal(cf.stiffness, self.coefficients.stiffness)
         return cf
 
 
 def layer_ratio(scene: Scene, body: Body) -> float:
-    """ρ = p'(g) t / E: the layer's stiffness against the body's (t its extent along ν, E Young's modulus).
+    """ρ = p'(g) t / E: the layer's stiffness against the body's (t: the body's extent along ν, E: along ν).
+
+    E is the smallest Young's modulus of the regions that carry Γ_C.
 
     The Newton matrix of the contact problem is I + A diag(m p') on the points in contact, and the
     largest eigenvalue of A diag(m p') is of the order of ρ: for ρ < 1 a Krylov solve converges in a few
     products (from scratch: the brake pad, ρ = 0.12, about 11 per step; box3d, ρ = 2, about 35; with the
     products remembered across the run, ``numerics/recycle.py``: 0.5 and 22 per step).
     """
-    lam, eta = scene.material.lame
-    young = eta * (3 * lam + 2 * eta) / (lam + eta)
-    heights = body.mesh.ngmesh.Coordinates() @ np.array(scene.contact.direction)
-    return largest_slope(scene.contact) * np.ptp(heights) / young
+    nu = np.array(scene.contact.direction)
+    young = min(young_along(law, nu) for region, law in region_laws(scene).items() if region in body.contact_regions)
+    heights = body.mesh.ngmesh.Coordinates() @ nu
+    slope = compliance_from(scene.contact, Coefficients.of(scene.contact, body.points.coords).stiffness).slope(
+        scene.contact.gap)
+    return float(np.max(slope)) * np.ptp(heights) / young
 

@@ -21,7 +21,8 @@ import numpy as np
 import scipy.sparse as sp
 from ngsolve.fem import NODE_TYPE
 
-from ..model.laws import Compliance, hooke_stress
+from ..model import mandel
+from ..model.laws import Compliance
 from ..model.scene import Scene
 
 NODAL_WEIGHTS = {
@@ -52,23 +53,32 @@ def contact_ds(dim: int, order: int):
 
 
 def displacement_space(mesh: ngs.Mesh, scene: Scene) -> ngs.FESpace:
-    """Vector H1 of the scene's order on the body, clamped on the Dirichlet boundaries and the plate's."""
+    """Vector H1 of the scene's order on the body (every region), clamped on the Dirichlet boundaries and the plate's."""
     plate = scene.loads.plate
     clamped = (*scene.geometry.dirichlet, *((plate.boundary,) if plate else ()))
-    return ngs.VectorH1(mesh, order=scene.mesh.order, definedon="body", dirichlet="|".join(clamped))
+    return ngs.VectorH1(mesh, order=scene.mesh.order, dirichlet="|".join(clamped))
 
 
-def elastic_integrand(fes: ngs.FESpace, scene: Scene):
-    """σ(ε(u)) : ε(v) dx."""
-    lam, eta = scene.material.lame
+def elastic_integrand(fes: ngs.FESpace, laws: dict):
+    """Σ_r ∫_r σ_r(ε(u)) : ε(v) dx over the regions r with their laws ``{region: law}`` (nonlinear in u for some)."""
     u, v = fes.TnT()
-    strain = ngs.Sym(ngs.Grad(u))
-    return ngs.InnerProduct(hooke_stress(strain, lam, eta, scene.dim), ngs.Sym(ngs.Grad(v))) * ngs.dx("body")
+    terms = [law.elastic_integrand(u, v) * ngs.dx(region) for region, law in laws.items()]
+    return sum(terms[1:], terms[0])
 
 
-def elastic_form(fes: ngs.FESpace, scene: Scene) -> ngs.BilinearForm:
-    """a(u, v) = ∫ σ(ε(u)) : ε(v) dx (symmetric, constant in time)."""
-    return ngs.BilinearForm(elastic_integrand(fes, scene), symmetric=True)
+def elastic_form(fes: ngs.FESpace, laws: dict) -> ngs.BilinearForm:
+    """a(u, v) = Σ_r ∫_r D_r(0) ε(u) : ε(v) dx: the stiffness K₀, the laws' tangents at ε = 0 (symmetric, constant)."""
+    return ngs.BilinearForm(elastic_integrand(fes, {r: law.tangent_at_zero() for r, law in laws.items()}),
+                            symmetric=True)
+
+
+def tangent_form(fes: ngs.FESpace, laws: dict, state: ngs.GridFunction) -> ngs.BilinearForm:
+    """k(u, v) = Σ_r ∫_r D_r(ε(state)) ε(u) : ε(v) dx with the laws' tangents D_r at the displacement ``state``."""
+    u, v = fes.TnT()
+    eps = ngs.Sym(ngs.Grad(state))
+    terms = [ngs.InnerProduct(law.tangent(eps) * mandel.vector_cf(ngs.Sym(ngs.Grad(u))),
+                              mandel.vector_cf(ngs.Sym(ngs.Grad(v)))) * ngs.dx(region) for region, law in laws.items()]
+    return ngs.BilinearForm(sum(terms[1:], terms[0]), symmetric=True)
 
 
 def load_form(fes: ngs.FESpace, scene: Scene) -> ngs.LinearForm:
@@ -76,7 +86,7 @@ def load_form(fes: ngs.FESpace, scene: Scene) -> ngs.LinearForm:
     v = fes.TestFunction()
     f = ngs.LinearForm(fes)
     if scene.loads.body_force is not None:
-        f += ngs.InnerProduct(ngs.CF(scene.loads.body_force), v) * ngs.dx("body")
+        f += ngs.InnerProduct(ngs.CF(scene.loads.body_force), v) * ngs.dx
     for name, vec in scene.loads.traction.items():
         f += ngs.InnerProduct(ngs.CF(vec), v) * ngs.ds(name)
     return f
@@ -84,31 +94,33 @@ def load_form(fes: ngs.FESpace, scene: Scene) -> ngs.LinearForm:
 
 @dataclass
 class ContactForm:
-    """φ(w, u, ·) as an NGSolve form; ``w``, ``d0`` and the components of ``n_star`` are nodal GridFunctions."""
+    """φ(w, u, ·) as an NGSolve form; ``w``, ``d0``, ``stiffness`` L and ``friction`` μ n* are nodal GridFunctions."""
 
     form: ngs.BilinearForm
     w: ngs.GridFunction
     d0: ngs.GridFunction
-    friction: ngs.Parameter
-    n_star: list
+    stiffness: ngs.GridFunction
+    friction: list
 
 
-def contact_form(fes: ngs.FESpace, scene: Scene, law: Compliance, with_elastic: bool) -> ContactForm:
-    """The nonlinear boundary integrator (residual by ``Apply``, Jacobian by ``AssembleLinearization``)."""
+def contact_form(fes: ngs.FESpace, scene: Scene, law: Compliance, laws: dict | None) -> ContactForm:
+    """The nonlinear boundary integrator (residual by ``Apply``, Jacobian by ``AssembleLinearization``).
+
+    With ``laws`` ({region: law}) the elastic terms too: the whole residual of the full-system path.
+    """
     dim, order = scene.dim, scene.mesh.order
-    scal = ngs.H1(fes.mesh, order=order, definedon="body")
-    w, d0 = ngs.GridFunction(scal), ngs.GridFunction(scal)
-    friction = ngs.Parameter(scene.contact.friction)
-    n_star = [ngs.GridFunction(scal) for _ in range(dim)]
+    scal = ngs.H1(fes.mesh, order=order)
+    w, d0, stiffness = ngs.GridFunction(scal), ngs.GridFunction(scal), ngs.GridFunction(scal)
+    friction = [ngs.GridFunction(scal) for _ in range(dim)]
     nu = ngs.CF(scene.contact.direction)
     u, v = fes.TnT()
     form = ngs.BilinearForm(fes)
-    if with_elastic:
-        form += elastic_integrand(fes, scene)
+    if laws is not None:
+        form += elastic_integrand(fes, laws)
     compression = ngs.InnerProduct(u, nu) - d0 - w
-    direction = nu + friction * ngs.CF(tuple(n_star))
-    form += law.cf(compression) * ngs.InnerProduct(direction, v) * contact_ds(dim, order)
-    return ContactForm(form, w, d0, friction, n_star)
+    direction = nu + ngs.CF(tuple(friction))
+    form += law.cf(compression, stiffness) * ngs.InnerProduct(direction, v) * contact_ds(dim, order)
+    return ContactForm(form, w, d0, stiffness, friction)
 
 
 def initial_distance(coords: np.ndarray, nu) -> np.ndarray:
@@ -249,7 +261,7 @@ def _bubble_scale(mesh: ngs.Mesh, dim: int, edge_ends: dict) -> dict:
 
     From f = |x|²: f(mid) − (f(a)+f(b))/2 = −|b−a|²/4 = β_e c_e, with c_e the interpolant's edge DOF.
     """
-    scal = ngs.H1(mesh, order=2, definedon="body")
+    scal = ngs.H1(mesh, order=2)
     gf = ngs.GridFunction(scal)
     gf.Set(sum(c * c for c in (ngs.x, ngs.y, ngs.z)[:dim]))
     coef = gf.vec.FV().NumPy()

@@ -19,9 +19,10 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
+from ..model.materials import region_laws
 from ..model.scene import Scene
 from .condense import ElasticOperator
-from .forms import contact_points, displacement_space, elastic_form, initial_distance, load_form
+from .forms import contact_points, displacement_space, elastic_form, initial_distance, load_form, tangent_form
 from .plate import PlateCoupling, plate_modes
 
 
@@ -35,25 +36,27 @@ class Body:
         self.points = contact_points(self.fes, scene.dim, scene.mesh.order)
 
     @cached_property
+    def contact_regions(self) -> tuple[str, ...]:
+        """The regions (materials) whose elements carry Γ_C."""
+        touching = self.mesh.Boundaries("contact").Neighbours(ngs.VOL).Mask()
+        return tuple(name for i, name in enumerate(self.mesh.GetMaterials()) if touching[i])
+
+    @cached_property
     def contact_dofs(self) -> np.ndarray:
         """The free DOFs the contact points see (sorted)."""
         dofs = np.unique(self.points.P.indices)
         return dofs[self.free[dofs]]
 
-    @cached_property
-    def _in_body(self) -> np.ndarray:
-        return np.array([el.mat == "body" for el in self.mesh.Elements(ngs.VOL)])
-
     def locate(self, points: np.ndarray, inward: np.ndarray, scale: float):
         """NGSolve mesh points of reference points in the body (Γ_C points are taken from the body side, −ν)."""
         points = np.asarray(points, dtype=float)
         mips = self.mesh(*points.T)
-        outside = (mips["nr"] < 0) | ~self._in_body[np.maximum(mips["nr"], 0)]
+        outside = mips["nr"] < 0
         for nudge in (1e-8, 1e-6, 1e-4):
             if not outside.any():
                 break
             again = self.mesh(*(points[outside] + nudge * scale * inward).T)
-            found = (again["nr"] >= 0) & self._in_body[np.maximum(again["nr"], 0)]
+            found = again["nr"] >= 0
             idx = np.flatnonzero(outside)[found]
             mips[idx] = again[found]
             outside[idx] = False
@@ -72,17 +75,28 @@ class Body:
 
 
 class Elastic:
-    """The stiffness K of the scene's material on the body, and its factorisation.
+    """The laws of the body's regions, a stiffness K and its factorisation.
 
-    ``schur``: factorise with the Schur complement on the contact DOFs (the dense contact solve).
+    K is the laws' tangent at ε = 0 (K₀: for linear laws the stiffness), or with ``state`` their tangent at that
+    displacement (a nonlinear law's step solver refactorises there when a step was slow).  ``schur``: factorise with the
+    Schur complement on the contact DOFs (the dense contact solve).
     """
 
-    def __init__(self, scene: Scene, body: Body, schur: bool):
-        self.scene, self.body, self.schur = scene, body, schur
+    def __init__(self, scene: Scene, body: Body, schur: bool, state: np.ndarray | None = None):
+        self.scene, self.body, self.schur, self.state = scene, body, schur, state
+        self.laws = region_laws(scene)
+
+    @property
+    def linear(self) -> bool:
+        """Whether every region's law is linear (then K₀ is the stiffness and a step is one contact solve)."""
+        return all(law.is_linear for law in self.laws.values())
 
     @cached_property
     def stiffness(self) -> sp.csr_matrix:
-        a = elastic_form(self.body.fes, self.scene)
+        if self.state is None:
+            a = elastic_form(self.body.fes, self.laws)
+        else:
+            a = tangent_form(self.body.fes, self.laws, self.body.gridfunction(self.state))
         a.Assemble()
         vals, cols, ptr = a.mat.CSR()
         n = self.body.fes.ndof
@@ -121,9 +135,9 @@ class Condensation:
         """H = ν·G·ν."""
         return self.normal_rows @ self.nu
 
-    def friction_compliance(self, n_star: np.ndarray) -> np.ndarray:
-        """F_ij = ν·G_ij·n*_j: normal displacement at x_i per unit tangential force along n*_j at x_j."""
-        return np.einsum("ijb,jb->ij", self.normal_rows, n_star)
+    def friction_compliance(self, friction: np.ndarray) -> np.ndarray:
+        """F_ij = ν·G_ij·(μ n*)_j: normal displacement at x_i per unit pressure's friction force μ_j n*_j at x_j."""
+        return np.einsum("ijb,jb->ij", self.normal_rows, friction)
 
     @cached_property
     def compliance_estimate(self) -> np.ndarray:

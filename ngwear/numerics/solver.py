@@ -48,8 +48,9 @@ class NewtonRecord:
     """History of one step's Newton solve.
 
     ``cutbacks``: the load continuations tried before the step converged (or before it was given up),
-    each cutting the step's load change into m = 2, 4, 8 parts (``runs.simulate._Stepper``); the
+    each cutting the step's load change into m = 2, 4, 8 parts (``runs.stepper.Stepper``); the
     other fields are those of the last solve.
+    A nonlinear material's step: ``bulk`` iterations of its fixed point, ``tangents`` factorised in the run so far.
     """
 
     converged: bool = False
@@ -57,6 +58,8 @@ class NewtonRecord:
     residuals: list[float] = field(default_factory=list)
     active: int = 0
     damped: int = 0
+    bulk: int = 0
+    tangents: int = 0
     cutbacks: int = 0
 
 

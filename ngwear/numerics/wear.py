@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.laws import Compliance, largest_slope
+from ..model.laws import Compliance
 from .solver import PointLaw
 
 INTEGRATORS = {
@@ -81,13 +81,13 @@ class WearIntegrator:
         self.c = self.theta_new * k * alpha_next
 
 
-def stable_step(scene, alpha: float) -> float:
+def stable_step(scene, rate: float) -> float:
     """The largest step at which the wear update does not overshoot: 1/(αL_p) explicit, 2/(αL_p) trapezoidal.
 
-    L_p is the largest slope of p over [0, g]; ``alpha`` the largest α.  Implicit: no limit (inf).
+    ``rate``: the largest α_i L_p,i (:meth:`Discretization.largest_rate`), L_p,i the largest slope of p_i over
+    [0, g] and α_i = κ_i‖v*_i‖ over the points and time.  Implicit: no limit (inf).
     """
     limit = {"explicit": 1.0, "trapezoidal": 2.0, "implicit": np.inf}[scene.wear.integrator]
-    rate = alpha * largest_slope(scene.contact)
     return limit / rate if rate > 0 else np.inf
 
 
@@ -104,7 +104,7 @@ def _enough_steps(scene, rate: float) -> str:
     return f", or time.steps >= {needed}" if needed <= steps_cap() else ""
 
 
-def diverging(scene, alpha: float) -> str | None:
+def diverging(scene, rate: float) -> str | None:
     """The one-line refusal of a uniform explicit run whose update diverges (k α L_p > 2), else None.
 
     ``wear.allow_unstable`` lets it run (with :func:`explicit_stability`'s warning).  The remedies never ask for
@@ -112,7 +112,6 @@ def diverging(scene, alpha: float) -> str | None:
     """
     if scene.wear.integrator != "explicit" or scene.time.adaptive or scene.wear.allow_unstable:
         return None
-    rate = alpha * largest_slope(scene.contact)
     r = scene.dt * rate
     if r <= 2:
         return None
@@ -121,18 +120,17 @@ def diverging(scene, alpha: float) -> str | None:
             "or wear.allow_unstable = true to run it anyway")
 
 
-def explicit_stability(scene, alpha: float) -> str | None:
+def explicit_stability(scene, rate: float) -> str | None:
     """Warning text when the wear update overshoots at the scene's uniform step, else None.
 
     For p = L r₊ the explicit update has amplification 1 − k α L (overshoots for k α L > 1, grows
     for > 2: refused unless ``wear.allow_unstable``, :func:`diverging`), the trapezoidal one
     (1 − kαL/2)/(1 + kαL/2) (overshoots for k α L > 2); implicit never.
-    L_p is the largest slope of p over [0, g]; ``alpha`` the largest α = κ ‖v*(x, t)‖ over points and time.
+    ``rate``: the largest α_i L_p,i over the points and time (:func:`stable_step`).
     """
     integrator = scene.wear.integrator
-    if integrator == "implicit" or scene.contact.wear == 0:
+    if integrator == "implicit" or rate == 0:
         return None
-    rate = alpha * largest_slope(scene.contact)
     r = scene.dt * rate
     if integrator == "trapezoidal":
         if r <= 2:

@@ -24,8 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.laws import compliance_from
-from ..numerics.wear import INTEGRATORS, largest_slope
+from ..model.coefficients import bound
+from ..model.laws import largest_slope
+from ..numerics.wear import INTEGRATORS
 
 #: allowance of the invariants the scheme makes exact (round-off)
 TOL = 1e-8
@@ -33,18 +34,22 @@ EPS = np.finfo(float).eps
 CONTACT = ("contact", "gap", "reaction_sign")
 
 
-def k_alpha_slope(scene, alpha: float | None = None) -> float:
-    """k·α·L_p: L_p the largest slope of p on [0, g], α the largest κ‖v*‖ (``Discretization.largest_alpha``).
+def k_alpha_slope(scene, rate: float | None = None) -> float:
+    """k·α·L_p: ``rate`` the largest α_i L_p,i (:meth:`Discretization.largest_rate`).
 
-    Without ``alpha``, that of the foundation's translation (a scene that was never discretized).
+    L_p,i is the largest slope of p_i on [0, g], α_i = κ_i‖v*_i‖.  Without ``rate``, that of the foundation's
+    translation (a scene that was never discretized; NaN for a coefficient field, known only at the points).
     """
-    if alpha is None:
+    if rate is None:
         speeds = [abs(f) for _, f in scene.foundation.speed_table] or [1.0]
-        alpha = scene.contact.wear * float(np.linalg.norm(scene.foundation.velocity)) * max(speeds)
-    return scene.dt * alpha * largest_slope(scene.contact)
+        wear, slope = bound(scene.contact.wear), largest_slope(scene.contact)
+        if wear is None or slope is None:
+            return math.nan
+        rate = wear * float(np.linalg.norm(scene.foundation.velocity)) * max(speeds) * slope
+    return scene.dt * rate
 
 
-def wear_bounded(scene, alpha: float | None = None) -> bool:
+def wear_bounded(scene, rate: float | None = None) -> bool:
     """Whether the update guarantees w_j ≤ max_{m≤j} (z_m)₊ (≤ g): it is monotone.
 
     With p(r) ≤ L_p r on [0, g]: explicit w_j ≤ max(w_{j−1}, z_{j−1}) for k α L_p ≤ 1; implicit
@@ -54,7 +59,7 @@ def wear_bounded(scene, alpha: float | None = None) -> bool:
     if scene.time.adaptive:
         return True
     limit = {"implicit": math.inf, "explicit": 1.0, "trapezoidal": 2.0}[scene.wear.integrator]
-    return k_alpha_slope(scene, alpha) <= limit
+    return k_alpha_slope(scene, rate) <= limit
 
 
 def allowances(scene) -> dict[str, float]:
@@ -77,9 +82,9 @@ class Checker:
     """The invariants of a run's rows on its discretization, vectorised: O(rows · n)."""
 
     def __init__(self, scene, disc):
-        self.disc, self.law, self.g = disc, compliance_from(scene.contact), scene.contact.gap
+        self.disc, self.law, self.g = disc, disc.law, scene.contact.gap
         self.theta = INTEGRATORS[scene.wear.integrator]
-        self.bounded = wear_bounded(scene, disc.largest_alpha())
+        self.bounded = wear_bounded(scene, disc.largest_rate())
         self.allowed = allowances(scene)
         self.inverse_c = disc.condensation.compliance_estimate * disc.points.weights   # 1/c_i = h_i m_i ≤ H_ii m_i
         self.s_load = 0.0 if scene.solver.method == "full" else float(np.abs(disc.loads.s_load).max(initial=0.0))
@@ -129,7 +134,7 @@ class Checker:
         expected = self.law(r)
         slack = 8 * EPS * (float(np.abs(z).max(initial=0.0) + np.abs(w).max(initial=0.0)) + self.height)
         size = max(float(p.max(initial=0.0)), float(expected.max(initial=0.0)), np.finfo(float).tiny)
-        slope = float(self.law.derivative(np.array(max(float(r.max(initial=0.0)), 0.0) + slack)))
+        slope = float(np.max(self.law.derivative(np.array(max(float(r.max(initial=0.0)), 0.0) + slack))))
         return _excess(np.abs(p - expected) / size, (slack * slope + 8 * EPS * size) / size)
 
     def broken(self, violations: dict[str, float]) -> tuple[str, float] | None:

@@ -13,6 +13,9 @@ reads off a part, one value per step, with m_i the nodal weights of the contact 
 * ``contact_area``  Σ m_i over the points with p_i + λ_i > 0;
 * ``wear_volume``  Σ m_i w_i, the worn volume (area in 2D).
 
+The contact coefficients at the points, shape (n_c,): ``friction_coefficient`` μ_i, ``wear_coefficient`` κ_i and
+``contact_stiffness`` L_i (numbers or fields of the scene, as evaluated there).
+
 Full displacement fields are kept for the frames (``stored_steps``): the steps nearest to the
 output times (``output.every`` apart from t = 0, or ``output.times``) and the last step, so that the
 number of frames does not grow with the number of steps.  ``save(dir)`` writes ``result.npz``
@@ -39,6 +42,7 @@ from .history import History
 
 ARRAYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces", "plate_displacement")
 PART = ("normal_force", "torque", "contact_area", "wear_volume")
+COEFFICIENTS = ("friction_coefficient", "wear_coefficient", "contact_stiffness")
 
 
 @dataclass
@@ -55,6 +59,9 @@ class Result:
     reaction: np.ndarray
     forces: np.ndarray
     plate_displacement: np.ndarray
+    friction_coefficient: np.ndarray = field(default=None, repr=False)
+    wear_coefficient: np.ndarray = field(default=None, repr=False)
+    contact_stiffness: np.ndarray = field(default=None, repr=False)
     newton: list[NewtonRecord] = field(default_factory=list)
     status: str = "completed"
     warnings: list[str] = field(default_factory=list)
@@ -73,9 +80,10 @@ class Result:
         The public arrays are views of the completed rows (:mod:`ngwear.results.history`); NoSpace when the
         folder has no room for them.
         """
-        shapes = row_shapes(scene, disc)
+        shapes, coefficients = row_shapes(scene, disc), disc.coefficients
         result = cls(scene, disc.points.coords, disc.points.weights,
-                     *(np.zeros((0, *shapes[name])) for name in ARRAYS), discretization=disc)
+                     *(np.zeros((0, *shapes[name])) for name in ARRAYS), coefficients.friction, coefficients.wear,
+                     coefficients.stiffness, discretization=disc)
         try:
             result.history = History.empty(shapes, scene.time.steps + 1, folder)
         except OSError as err:
@@ -92,6 +100,24 @@ class Result:
         for name, value in zip(ARRAYS, (t, w, s, p, lam, forces, delta)):
             setattr(self, name, self.history.put(name, j, value))
         self.newton.append(record)
+
+    def keep_field(self, u: np.ndarray) -> None:
+        """Keep the displacement u of the step just recorded (a nonlinear body's: recovering it needs an iteration).
+
+        The previous step's goes unless it may be a frame (an output time within half a step of it).
+        """
+        j = self.steps
+        previous = j - 1
+        if previous in self.fields and not self._frame_candidate(previous):
+            del self.fields[previous]
+        self.fields[j] = u.copy()
+
+    def _frame_candidate(self, j: int) -> bool:
+        out, t = self.scene.output, self.times[j]
+        half = 0.5 * max(t - self.times[j - 1] if j else 0.0, self.times[j + 1] - t if j + 1 < len(self.times) else 0.0)
+        wanted = np.asarray(out.times) if out.times is not None else np.arange(0.0, self.scene.time.T + out.every / 2,
+                                                                             out.every)
+        return bool(np.any(np.abs(wanted - t) <= half * (1 + 1e-9)))
 
     def keep_in(self, folder) -> None:
         """Move the rows into mapped files of a new history folder in ``folder`` (to checkpoint there)."""
@@ -139,7 +165,7 @@ class Result:
         """Friction moment about the counterface's axis per step (negative when it brakes a rotation)."""
         slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
         signs = np.sign([slip.factor(t) for t in self.times])
-        return self.scene.contact.friction * signs * (self.pressure @ (slip.moment_arms() * self.weights))
+        return signs * (self.pressure @ (self.friction_coefficient * slip.moment_arms() * self.weights))
 
     @property
     def contact_area(self) -> np.ndarray:
@@ -222,7 +248,8 @@ class Result:
 
     def header(self) -> dict[str, np.ndarray]:
         """Everything of the run but its per-step rows: points, weights, Newton records, status."""
-        return {"contact_points": self.contact_points, "weights": self.weights, **records_to_arrays(self.newton),
+        return {"contact_points": self.contact_points, "weights": self.weights,
+                **{name: getattr(self, name) for name in COEFFICIENTS}, **records_to_arrays(self.newton),
                 "status": np.array(self.status), "wall_time": np.array(self.wall_time),
                 "rejected": np.array(self.rejected), "warnings": np.array(self.warnings, dtype=str)}
 
@@ -271,7 +298,10 @@ def from_arrays(scene: Scene, data, disc, history: History | None = None) -> Res
         history = History({name: np.array(data[name]) for name in ARRAYS})
     count = len(history.buffers["times"]) if history.folder is None else int(data["rows"])
     rows = (history.buffers[name][:count] for name in ARRAYS)
-    return Result(scene, data["contact_points"], data["weights"], *rows, newton=records_from_arrays(data),
+    n = len(data["weights"])
+    coefficients = (np.array(data[name]) if name in data else np.full(n, float(getattr(scene.contact, key)))
+                    for name, key in zip(COEFFICIENTS, ("friction", "wear", "stiffness")))   # before fields: numbers
+    return Result(scene, data["contact_points"], data["weights"], *rows, *coefficients, newton=records_from_arrays(data),
                   status=str(data["status"]), wall_time=float(data["wall_time"]),
                   warnings=[str(w) for w in data["warnings"]], rejected=int(data["rejected"]),
                   discretization=disc, history=history)
@@ -326,6 +356,8 @@ def records_to_arrays(newton: list[NewtonRecord]) -> dict[str, np.ndarray]:
             "newton_converged": np.array([r.converged for r in newton], dtype=bool),
             "newton_active": np.array([r.active for r in newton], dtype=int),
             "newton_damped": np.array([r.damped for r in newton], dtype=int),
+            "newton_bulk": np.array([r.bulk for r in newton], dtype=int),
+            "newton_tangents": np.array([r.tangents for r in newton], dtype=int),
             "newton_cutbacks": np.array([r.cutbacks for r in newton], dtype=int),
             "newton_lengths": np.array([len(r.residuals) for r in newton], dtype=int),
             "newton_residuals": np.array([v for r in newton for v in r.residuals], dtype=float)}
@@ -335,11 +367,14 @@ def records_from_arrays(data) -> list[NewtonRecord]:
     """The Newton records that :func:`records_to_arrays` flattened (files without cut-backs: 0)."""
     bounds = np.concatenate([[0], np.cumsum(data["newton_lengths"])])
     residuals = data["newton_residuals"]
-    iterations = data["newton_iterations"]
-    cutbacks = data["newton_cutbacks"] if "newton_cutbacks" in data else np.zeros(len(iterations), dtype=int)
-    return [NewtonRecord(bool(c), int(i), [float(v) for v in residuals[a:b]], int(act), int(dmp), int(cut))
-            for i, c, act, dmp, cut, a, b in zip(iterations, data["newton_converged"], data["newton_active"],
-                                                 data["newton_damped"], cutbacks, bounds[:-1], bounds[1:])]
+    zero = np.zeros(len(data["newton_iterations"]), dtype=int)
+    cutbacks, bulk, tangents = (data[name] if name in data else zero
+                                for name in ("newton_cutbacks", "newton_bulk", "newton_tangents"))
+    return [NewtonRecord(bool(c), int(i), [float(v) for v in residuals[a:b]], int(act), int(dmp), bulk=int(blk),
+                         tangents=int(tan), cutbacks=int(cut))
+            for i, c, act, dmp, blk, tan, cut, a, b in zip(data["newton_iterations"], data["newton_converged"],
+                                                           data["newton_active"], data["newton_damped"], bulk,
+                                                           tangents, cutbacks, bounds[:-1], bounds[1:])]
 
 
 @contextmanager

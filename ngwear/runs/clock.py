@@ -34,7 +34,7 @@ GROWTH, SHRINK, SAFETY = 4.0, 0.2, 0.9
 class Clock:
     """Where the next step ends, and whether the step just solved is accurate enough (adaptive)."""
 
-    def __init__(self, scene, largest_alpha: float, rejected: int = 0):
+    def __init__(self, scene, largest_rate: float, rejected: int = 0):
         t = scene.time
         self.T, self.uniform, self.adaptive = t.T, t.T / t.steps, t.adaptive
         self.steps = t.steps
@@ -43,7 +43,7 @@ class Clock:
         self.retrying = False            # the step about to be redone smaller
         if not self.adaptive:
             return
-        self.floor, limit = t.min_step, stable_step(scene, largest_alpha)
+        self.floor, limit = t.min_step, stable_step(scene, largest_rate)
         self.ceiling = min(t.max_step, limit)
         if self.ceiling < self.floor:
             raise SceneError(f"time.min_step: {self.floor:g} is above the {scene.wear.integrator} update's stability "

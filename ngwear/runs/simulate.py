@@ -26,16 +26,17 @@ from pathlib import Path
 
 import numpy as np
 
+from ..model.coefficients import bound, describe
 from ..model.scene import Scene, SceneError
 from ..numerics.discrete import Discretization
-from ..numerics.recycle import ComplianceMemory, Recycler
-from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, KrylovSystem, PlateRows, semismooth_newton
+from ..numerics.solver import ConvergenceError
 from ..numerics.wear import WearIntegrator, diverging, explicit_stability
 from ..results.checkpoint import Checkpoint, Saver
 from ..results.folder import NoSpace, hold, no_space
 from ..results.invariants import StepCheck
 from ..results.result import Result
 from .clock import Clock
+from .stepper import Stepper
 
 log = logging.getLogger(__name__)
 
@@ -87,21 +88,21 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
             disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene))
         else:
             disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
-        refusal = diverging(scene, disc.largest_alpha())
+        refusal = diverging(scene, disc.largest_rate())
         if refusal:
             stages.close()
             raise SceneError(refusal)
         result = Result.empty(scene, disc, checkpoint)
-        warning = None if scene.time.adaptive else explicit_stability(scene, disc.largest_alpha())
+        warning = None if scene.time.adaptive else explicit_stability(scene, disc.largest_rate())
         if warning:
             log.warning("%s", warning)
             result.warnings.append(warning)
     stages.prepare(disc)
-    clock = Clock(scene, disc.largest_alpha(), result.rejected)
+    clock = Clock(scene, disc.largest_rate(), result.rejected)
     if resume is not None:
         clock.step, result.continuation = saved.step, (saved.x, saved.lam, saved.step)
         clock.replay(result.times, [disc.alpha(t) * p for t, p in zip(result.times, result.pressure)])
-    stepper = _Stepper(disc, StepCheck(result))
+    stepper = Stepper(disc, StepCheck(result))
     if resume is None:
         x, lam = stepper.unknowns(), np.zeros(disc.points.n)
     integrator = WearIntegrator(scene.wear.integrator, disc.law, disc.points.n)
@@ -185,6 +186,9 @@ def _record(result: Result, stepper, t: float, attempt: _Attempt) -> bool:
     disc = stepper.disc
     result.append(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam,
                   disc.contact_forces(attempt.pressure, attempt.lam, t), attempt.delta, attempt.record)
+    displacement = stepper.displacement(attempt.x)
+    if displacement is not None:          # a nonlinear body's field is kept for the frames and the last step
+        result.keep_field(displacement)
     return True
 
 
@@ -257,86 +261,6 @@ class Stages:
             self.bar.close()
 
 
-class _Stepper:
-    """Solves one step; on a Newton failure it retries from a load continuation (cut-back).
-
-    The cut-back does not change the scheme: it solves the same step's problem (wear law, v*) at
-    the loads s_F = s_prev + θ (s_F(t) − s_prev), θ = 1/m … 1, each warm-starting the next, with
-    m = 2, 4, 8; s_prev is the previous step's load factor, or 0 (the unloaded state) at step 0.
-    """
-
-    CUTBACKS = (2, 4, 8)
-
-    def __init__(self, disc: Discretization, check: StepCheck):
-        self.disc, self.scene, self.check = disc, disc.scene, check
-        self._matrices: dict = {}
-        self._factors: dict = {}
-
-    @property
-    def _full(self) -> bool:
-        return self.scene.solver.method == "full"
-
-    def unknowns(self) -> np.ndarray:
-        """The unknowns at rest: s at the contact points (condensed) or the free DOFs (full), then δ."""
-        disc = self.disc
-        size = disc.condensation.full_basis.shape[1] if self._full else disc.points.n + disc.condensation.plate_modes_count
-        return np.zeros(size)
-
-    def normal(self, x):
-        """The normal displacements s = ν·u at the contact points."""
-        return self.disc.condensation.N @ (self.disc.condensation.full_basis @ x) if self._full else x[:self.disc.points.n]
-
-    def plate(self, x):
-        """δ, the plate's displacement (and tilts)."""
-        return x[len(x) - self.disc.condensation.plate_modes_count:]
-
-    def solve(self, t, t_prev, law, x, lam, integrator):
-        target = self.disc.load_factor(t)
-        try:
-            return self._newton(t, target, law, x, lam, integrator)
-        except ConvergenceError as first:
-            start = 0.0 if t_prev is None else self.disc.load_factor(t_prev)
-            if t_prev is None:
-                x, lam = np.zeros_like(x), np.zeros_like(lam)
-            for tried, m in enumerate(self.CUTBACKS, start=1):
-                try:
-                    xs, ls = x, lam
-                    for theta in np.arange(1, m + 1) / m:
-                        xs, ls, record = self._newton(t, start + theta * (target - start), law, xs, ls,
-                                                      integrator)
-                    log.info("t = %.4g: converged after cutting the load step into %d", t, m)
-                    record.cutbacks = tried
-                    return xs, ls, record
-                except ConvergenceError:
-                    continue
-            first.record.cutbacks = len(self.CUTBACKS)
-            raise first
-
-    def _newton(self, t, load_factor, law, x, lam, integrator):
-        sc = self.scene.solver
-        system = self._system(t, load_factor, law, integrator)
-        return semismooth_newton(system, x, lam, sc.tolerance, sc.max_iterations)
-
-    def _system(self, t, load_factor, law, integrator):
-        disc, cond = self.disc, self.disc.condensation
-        if self._full:
-            return _full_system(disc, t, load_factor, integrator)
-        n_star, mu = disc.n_star(t), self.scene.contact.friction
-        if disc.matrix_free:
-            key = ("krylov", (cond.nu[None, :] + mu * n_star).tobytes())    # A's force directions ν + μ n*
-            if key not in self._matrices:
-                self._matrices = {key: _recycler(disc, n_star)}
-            return _krylov_system(disc, self._matrices[key], n_star, load_factor, law)
-        key = n_star.tobytes()
-        if key not in self._matrices:
-            H = cond.normal_compliance
-            A = H + mu * cond.friction_compliance(n_star) if mu > 0 and n_star.any() else H
-            directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + mu * n_star)
-            self._matrices = {key: (A, directed)}
-            self._factors = {}
-        A, directed = self._matrices[key]
-        return CondensedSystem(cond.normal_compliance, A, disc.points.weights, load_factor * disc.loads.s_load, cond.d0,
-                               self.scene.contact.gap, law, self._factors, _plate_rows(disc, directed, load_factor))
 
 
 def _remedy(scene: Scene, record) -> str:
@@ -346,47 +270,10 @@ def _remedy(scene: Scene, record) -> str:
         return f"the merit stalled at round-off: raise solver.tolerance above {last:.1e}"
     tips = [f"more time.steps (now {scene.time.steps})",
             f"solver.max_iterations > {scene.solver.max_iterations}"]
-    if scene.contact.friction > 0:
-        tips.append(f"a smaller contact.friction (μ = {scene.contact.friction:g} may exceed the smallness "
+    if bound(scene.contact.friction) != 0:
+        tips.append(f"a smaller contact.friction (μ = {describe(scene.contact.friction)} may exceed the smallness "
                     f"bound (H_S): see `ngwear verify`)")
     return "try " + ", ".join(tips)
-
-
-def _recycler(disc: Discretization, n_star) -> Recycler:
-    """The products with A = H + μF (this n*) and H remembered for the run, and the Newton basis built on them."""
-    directions = disc.condensation.nu[None, :] + disc.scene.contact.friction * n_star
-    respond = lambda directed, normal: disc.normal_response(normal, directed, directions)  # noqa: E731
-    return Recycler(ComplianceMemory(respond, disc.points.n))
-
-
-def _krylov_system(disc: Discretization, recycler: Recycler, n_star, load_factor: float, law) -> KrylovSystem:
-    """The condensed system applied matrix-free (large contact surfaces, see :class:`Discretization`)."""
-    cond = disc.condensation
-    directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + disc.scene.contact.friction * n_star)
-    return KrylovSystem(recycler, cond.compliance_estimate, disc.points.weights, load_factor * disc.loads.s_load, cond.d0,
-                        disc.scene.contact.gap, law, disc.scene.solver.tolerance, _plate_rows(disc, directed, load_factor))
-
-
-def _plate_rows(disc: Discretization, directed, load_factor: float) -> PlateRows | None:
-    """The plate's rows of a step (None without a plate), ``directed`` = b_i·Φ_i for this step's force directions."""
-    plate = disc.condensation.plate
-    return None if plate is None else PlateRows(plate.normal, directed, plate.stiffness,
-                                                load_factor * disc.loads.plate_load)
-
-
-def _full_system(disc: Discretization, t: float, load_factor: float, integrator: WearIntegrator) -> FullSystem:
-    """The reference system: NGSolve form with w, μ, n* of this step (explicit wear: w = a, see the scene's rules)."""
-    cf, cond = disc.full_form, disc.condensation
-    disc.set_nodal(cf.w, integrator.a)
-    cf.friction.Set(disc.scene.contact.friction)
-    for gf, component in zip(cf.n_star, disc.n_star(t).T):
-        disc.set_nodal(gf, component)
-    load = cond.full_basis.T @ disc.loads.load
-    load[len(load) - cond.plate_modes_count:] += disc.loads.plate_force
-    floating = cond.plate_modes_count and not disc.scene.geometry.dirichlet
-    return FullSystem(cf, cond.full_basis, load_factor * load, cond.N, disc.points.weights, cond.d0,
-                      disc.scene.contact.gap, disc.elastic.stiffness, integrator.point_law(),
-                      cond.rigid_translation if floating else None)
 
 
 def _progress(scene: Scene, result: Result):

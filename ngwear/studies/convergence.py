@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from ..model.coefficients import bound
 from ..model.scene import Scene
 from ..numerics.discrete import Discretization
 from . import verify
@@ -117,7 +118,7 @@ def run(scene: Scene, quick: bool = False, *, paper_form: bool = True) -> Report
     p = plan(scene, quick)
     report = Report(scene, p)
     base = scene.replace(**{"time.steps": p.h_steps, "output.every": scene.time.T})
-    if scene.contact.friction > 0:
+    if bound(scene.contact.friction) != 0:        # a field (None) may have friction
         disc = Discretization(scene)
         report.smallness.append(uniqueness(disc).message())
         if paper_form:

@@ -32,7 +32,6 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..numerics.discrete import Discretization
-from ..numerics.wear import largest_slope
 
 
 @dataclass(frozen=True)
@@ -107,8 +106,7 @@ def energy_trace(disc: Discretization, interrupted=None) -> float:
 
 def uniqueness(disc: Discretization, interrupted=None) -> EnergyCheck:
     """(H_S) in the energy norm of the run's K, from its factorisation (see :func:`energy_trace`)."""
-    contact = disc.scene.contact
-    return EnergyCheck(energy_trace(disc, interrupted), largest_slope(contact), contact.friction)
+    return EnergyCheck(energy_trace(disc, interrupted), *_largest_slope_and_friction(disc))
 
 
 def trace_constant(disc: Discretization) -> float:
@@ -144,6 +142,11 @@ def trace_constant(disc: Discretization) -> float:
 
 def smallness(disc: Discretization) -> SmallnessCheck:
     """Evaluate the paper's (H_S) for the discretization's scene (a second factorisation: the strain form's)."""
-    contact = disc.scene.contact
     _, eta = disc.scene.material.lame
-    return SmallnessCheck(trace_constant(disc), largest_slope(contact), contact.friction, 2 * eta)
+    return SmallnessCheck(trace_constant(disc), *_largest_slope_and_friction(disc), 2 * eta)
+
+
+def _largest_slope_and_friction(disc: Discretization) -> tuple[float, float]:
+    """max_i L_p,i and max_i μ_i over the contact points (their product bounds max_i μ_i L_p,i of a field)."""
+    slopes = np.broadcast_to(disc.law.slope(disc.scene.contact.gap), (disc.points.n,))
+    return float(slopes.max(initial=0.0)), float(disc.coefficients.friction.max(initial=0.0))

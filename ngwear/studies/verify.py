@@ -24,7 +24,6 @@ import numpy as np
 from ..model.scene import Scene, SceneError
 from ..numerics.discrete import Discretization
 from ..numerics.transfer import ContactTrace, Locator, StrainQuadrature
-from ..numerics.wear import largest_slope
 from ..results.invariants import overshoot
 from ..results.result import Result
 from ..runs.simulate import simulate
@@ -191,7 +190,7 @@ def markdown(rows: list[dict], size: str) -> str:
 
 def alpha_slope(scene: Scene) -> float:
     """α L_p: the largest wear rate κ‖v*‖ over the contact points and the speed table, times the largest slope of p."""
-    return Discretization(scene).largest_alpha() * largest_slope(scene.contact)
+    return Discretization(scene).largest_rate()
 
 
 def stability_steps(scene: Scene, targets=(0.5, 1.0, 1.5, 2.5, 5.0)) -> list[int]:

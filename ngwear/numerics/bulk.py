@@ -1,0 +1,65 @@
+"""Nonlinear elasticity around few factorisations: F(u) = K u + n(u) (DESIGN §5).
+
+F(u) = Σ_r ∫_r σ_r(ε(u)) : ε(v) dx are the body's internal forces (assembled by NGSolve, ``Apply``), K a
+factorised linear operator (K₀, the laws' tangent at ε = 0, or their tangent K_t at a recent state) and
+n(u) = F(u) − K u the remainder.  A step's problem F(u) + Pᵀ f_c(u) = f is today's condensed contact problem
+with the load f − n(u): the fixed point u = G(u) of
+
+    G(u) = K⁻¹ (f − n(u) − Pᵀ f_c) + D δ,   (f_c, δ) the contact solution under the load f − n(u),
+
+which :class:`Anderson` mixing accelerates.  Its rate is set by the spread of K⁻¹F'(u):
+for the compaction law with K₀ (the compressed tangent) the tangent varies by (2η + d(λ + β))/(2η + dλ), so the
+step solver refactorises at the current state when the iteration is slow (:mod:`ngwear.runs.stepper`).
+"""
+from __future__ import annotations
+
+from collections import deque
+
+import ngsolve as ngs
+import numpy as np
+
+from .forms import elastic_integrand
+
+
+class Remainder:
+    """n(u) = F(u) − K u as a DOF vector: the internal forces less the operator K a step is solved with."""
+
+    def __init__(self, fes: ngs.FESpace, laws: dict, stiffness):
+        self.form = ngs.BilinearForm(elastic_integrand(fes, laws))
+        self.stiffness = stiffness
+        self._u, self._out = ngs.GridFunction(fes), ngs.GridFunction(fes)
+
+    def __call__(self, u: np.ndarray) -> np.ndarray:
+        self._u.vec.FV().NumPy()[:] = u
+        self.form.Apply(self._u.vec, self._out.vec)
+        return self._out.vec.FV().NumPy() - self.stiffness @ u
+
+
+class Anderson:
+    """Anderson mixing (type II) of the last ``memory`` iterates for a fixed point u = G(u).
+
+    With f_k = G(u_k) − u_k: u_{k+1} = G(u_k) − ΔG γ,  γ = argmin ‖f_k − ΔF γ‖₂, the columns of ΔF, ΔG the
+    differences of consecutive f and G(u).  With no history it is the plain step u_{k+1} = G(u_k).
+    """
+
+    def __init__(self, memory: int = 6):
+        self.memory = memory
+        self.differences: deque = deque(maxlen=memory)
+        self.last = None
+
+    def __call__(self, u: np.ndarray, image: np.ndarray) -> np.ndarray:
+        residual = image - u
+        if self.last is not None:
+            self.differences.append((residual - self.last[0], image - self.last[1]))
+        self.last = residual, image
+        if not self.differences:
+            return image
+        dF = np.column_stack([d[0] for d in self.differences])
+        dG = np.column_stack([d[1] for d in self.differences])
+        gamma = np.linalg.lstsq(dF, residual, rcond=1e-12)[0]
+        return image - dG @ gamma
+
+
+def change(u: np.ndarray, image: np.ndarray) -> float:
+    """max|G(u) − u| / max|G(u)|: how far u is from the fixed point, relative to its size."""
+    return float(np.abs(image - u).max(initial=0.0) / max(np.abs(image).max(initial=0.0), np.finfo(float).tiny))

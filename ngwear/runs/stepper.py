@@ -1,0 +1,268 @@
+"""One time step's solve: the condensed contact problem (or the full system), its cut-backs, and the bulk iteration.
+
+:class:`Stepper` builds the step's system from the discretization: dense (:class:`CondensedSystem`, the
+Newton matrices kept while μ n* keeps its direction), matrix-free (:class:`KrylovSystem` with the products
+remembered for the run) or the full-system reference (:class:`FullSystem`).  For a body with a nonlinear law
+(:mod:`ngwear.numerics.bulk`) each step iterates u = G(u): the contact problem with the load f − n(u), the
+bulk recovered with one back-substitution, Anderson-mixed, warm-started from the previous step's u.
+"""
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from ..numerics.bulk import Anderson, Remainder, change
+from ..numerics.discrete import Discretization
+from ..numerics.recycle import ComplianceMemory, Recycler
+from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, KrylovSystem, PlateRows, semismooth_newton
+from ..numerics.wear import WearIntegrator
+from ..results.invariants import StepCheck
+
+log = logging.getLogger(__name__)
+
+BULK_ITERATIONS = 200
+"""Most iterations of the bulk's fixed point in one step (each: one assembly of n(u), two back-substitutions)."""
+CHORD = 2
+"""Images with the operator a step starts with (the tangent the last step left) before Newton takes over."""
+NEWTON = 12
+"""Most Newton iterations (a factorised tangent each) before the step falls back on K₀ alone."""
+RUNAWAY = 10.0
+"""Iterates whose step |G(u) − u| exceeds the best one's this many times: the mixing restarts from the best."""
+
+
+class Stepper:
+    """Solves one step; on a Newton failure it retries from a load continuation (cut-back).
+
+    The cut-back does not change the scheme: it solves the same step's problem (wear law, v*) at
+    the loads s_F = s_prev + θ (s_F(t) − s_prev), θ = 1/m … 1, each warm-starting the next, with
+    m = 2, 4, 8; s_prev is the previous step's load factor, or 0 (the unloaded state) at step 0.
+    """
+
+    CUTBACKS = (2, 4, 8)
+
+    def __init__(self, disc: Discretization, check: StepCheck):
+        self.disc, self.scene, self.check = disc, disc.scene, check
+        self._matrices: dict = {}
+        self._factors: dict = {}
+        nonlinear = not disc.elastic.linear and not self._full     # the full path linearises the laws itself
+        self.base = disc                                            # K₀: the laws' tangent at ε = 0
+        self.remainder = Remainder(disc.fes, disc.elastic.laws, disc.elastic.stiffness) if nonlinear else None
+        self.history: list = []                                     # (t, u) of the last two steps: the warm start
+        self._shift = None                                          # N K⁻¹ n(u), Dᵀ n(u) of the current iterate
+        self._kept: dict = {}                                       # the Newton matrices of the other operator
+        self.tangents = 0                                           # tangents factorised so far
+
+    @property
+    def _full(self) -> bool:
+        return self.scene.solver.method == "full"
+
+    def unknowns(self) -> np.ndarray:
+        """The unknowns at rest: s at the contact points (condensed) or the free DOFs (full), then δ."""
+        disc = self.disc
+        size = disc.condensation.full_basis.shape[1] if self._full else disc.points.n + disc.condensation.plate_modes_count
+        return np.zeros(size)
+
+    def normal(self, x):
+        """The normal displacements s = ν·u at the contact points."""
+        return self.disc.condensation.N @ (self.disc.condensation.full_basis @ x) if self._full else x[:self.disc.points.n]
+
+    def plate(self, x):
+        """δ, the plate's displacement (and tilts)."""
+        return x[len(x) - self.disc.condensation.plate_modes_count:]
+
+    def solve(self, t, t_prev, law, x, lam, integrator):
+        """(x, λ, NewtonRecord) of the step ending at t; ConvergenceError when it cannot be solved.
+
+        A nonlinear material: the fixed point u = G(u) of :mod:`ngwear.numerics.bulk`, from the last two steps' u
+        extrapolated to t.  First at most :data:`CHORD` Anderson-mixed images with the operator the last step
+        left (the laws' tangent at its solution, or K₀): where little changed between steps they meet the
+        tolerance with no factorisation.  Else Newton: the laws' tangent at the iterate is factorised and its
+        image taken, :data:`NEWTON` times at most (3–4 from rest for the compaction law at β = 100η).  Should
+        that not converge, Anderson-mixed images with K₀, with which the compaction law's iteration contracts
+        (K₀ is its stiffest tangent), spend the rest of :data:`BULK_ITERATIONS`.
+        """
+        if self.remainder is None:
+            return self._contact(t, t_prev, law, x, lam, integrator)
+        state, tolerance = {"x": x, "lam": lam, "newton": 0, "count": 0}, self.scene.solver.tolerance
+        u, gap = self._iterate(self._predicted(t), t, t_prev, law, integrator, state, tolerance, CHORD)
+        for _ in range(NEWTON if gap > tolerance else 0):
+            self._use(self.base.tangent(u))
+            self.tangents += 1
+            image = self._safe_image(u, t, t_prev, law, integrator, state)
+            if image is None:
+                break
+            u, gap = image, change(u, image)
+            if gap <= tolerance:
+                break
+        if gap > tolerance:
+            self._use(self.base)
+            u, gap = self._iterate(u, t, t_prev, law, integrator, state, tolerance, BULK_ITERATIONS)
+        record = state["record"]
+        record.bulk, record.iterations, record.tangents = state["count"], state["newton"], self.tangents
+        if gap > tolerance:
+            raise ConvergenceError(f"the bulk iteration of the nonlinear material did not converge in "
+                                   f"{state['count']} iterations (change {gap:.1e})", record)
+        self.history = [(t, u), *self.history[:1]]
+        return state["x"], state["lam"], record
+
+    def displacement(self, x) -> np.ndarray | None:
+        """The displacement of the step just solved when the body is nonlinear (None for a linear one: recovered)."""
+        if self.remainder is not None:
+            return self.history[0][1]
+        return self.disc.condensation.full_basis @ x if self._full and not self.disc.elastic.linear else None
+
+    def _predicted(self, t: float) -> np.ndarray:
+        """The displacement at t extrapolated linearly from the last two steps (the last step's when there is one)."""
+        if len(self.history) < 2:
+            return self.history[0][1] if self.history else np.zeros(self.disc.fes.ndof)
+        (t1, u1), (t0, u0) = self.history
+        return u1 + (t - t1) / (t1 - t0) * (u1 - u0) if t1 > t0 else u1
+
+    def _iterate(self, u, t, t_prev, law, integrator, state, tolerance, most: int) -> tuple[np.ndarray, float]:
+        """(The best image, its change) of at most ``most`` Anderson-mixed images from u with the current K.
+
+        It stops when the change meets the tolerance or the step's iterations are spent; when the step
+        |G(u) − u| grows to :data:`RUNAWAY` times the best, or the best has not halved in as many images as the
+        mixing remembers (a stalled history), the mixing starts afresh from the best image.
+        """
+        mixing, best, since = Anderson(), (np.inf, np.inf, u), 0     # best: (|G(u) − u|, its change, G(u))
+        for _ in range(min(most, BULK_ITERATIONS - state["count"])):
+            image = self._safe_image(u, t, t_prev, law, integrator, state)
+            step = np.inf if image is None else float(np.abs(image - u).max(initial=0.0))
+            since = 0 if step < 0.5 * best[0] else since + 1
+            if step < best[0]:
+                best = step, change(u, image), image
+            if best[1] <= tolerance or best[0] == np.inf:
+                break
+            if step > RUNAWAY * best[0] or since > mixing.memory:
+                mixing, u, since = Anderson(), best[2], 0
+            else:
+                u = mixing(u, image)
+        return best[2], best[1]
+
+    def _safe_image(self, u, t, t_prev, law, integrator, state) -> np.ndarray | None:
+        """G(u), or None when the contact problem of this iterate fails or its image is not finite."""
+        try:
+            image = self._image(u, t, t_prev, law, integrator, state)
+        except (ConvergenceError, ArithmeticError):
+            return None
+        finally:
+            state["count"] += 1
+        return image if np.isfinite(image).all() else None
+
+    def _image(self, u, t, t_prev, law, integrator, state) -> np.ndarray:
+        """G(u): the contact problem under f − n(u), then u = K⁻¹(f − n(u) − Pᵀ f_c) + D δ (``state``: x, λ, record)."""
+        disc, cond = self.disc, self.disc.condensation
+        n = self.remainder(u)
+        response = disc.elastic.operator.solve(n)
+        self._shift = cond.N @ response, np.zeros(0) if cond.plate is None else cond.plate.response.T @ n
+        state["x"], state["lam"], state["record"] = self._contact(t, t_prev, law, state["x"], state["lam"], integrator)
+        state["newton"] += state["record"].iterations
+        forces = disc.contact_forces(law.pressure(self.normal(state["x"]) - cond.d0), state["lam"], t)
+        return disc.recover(forces, t, self.plate(state["x"]), nonlinear=False) - response
+
+    def _use(self, disc: Discretization) -> None:
+        """Solve on with the operator K of ``disc`` (its factorisation, condensation and loads, built when new)."""
+        if disc is self.disc:
+            return
+        for _, build in disc.stages():
+            build()
+        self._kept[id(self.disc)] = self.disc, self._matrices, self._factors
+        self.disc = disc
+        _, self._matrices, self._factors = self._kept.pop(id(disc), (disc, {}, {}))
+        self.remainder = Remainder(disc.fes, disc.elastic.laws, disc.elastic.stiffness)
+
+    def _contact(self, t, t_prev, law, x, lam, integrator):
+        """The contact problem of the step (with the bulk's current load shift), cut back when Newton fails."""
+        target = self.disc.load_factor(t)
+        try:
+            return self._newton(t, target, law, x, lam, integrator)
+        except ConvergenceError as first:
+            start = 0.0 if t_prev is None else self.disc.load_factor(t_prev)
+            if t_prev is None:
+                x, lam = np.zeros_like(x), np.zeros_like(lam)
+            for tried, m in enumerate(self.CUTBACKS, start=1):
+                try:
+                    xs, ls = x, lam
+                    for theta in np.arange(1, m + 1) / m:
+                        xs, ls, record = self._newton(t, start + theta * (target - start), law, xs, ls,
+                                                      integrator)
+                    log.info("t = %.4g: converged after cutting the load step into %d", t, m)
+                    record.cutbacks = tried
+                    return xs, ls, record
+                except ConvergenceError:
+                    continue
+            first.record.cutbacks = len(self.CUTBACKS)
+            raise first
+
+    def _newton(self, t, load_factor, law, x, lam, integrator):
+        sc = self.scene.solver
+        system = self._system(t, load_factor, law, integrator)
+        return semismooth_newton(system, x, lam, sc.tolerance, sc.max_iterations)
+
+    def _system(self, t, load_factor, law, integrator):
+        disc, cond = self.disc, self.disc.condensation
+        if self._full:
+            return _full_system(disc, t, load_factor, integrator)
+        friction = disc.friction_directions(t)                              # μ_i n*_i
+        if disc.matrix_free:
+            key = ("krylov", (cond.nu[None, :] + friction).tobytes())        # A's force directions ν + μ n*
+            if key not in self._matrices:
+                self._matrices = {key: _recycler(disc, friction)}
+            directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + friction)
+            s_load, plate = self._loads(directed, load_factor)
+            return KrylovSystem(self._matrices[key], cond.compliance_estimate, disc.points.weights, s_load, cond.d0,
+                                self.scene.contact.gap, law, self.scene.solver.tolerance, plate)
+        key = friction.tobytes()
+        if key not in self._matrices:
+            H = cond.normal_compliance
+            A = H + cond.friction_compliance(friction) if friction.any() else H
+            directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + friction)
+            self._matrices = {key: (A, directed)}
+            self._factors = {}
+        A, directed = self._matrices[key]
+        s_load, plate = self._loads(directed, load_factor)
+        return CondensedSystem(cond.normal_compliance, A, disc.points.weights, s_load, cond.d0,
+                               self.scene.contact.gap, law, self._factors, plate)
+
+    def _loads(self, directed, load_factor: float):
+        """The normal displacements under the loads, s_F N K⁻¹ f, and the plate's rows, less the bulk's shift."""
+        disc = self.disc
+        s_load = load_factor * disc.loads.s_load
+        plate = _plate_rows(disc, directed, load_factor)
+        if self._shift is not None:
+            s_load = s_load - self._shift[0]
+            if plate is not None:
+                plate = PlateRows(plate.normal, plate.directed, plate.stiffness, plate.load - self._shift[1])
+        return s_load, plate
+
+
+def _recycler(disc: Discretization, friction) -> Recycler:
+    """The products with A = H + F(μ n*) (this μ n*) and H remembered for the run, and the Newton basis built on them."""
+    directions = disc.condensation.nu[None, :] + friction
+    respond = lambda directed, normal: disc.normal_response(normal, directed, directions)  # noqa: E731
+    return Recycler(ComplianceMemory(respond, disc.points.n))
+
+
+def _plate_rows(disc: Discretization, directed, load_factor: float) -> PlateRows | None:
+    """The plate's rows of a step (None without a plate), ``directed`` = b_i·Φ_i for this step's force directions."""
+    plate = disc.condensation.plate
+    return None if plate is None else PlateRows(plate.normal, directed, plate.stiffness,
+                                                load_factor * disc.loads.plate_load)
+
+
+def _full_system(disc: Discretization, t: float, load_factor: float, integrator: WearIntegrator) -> FullSystem:
+    """The reference system: NGSolve form with w, μ, n* of this step (explicit wear: w = a, see the scene's rules)."""
+    cf, cond = disc.full_form, disc.condensation
+    disc.set_nodal(cf.w, integrator.a)
+    for gf, component in zip(cf.friction, disc.friction_directions(t).T):
+        disc.set_nodal(gf, component)
+    load = cond.full_basis.T @ disc.loads.load
+    load[len(load) - cond.plate_modes_count:] += disc.loads.plate_force
+    floating = cond.plate_modes_count and not disc.scene.geometry.dirichlet
+    return FullSystem(cf, cond.full_basis, load_factor * load, cond.N, disc.points.weights, cond.d0,
+                      disc.scene.contact.gap, disc.elastic.stiffness, integrator.point_law(),
+                      cond.rigid_translation if floating else None)
+
+
