@@ -19,7 +19,7 @@ from typing import Any
 
 from pydantic import ConfigDict, ValidationError, model_validator
 
-from . import cad, messages, rules
+from . import cad, examples, messages, rules
 from .keys import Level, SceneError, Section, key, level_of
 from .kinds import KINDS
 from .sections import (
@@ -122,10 +122,25 @@ class Scene(Section):
 
 
 def load_scene(path: str | Path) -> Scene:
-    """Read and validate a scene TOML file."""
-    path = Path(path)
-    if not path.is_file():
-        raise SceneError(f"scene file: {path} does not exist")
+    """Read and validate a scene TOML file, or a shipped scene by name.
+
+    Parameters
+    ----------
+    path : str or Path
+        A scene file, or the name of a shipped scene (``"paper_strip"``, see ``ngwear examples``).
+
+    Returns
+    -------
+    Scene
+        The validated scene; its ``name`` is the file's stem unless the file names it.
+
+    Raises
+    ------
+    SceneError
+        The file is missing, unreadable or not TOML, or a key is missing, of the wrong type or out of range
+        (one line naming the dotted key and its allowed range).
+    """
+    path = examples.find(path)
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as err:

@@ -36,6 +36,7 @@ from ..results.folder import NoSpace, hold, no_space
 from ..results.invariants import StepCheck
 from ..results.result import Result
 from .clock import Clock
+from .progress import bar
 
 log = logging.getLogger(__name__)
 
@@ -237,8 +238,7 @@ class Stages:
     def __init__(self, name: str, show: bool):
         self.name, self.bar = name, None
         if show:
-            from tqdm.auto import tqdm
-            self.bar = tqdm(total=None, desc=f"{name}: set-up", leave=False, bar_format="{desc} [{elapsed}]")
+            self.bar = bar(total=None, desc=f"{name}: set-up", leave=False, bar_format="{desc} [{elapsed}]")
 
     def run(self, label: str, build):
         if self.bar is not None:
@@ -391,9 +391,8 @@ def _full_system(disc: Discretization, t: float, load_factor: float, integrator:
 
 def _progress(scene: Scene, result: Result):
     """A progress bar over the steps (uniform) or over time (adaptive), from where the run starts."""
-    from tqdm.auto import tqdm
     if not scene.time.adaptive:
-        return tqdm(total=scene.time.steps, initial=max(result.steps, 0), desc=scene.name, unit="step",
-                    leave=False)
-    return tqdm(total=scene.time.T, initial=result.times[-1] if len(result.times) else 0.0, desc=scene.name,
-                leave=False, bar_format="{l_bar}{bar}| t = {n:.4g} of {total:.4g} [{elapsed}<{remaining}]")
+        return bar(total=scene.time.steps, initial=max(result.steps, 0), desc=scene.name, unit="step",
+                   leave=False)
+    return bar(total=scene.time.T, initial=result.times[-1] if len(result.times) else 0.0, desc=scene.name,
+               leave=False, bar_format="{l_bar}{bar}| t = {n:.4g} of {total:.4g} [{elapsed}<{remaining}]")
