@@ -232,9 +232,11 @@ def _write(result, out: Path, pictures: bool, check: tuple[str, str] | None = No
         from .views.pictures import write_pictures
         written = write_pictures(result, out)
     summary = result.summary()
+    unit = summary.pop("units", {})
     width = max(map(len, summary))
     for key, value in summary.items():
-        print(f"{key:<{width}}  {value:.4g}" if isinstance(value, float) else f"{key:<{width}}  {value}")
+        text = f"{value:.4g}" if isinstance(value, float) else f"{value}"
+        print(f"{key:<{width}}  {text} {unit[key]}" if key in unit else f"{key:<{width}}  {text}")
     if check is not None:
         print(f"{check[0]:<{width}}  {check[1]}")
     for warning in result.warnings:

@@ -110,7 +110,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
     if resume is not None and result.history.is_in(resume):
         saver.rows = len(result.times)          # what the checkpoint read keeps
     bar = _progress(scene, result) if progress else None
-    before = result.wall_time
+    before, solving = result.wall_time, time.perf_counter()
     try:
         if result.steps < 0:
             x, lam = _first(stepper, integrator, result, x, lam)
@@ -137,6 +137,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
         result.settle()
         saver.full = err
     result.wall_time, result.rejected = before + time.perf_counter() - start, clock.rejected
+    result.solve_time += time.perf_counter() - solving
     if clock.unmet:
         result.warnings.append(f"time.tolerance: steps at time.min_step = {scene.time.min_step:g} missed the "
                                "tolerance; lower time.min_step")
