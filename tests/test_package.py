@@ -35,7 +35,7 @@ def run(*args, cwd, env=None, timeout=300) -> subprocess.CompletedProcess:
 
 
 def test_version_is_single_sourced():
-    """pyproject takes the version from ngwear.__version__; --version and python -m ngwear print it."""
+    """The pyproject takes the version from ngwear.__version__; --version and python -m ngwear print it."""
     project = tomllib.loads((ROOT / "pyproject.toml").read_text())
     assert "version" not in project["project"] and "version" in project["project"]["dynamic"]
     assert project["tool"]["setuptools"]["dynamic"]["version"] == {"attr": "ngwear.__version__"}
@@ -66,7 +66,7 @@ def test_public_api_has_numpy_docstrings():
 
 @pytest.mark.slow
 def test_wheel_installs_and_runs_a_shipped_scene(tmp_path):
-    """python -m build → sdist and wheel; the wheel in a new venv runs `ngwear run paper_strip` outside the repo."""
+    """`python -m build` → sdist and wheel; the wheel in a new venv runs `ngwear run paper_strip` outside the repo."""
     dist, version = tmp_path / "dist", ngwear.__version__
     built = run(sys.executable, "-m", "build", "--outdir", dist, ROOT, cwd=tmp_path)   # the wheel from the sdist
     assert built.returncode == 0, built.stdout[-2000:] + built.stderr[-3000:]
