@@ -48,7 +48,40 @@ PART = ("normal_force", "torque", "friction_force", "apparent_friction", "contac
 
 @dataclass
 class Result:
-    """What a run produced; see the module docstring for the array layout."""
+    """What a run produced: per-step arrays at the contact points, what a part's engineer reads, the fields.
+
+    Made by :func:`~ngwear.simulate` or read by :func:`load_result`; the module docstring gives the layout.
+
+    Attributes
+    ----------
+    scene : Scene
+        The scene that ran.
+    contact_points, weights : ndarray
+        x_i (n, d) and the quadrature weights m_i (n,) of Γ_C.
+    times : ndarray
+        t_j of the completed steps (N,).
+    wear, normal_displacement, pressure, reaction : ndarray
+        w, u_ν, p and λ at the contact points, (N, n).
+    forces : ndarray
+        The contact forces at the points, (N, n, d).
+    plate_displacement : ndarray
+        δ of a rigid plate, (N, r) (r = 0 without one).
+    normal_force, torque, friction_force, apparent_friction, contact_area, wear_volume : ndarray
+        Per step (N,): Σ m (p + λ), the friction moment about the counterface's axis, |F_t|, |F_t| / normal force,
+        the area in contact and the worn volume (properties).
+    tangential_force : ndarray
+        F_t = Σ m_i μ p_i n*_i, (N, d): the friction force on the foundation (a property).
+    newton : list of NewtonRecord
+        Each step's Newton iterations, residuals, active set, cut-backs.
+    status : str
+        ``completed``, ``interrupted`` or what stopped the run.
+    warnings : list of str
+        What the run warns of (the explicit update's stability, a missed tolerance).
+    wall_time, solve_time : float
+        Seconds of the whole run (meshing and factorising included) and of its time loop.
+    discretization : Discretization or None
+        The mesh and factorisation it ran on (``displacement`` and pictures need it).
+    """
 
     scene: Scene
     contact_points: np.ndarray
@@ -282,7 +315,26 @@ class Result:
 
 
 def load_result(directory) -> Result:
-    """Read a saved result; ``displacement_at`` works for its stored steps."""
+    """Read a result that :meth:`Result.save` wrote.
+
+    Parameters
+    ----------
+    directory : str or Path
+        The run's output folder (``result.npz``, ``scene.json`` and ``mesh.vol``).
+
+    Returns
+    -------
+    Result
+        The run with its discretization on the saved mesh (without ``mesh.vol``: none); ``displacement`` is
+        stored for its frames and recovered for the other steps.
+
+    Raises
+    ------
+    FileNotFoundError
+        ``directory`` holds no ``result.npz``.
+    FolderError
+        ``mesh.vol`` is not the mesh the result was computed on.
+    """
     src = Path(directory)
     if not (src / "result.npz").is_file():
         raise FileNotFoundError(f"{src}: no result.npz (not a saved ngwear result)")

@@ -47,6 +47,8 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
 
     Parameters
     ----------
+    scene : Scene or None
+        What to run (None with ``resume``: the checkpoint's scene).
     discretization : Discretization, optional
         Of an earlier run: its mesh, factorisation and contact compliance are reused wherever the
         scene change allows (see :meth:`Discretization.with_scene`).
@@ -58,6 +60,14 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
         extend ``time.T``; ``None`` takes the checkpoint's scene.  Checkpoints go on in that folder.
     stop : threading.Event, optional
         When set, the run stops at the next step boundary with status ``interrupted``.
+    progress : bool
+        Show the set-up's stages and the steps: a bar in a terminal or notebook, else log lines
+        (``ngwear.progress`` at INFO, see :mod:`ngwear.runs.progress`).
+
+    Returns
+    -------
+    Result
+        Every completed step; ``status`` says whether the run completed.
 
     Raises
     ------

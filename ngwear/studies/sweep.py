@@ -87,7 +87,20 @@ def sweep(study, client=None, *, out=None, workers: int | None = None,
     overrides : dict, optional
         Extra fixed scene overrides (dotted keys, like the study's ``[set]``) for a path or dict.
     progress : bool
-        Show a progress bar over all cases (and the Dask dashboard's link when it has one).
+        Show a progress bar over all cases (and the Dask dashboard's link when it has one); without a terminal,
+        log lines (see :mod:`ngwear.runs.progress`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case: its index, the varied keys, the outputs, status, error, warnings, wall time, worker;
+        ``attrs["summary"]`` counts the cases by status.  Also written to ``out`` (``results.parquet``,
+        ``results.csv``, ``summary.json``, plots, each case's result folder).
+
+    Raises
+    ------
+    StudyError
+        The study or ``workers`` is invalid, or the scheduler cannot be reached (one line naming the field).
     """
     if isinstance(study, Study) and overrides:
         raise StudyError("overrides: only for a study file or dict (a Study is already built)")
