@@ -28,6 +28,8 @@ from .views.app import DEFAULT_PORT
 
 FLAGS = {"checkpoint": "--out", "resume": "--resume"}
 """The flag of each Python argument a FolderError may name."""
+STAGES = logging.getLogger("ngwear.progress")
+"""Where the stages of a command are told (shown unless --quiet; see :mod:`ngwear.runs.progress`)."""
 
 
 SCENE_HELP = "scene TOML file, or the name of a shipped scene (see `ngwear examples`), e.g. paper_strip"
@@ -169,6 +171,7 @@ def _run(args, scene, settings, out: Path) -> int:
     result = None
     try:
         result = simulate(scene, progress=not args.quiet, checkpoint=out, resume=args.resume, stop=stop)
+        STAGES.info("%s: writing result.npz and %d VTU frames", result.scene.name, len(result.stored_steps))
         result.save(out)
         check = None if args.no_check else _uniqueness(result, stop, progress=not args.quiet)
         _write(result, out, pictures=not args.no_pictures, check=check)
@@ -230,6 +233,7 @@ def _write(result, out: Path, pictures: bool, check: tuple[str, str] | None = No
     written = []
     if pictures and result.steps >= 0:
         from .views.pictures import write_pictures
+        STAGES.info("%s: drawing the pictures", result.scene.name)
         written = write_pictures(result, out)
     summary = result.summary()
     unit = summary.pop("units", {})

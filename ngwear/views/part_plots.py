@@ -1,11 +1,11 @@
 """Plots a brake or pin-on-disc engineer reads off a run (matplotlib, no display needed).
 
 ``contact_maps``: the contact face Γ_C seen from above (projected on the plane ⟂ ν), coloured by the
-pressure p and by the wear depth w at chosen steps (a 3D result).  ``history``: the normal force, the
-friction torque about the counterface's axis, the worn volume and the plate's displacement over
-time (the friction force |F_t| instead of the torque when the counterface does not turn), with units
-for a scene in SI.  ``pressure_radius``: p·r against the distance r from the axis at a few steps, with its mean:
-under a rigid backing plate a worn-in pad wears evenly, so p·r tends to a constant.
+pressure p and by the wear depth w at chosen steps (a 3D result; the colour bars name the field).
+``history``: the normal force, the friction torque about the counterface's axis (the friction force |F_t|
+when the counterface does not turn), the worn volume and the plate's displacement over time.
+``pressure_radius``: p·r against the distance r from the axis at a few steps, with its mean: under a rigid
+backing plate a worn-in pad wears evenly, so p·r tends to a constant.  Axes carry units in an SI scene.
 """
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ from matplotlib.figure import Figure
 from matplotlib.tri import Triangulation
 
 from ..model.kinematics import Slip
-from ..results.units import label
+from ..results.units import label, unit
 from .plots import _sampled, _save, plain
 
 FIELDS = {"pressure": ("pressure p", "plasma", "pressure"), "wear": ("wear depth w", "YlOrRd", "length")}
@@ -73,6 +73,7 @@ def contact_maps(result, path, steps=None, fields=("pressure", "wear")) -> Path:
     tri, at_nodes = _triangulation(result)
     aspect = np.clip(np.ptp(tri.x) / max(np.ptp(tri.y), 1e-300), 0.35, 3.0)
     fig = Figure(figsize=((2.6 * aspect + 0.6) * len(steps) + 1, 3.0 * len(fields)), layout="constrained")
+    seconds = f" {unit(result.scene, 'time')}" if result.scene.units else ""
     axes = np.atleast_2d(fig.subplots(len(fields), len(steps), squeeze=False))
     for row, name in zip(axes, fields):
         title, cmap, quantity = FIELDS[name]
@@ -81,7 +82,7 @@ def contact_maps(result, path, steps=None, fields=("pressure", "wear")) -> Path:
         for ax, step in zip(row, steps):
             shaded = ax.tripcolor(tri, at_nodes @ values[step], shading="gouraud", cmap=cmap, vmin=0.0, vmax=top)
             ax.set_aspect("equal")
-            ax.set_title(f"{title}, {label(result.scene, f't = {result.times[step]:.4g}', 'time')}", fontsize=9)
+            ax.set_title(f"t = {result.times[step]:.4g}{seconds}", fontsize=9)
             ax.tick_params(labelsize=7)
         fig.colorbar(shaded, ax=row.tolist(), shrink=0.9, format="%.3g", label=label(result.scene, title, quantity))
     fig.suptitle(f"{result.scene.name}: contact face from above", fontsize=10)
