@@ -176,13 +176,15 @@ class Result:
     @property
     def torque(self) -> np.ndarray:
         """Friction moment about the counterface's axis per step (negative when it brakes a rotation)."""
-        slip, signs = self._slip()
+        slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
+        signs = np.sign([slip.factor(t) for t in self.times])
         return self.scene.contact.friction * signs * (self.pressure @ (slip.moment_arms() * self.weights))
 
     @property
     def tangential_force(self) -> np.ndarray:
         """F_t = Σ m_i μ p_i n*_i per step, shape (steps + 1, d): the friction force on the foundation."""
-        slip, signs = self._slip()
+        slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
+        signs = np.sign([slip.factor(t) for t in self.times])
         return self.scene.contact.friction * signs[:, None] * ((self.pressure * self.weights) @ slip.direction)
 
     @property
@@ -195,11 +197,6 @@ class Result:
         """|F_t| / Σ m_i (p_i + λ_i) per step; 0 where the normal force is 0."""
         normal = self.normal_force
         return np.divide(self.friction_force, normal, out=np.zeros_like(normal), where=normal > 0)
-
-    def _slip(self) -> tuple[Slip, np.ndarray]:
-        """The foundation's slip at the contact points and sign s_v(t_j) of each step."""
-        slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
-        return slip, np.sign([slip.factor(t) for t in self.times])
 
     @property
     def contact_area(self) -> np.ndarray:
