@@ -14,7 +14,7 @@ from .studies.sweep import sweep
 
 __all__ = ["Discretization", "Explorer", "Result", "Scene", "SceneError", "Study", "StudyError", "load_result",
            "load_scene", "load_study", "simulate", "sweep"]
-__version__ = "0.1.0"
+__version__ = "0.1.0"      # the one place of the version: pyproject.toml reads it (dynamic), `ngwear --version` prints it
 
 
 def __getattr__(name: str):

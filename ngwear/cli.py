@@ -1,9 +1,12 @@
-"""Script mode: ``ngwear run SCENE.toml [--out DIR] [--set KEY=VALUE ...] [--no-pictures]``.
+"""Script mode: ``ngwear run SCENE [--out DIR] [--set KEY=VALUE ...] [--no-pictures]``.
 
-Also ``ngwear explore`` (the explorer as a web app), ``ngwear verify``, ``ngwear stress``, ``ngwear schema``
-(the scene files' JSON Schema) and
-``ngwear sweep STUDY.toml [--out DIR] [--scheduler ADDRESS] [--workers N]`` (a parameter study on
-Dask, see :mod:`ngwear.studies.sweep`).
+SCENE is a scene TOML file or the name of a shipped scene (``ngwear run paper_strip``); ``ngwear examples``
+lists the shipped scenes and ``ngwear examples --copy DIR`` copies them to start from.  Also ``ngwear explore``
+(the explorer as a web app), ``ngwear verify``, ``ngwear stress``, ``ngwear schema`` (the scene files' JSON
+Schema) and ``ngwear sweep STUDY.toml [--out DIR] [--scheduler ADDRESS] [--workers N]`` (a parameter study on
+Dask, see :mod:`ngwear.studies.sweep`).  Every command takes ``--quiet`` (warnings and errors only) and
+``--verbose`` (also the solver's notes and the log of the libraries, Dask's included); by default a run shows a
+progress bar in a terminal and one line per stage elsewhere.
 
 Bad input exits with status 2 and one line naming the field (also an output folder in use by another
 run, or a damaged file of one); a run that stops part-way writes the steps it completed and exits with
@@ -17,6 +20,7 @@ import secrets
 import sys
 from pathlib import Path
 
+from . import __version__
 from .model.scene import SceneError, load_scene, parse_override
 from .results.folder import FolderError
 from .studies.study import StudyError
@@ -24,28 +28,38 @@ from .views.app import DEFAULT_PORT
 
 FLAGS = {"checkpoint": "--out", "resume": "--resume"}
 """The flag of each Python argument a FolderError may name."""
+STAGES = logging.getLogger("ngwear.progress")
+"""Where the stages of a command are told (shown unless --quiet; see :mod:`ngwear.runs.progress`)."""
+
+
+SCENE_HELP = "scene TOML file, or the name of a shipped scene (see `ngwear examples`), e.g. paper_strip"
 
 
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="ngwear", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
-    run = sub.add_parser("run", help="simulate a scene and write results, VTU/PVD and pictures")
-    run.add_argument("scene", nargs="?", help="scene TOML file, e.g. geometries/paper_strip.toml")
+    talk = argparse.ArgumentParser(add_help=False)
+    how = talk.add_mutually_exclusive_group()
+    how.add_argument("-q", "--quiet", action="store_true", help="no progress bar or stage lines: warnings and errors only")
+    how.add_argument("-v", "--verbose", action="store_true",
+                     help="also the solver's notes and the log of the libraries (Dask's included)")
+    run = sub.add_parser("run", help="simulate a scene and write results, VTU/PVD and pictures", parents=[talk])
+    run.add_argument("scene", nargs="?", help=SCENE_HELP)
     run.add_argument("--out", help="output directory (default: out/<scene name>)")
     _overrides(run)
     run.add_argument("--resume", metavar="OUTDIR", help="go on from the checkpoint in OUTDIR (a SCENE or --set "
                                                          "may extend time.T)")
     run.add_argument("--no-pictures", action="store_true", help="skip the pictures and plots (PNG)")
-    run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.add_argument("--no-check", action="store_true", help="skip the uniqueness check (H_S) after the run")
-    ver = sub.add_parser("verify", help="convergence study (h and k) and the (H_S) check of a scene")
-    ver.add_argument("scene", nargs="?", help="scene TOML file")
+    ver = sub.add_parser("verify", help="convergence study (h and k) and the (H_S) check of a scene", parents=[talk])
+    ver.add_argument("scene", nargs="?", help=SCENE_HELP)
     ver.add_argument("--out", help="output directory (default: out/<scene name>-verify)")
     _overrides(ver)
     ver.add_argument("--quick", action="store_true", help="coarse meshes and few steps (about 10 s)")
-    schema = sub.add_parser("schema", help="write the scene files' JSON Schema (for editors)")
+    schema = sub.add_parser("schema", help="write the scene files' JSON Schema (for editors)", parents=[talk])
     schema.add_argument("--out", help="file to write (default: print it)")
-    sweep = sub.add_parser("sweep", help="run a parameter study on Dask and tabulate its outputs")
+    sweep = sub.add_parser("sweep", help="run a parameter study on Dask and tabulate its outputs", parents=[talk])
     sweep.add_argument("study", help="study TOML file, e.g. geometries/studies/friction_wear.toml")
     sweep.add_argument("--out", help="output directory (default: out/<study name>); finished cases are kept")
     sweep.add_argument("--scheduler", metavar="ADDRESS",
@@ -54,10 +68,8 @@ def _parser() -> argparse.ArgumentParser:
                        help="local cluster: worker processes (default: one per core); --scheduler: workers to wait for")
     sweep.add_argument("--set", nargs="+", action="extend", default=[], metavar="KEY=VALUE",
                        help="override the base scene (may be given several times)")
-    sweep.add_argument("--quiet", action="store_true", help="no progress bar")
-    exp = sub.add_parser("explore", help="serve the explorer as a web app on 127.0.0.1 (needs ngwear[app])")
-    exp.add_argument("scene", nargs="?", default="geometries/paper_strip.toml",
-                     help="scene TOML file (default: geometries/paper_strip.toml)")
+    exp = sub.add_parser("explore", help="serve the explorer as a web app on 127.0.0.1 (needs ngwear[app])", parents=[talk])
+    exp.add_argument("scene", nargs="?", default="paper_strip", help=f"{SCENE_HELP} (default: paper_strip)")
     exp.add_argument("--port", type=int, help=f"port (default: {DEFAULT_PORT} or the next free one)")
     exp.add_argument("--out", help="folder the save buttons write into (default: out/<scene name>-explore)")
     _overrides(exp)
@@ -71,7 +83,11 @@ def _parser() -> argparse.ArgumentParser:
                           "behind a reverse proxy (may be given several times)")
     exp.add_argument("--no-token", action="store_true",
                      help="no token in the URL: anyone who can reach the port can use the app (not recommended)")
-    stress = sub.add_parser("stress", help="run the stability stress matrix and write its report")
+    examples = sub.add_parser("examples", help="list the shipped scenes, or copy them into a folder to start from",
+                              parents=[talk])
+    examples.add_argument("--copy", metavar="DIR", help="copy the shipped scenes, the CAD part they read, the studies "
+                                                        "and scene.schema.json into DIR (nothing there is overwritten)")
+    stress = sub.add_parser("stress", help="run the stability stress matrix and write its report", parents=[talk])
     stress.add_argument("args", nargs=argparse.REMAINDER, help="passed on (see `ngwear stress -- --help`)")
     return parser
 
@@ -91,7 +107,7 @@ def _scene(args, required: bool = True):
         parse_override(strays[0])                    # the one-line message for an item without '='
     if args.scene is None:
         if required:
-            raise SceneError("scene file: missing (give SCENE, e.g. geometries/paper_strip.toml)")
+            raise SceneError("scene file: missing (give SCENE: a scene file, or a shipped scene such as paper_strip)")
         return None, settings
     scene = load_scene(args.scene)
     return (scene.replace(**dict(parse_override(item) for item in settings)) if settings else scene), settings
@@ -155,6 +171,7 @@ def _run(args, scene, settings, out: Path) -> int:
     result = None
     try:
         result = simulate(scene, progress=not args.quiet, checkpoint=out, resume=args.resume, stop=stop)
+        STAGES.info("%s: writing result.npz and %d VTU frames", result.scene.name, len(result.stored_steps))
         result.save(out)
         check = None if args.no_check else _uniqueness(result, stop, progress=not args.quiet)
         _write(result, out, pictures=not args.no_pictures, check=check)
@@ -216,17 +233,41 @@ def _write(result, out: Path, pictures: bool, check: tuple[str, str] | None = No
     written = []
     if pictures and result.steps >= 0:
         from .views.pictures import write_pictures
+        STAGES.info("%s: drawing the pictures", result.scene.name)
         written = write_pictures(result, out)
     summary = result.summary()
+    unit = summary.pop("units", {})
     width = max(map(len, summary))
     for key, value in summary.items():
-        print(f"{key:<{width}}  {value:.4g}" if isinstance(value, float) else f"{key:<{width}}  {value}")
+        text = f"{value:.4g}" if isinstance(value, float) else f"{value}"
+        print(f"{key:<{width}}  {text} {unit[key]}" if key in unit else f"{key:<{width}}  {text}")
     if check is not None:
         print(f"{check[0]:<{width}}  {check[1]}")
     for warning in result.warnings:
         print(f"{'warning':<{width}}  {warning}")
     frames = len(result.stored_steps)
     print(f"{'written':<{width}}  {out}/ (result.npz, fields.pvd with {frames} frames, {len(written)} PNG)")
+
+
+def examples(args) -> int:
+    from .model import examples as shipped
+
+    if args.copy is None:
+        names = shipped.names()
+        width = max(map(len, names))
+        for name in names:
+            print(f"{name:<{width}}  {shipped.title(name)}")
+        return 0
+    try:
+        written = shipped.copy(args.copy)
+    except FileExistsError as err:
+        print(f"ngwear: --copy: {err}", file=sys.stderr)
+        return 2
+    except OSError as err:
+        print(f"ngwear: --copy: cannot write {err.filename or args.copy} ({err.strerror or err})", file=sys.stderr)
+        return 2
+    print(f"copied {len(written)} files into {args.copy}; run one with: ngwear run {Path(args.copy) / 'paper_strip.toml'}")
+    return 0
 
 
 def schema(args) -> int:
@@ -292,14 +333,41 @@ def explore(args) -> int:
                      kernel_timeout=args.kernel_timeout, max_kernels=args.max_kernels, origins=origins)
 
 
+class _Stderr(logging.StreamHandler):
+    """Log lines on whatever ``sys.stderr`` is when they are written (pytest and Jupyter replace it)."""
+
+    stream = property(lambda self: sys.stderr, lambda self, _: None)
+
+
+def _logging(quiet: bool, verbose: bool) -> None:
+    """Log lines on stderr as ``ngwear: …``: ngwear's warnings, its progress lines unless ``quiet``; ``verbose``: all.
+
+    Other libraries' lines below ERROR (Dask's INFO lines and the tracebacks of connections closed at the end of
+    a study) are shown only with ``verbose``.
+    """
+    root = logging.getLogger()
+    for handler in [h for h in root.handlers if h.get_name() == "ngwear"]:
+        root.removeHandler(handler)
+    handler = _Stderr()
+    handler.set_name("ngwear")
+    handler.setFormatter(logging.Formatter("ngwear: %(message)s"))
+    if not verbose:
+        handler.addFilter(lambda record: record.name.split(".")[0] == "ngwear" or record.levelno >= logging.ERROR)
+    root.addHandler(handler)
+    logging.getLogger("ngwear").setLevel(logging.DEBUG if verbose else logging.NOTSET)
+    logging.getLogger("ngwear.progress").setLevel(logging.WARNING if quiet else logging.INFO)
+
+
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    logging.basicConfig(level=logging.WARNING, format="ngwear: %(message)s")
+    _logging(args.quiet, args.verbose)
     if args.command == "stress":
         from .studies.stress import main as stress_main
         return stress_main([a for a in args.args if a != "--"])
     try:
-        return {"run": run, "verify": verify, "schema": schema, "sweep": sweep, "explore": explore}[args.command](args)
+        commands = {"run": run, "verify": verify, "schema": schema, "sweep": sweep, "explore": explore,
+                    "examples": examples}
+        return commands[args.command](args)
     except FolderError as err:
         print(f"ngwear: {err.named(FLAGS.get(err.key, err.key))}", file=sys.stderr)
         return 2

@@ -89,12 +89,120 @@ def test_brake_pad_run_writes_results_maps_and_plots(tmp_path):
                   "--quiet", "--out", out, cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     summary = dict(line.split(None, 1) for line in proc.stdout.strip().splitlines())
-    assert float(summary["normal_force"]) == pytest.approx(3000, rel=1e-9)
-    assert float(summary["torque"]) < 0 and float(summary["plate_displacement"]) > 0
-    assert float(summary["contact_area"]) == pytest.approx(np.pi / 6 * (0.15 ** 2 - 0.10 ** 2), rel=0.01)
+    units = {key: value.split(None, 1)[1] for key, value in summary.items() if key in (
+        "normal_force", "torque", "friction_force", "contact_area", "wear_volume", "max_wear", "plate_displacement")}
+    assert units == {"normal_force": "N", "torque": "N·m", "friction_force": "N", "contact_area": "m²",
+                     "wear_volume": "m³", "max_wear": "m", "plate_displacement": "m"}      # a scene in SI
+    value = {key: float(text.split()[0]) for key, text in summary.items() if key in units}
+    assert value["normal_force"] == pytest.approx(3000, rel=1e-9)
+    assert value["torque"] < 0 and value["plate_displacement"] > 0
+    assert value["contact_area"] == pytest.approx(np.pi / 6 * (0.15 ** 2 - 0.10 ** 2), rel=0.01)
     data = np.load(out / "result.npz")
-    for key in ("torque", "normal_force", "contact_area", "wear_volume", "plate_displacement"):
+    for key in ("torque", "normal_force", "contact_area", "wear_volume", "plate_displacement", "friction_force"):
         assert data[key].shape[0] == 21, key
-    assert data["torque"][-1] == pytest.approx(float(summary["torque"]), rel=1e-3)
+    assert data["torque"][-1] == pytest.approx(value["torque"], rel=1e-3)
     pictures = {p.name for p in out.glob("*.png")}
-    assert {"contact_maps.png", "history.png", "pressure_radius.png", "fig4_step020.png"} <= pictures
+    assert {"contact_maps.png", "history.png", "pressure_radius.png"} <= pictures
+    frames = [int(s) for s in data["field_steps"]]               # t = 0, 50, 100, 150 of 20 steps to T = 150
+    assert frames == [0, 7, 13, 20]
+    assert sorted(p.name for p in out.glob("fields_step*.vtu")) == [f"fields_step{s:03d}.vtu" for s in frames]
+    assert sorted(p for p in pictures if p.startswith("fig")) == [f"fig{k}_step{s:03d}.png"
+                                                                   for k, s in enumerate(frames[1:], start=1)]
+
+
+def test_shipped_scene_by_name_from_any_folder(tmp_path):
+    """`ngwear run paper_strip` in an empty folder; an unknown name: one line listing the shipped scenes."""
+    proc = ngwear("run", "paper_strip", "--set", "mesh.maxh=0.25", "time.steps=4", "wear.integrator=implicit",
+                  "--no-pictures", "--quiet", "--out", "o", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads((tmp_path / "o" / "scene.json").read_text())["name"] == "paper_strip"
+    proc = ngwear("run", "paper_strp", "--quiet", cwd=tmp_path)
+    assert_one_line_error(proc, "scene file")
+    assert "box3d, brake_pad, cad_pad, hertz, paper_strip, pin_on_disc" in proc.stderr
+
+
+def test_examples_listed_copied_and_run(tmp_path):
+    """`ngwear examples` lists each scene in one line; --copy DIR copies them (refusing to overwrite) and they run."""
+    from ngwear.model import examples
+    listed = ngwear("examples", cwd=tmp_path)
+    assert listed.returncode == 0 and listed.stderr == ""
+    lines = listed.stdout.splitlines()
+    assert [line.split()[0] for line in lines] == examples.names() == sorted(p.stem for p in PAPER.parent.glob("*.toml"))
+    assert all(len(line.split(None, 1)[1]) > 20 and len(line) < 120 for line in lines)
+    copied = ngwear("examples", "--copy", "mine", cwd=tmp_path)
+    assert copied.returncode == 0, copied.stderr
+    files = {p.relative_to(tmp_path / "mine").as_posix() for p in (tmp_path / "mine").rglob("*") if p.is_file()}
+    assert files == {p.as_posix() for p in examples.shipped_files()}
+    assert {"cad_pad.step", "scene.schema.json", "studies/friction_wear.toml"} <= files
+    (tmp_path / "mine" / "paper_strip.toml").write_text((tmp_path / "mine" / "paper_strip.toml").read_text()
+                                                        .replace("steps = 100", "steps = 5"))
+    proc = ngwear("run", "mine/paper_strip.toml", "--set", "mesh.maxh=0.25", "wear.integrator=implicit",
+                  "--no-pictures", "--quiet", "--out", "o", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads((tmp_path / "o" / "summary.json").read_text())["steps"] == 5       # the copy, edited, ran
+    assert ngwear("run", "mine/cad_pad.toml", "--set", "time.steps=0", cwd=tmp_path).stderr.startswith(
+        "ngwear: time.steps:")                                    # its CAD part is found beside it
+    again = ngwear("examples", "--copy", "mine", cwd=tmp_path)
+    assert_one_line_error(again, "--copy")
+    assert "exists" in again.stderr and "steps = 5" in (tmp_path / "mine" / "paper_strip.toml").read_text()
+
+
+def test_every_command_takes_quiet_and_verbose():
+    from ngwear.cli import _parser
+    parser = _parser()
+    commands = {"run": ["x.toml"], "verify": [], "schema": [], "sweep": ["s.toml"], "explore": [], "examples": [],
+                "stress": []}
+    assert set(commands) == set(parser._subparsers._group_actions[0].choices)
+    for command, rest in commands.items():
+        for flag in ("--quiet", "--verbose", "-q", "-v"):
+            args = parser.parse_args([command, flag, *rest])
+            assert (args.quiet, args.verbose) == (flag in ("--quiet", "-q"), flag in ("--verbose", "-v")), command
+
+
+def test_progress_without_a_terminal_is_one_line_per_stage(tmp_path):
+    """With stderr a pipe (CI, a batch job): stage lines and the count at each tenth, no carriage return; --quiet: none."""
+    args = ["run", PAPER, "--set", "mesh.maxh=0.25", "time.steps=20", "--no-pictures", "--no-check", "--out"]
+    proc = ngwear(*args, tmp_path / "a", cwd=tmp_path)
+    assert proc.returncode == 0 and "\r" not in proc.stderr, proc.stderr
+    lines = proc.stderr.splitlines()
+    assert all(line.startswith("ngwear: paper_strip: ") for line in lines), lines
+    assert any("factorising K" in line for line in lines) and any("contact compliance" in line for line in lines)
+    counts = [line.split(": ")[2].split(" [")[0] for line in lines if " of 20 steps" in line]
+    assert counts == [f"{n} of 20 steps" for n in range(0, 21, 2)]
+    quiet = ngwear(*args, tmp_path / "b", "--quiet", cwd=tmp_path)
+    assert quiet.returncode == 0 and quiet.stderr == ""
+
+
+def test_progress_in_a_terminal_is_a_bar(tmp_path):
+    """With stderr a terminal: tqdm's bar, redrawn with carriage returns."""
+    import fcntl
+    import os
+    import pty
+    import struct
+    import termios
+    import threading
+    main, child = pty.openpty()
+    fcntl.ioctl(child, termios.TIOCSWINSZ, struct.pack("HHHH", 24, 100, 0, 0))     # 100 columns wide
+    drawn = []
+
+    def read():                         # while the run writes: a terminal's buffer is small
+        while True:
+            try:
+                chunk = os.read(main, 65536)
+            except OSError:             # the run ended and closed its end
+                return
+            if not chunk:
+                return
+            drawn.append(chunk)
+
+    reader = threading.Thread(target=read)
+    reader.start()
+    proc = subprocess.run([*COMMAND, "run", str(PAPER), "--set", "mesh.maxh=0.25", "time.steps=20", "--no-pictures",
+                           "--no-check", "--out", str(tmp_path / "a")], cwd=tmp_path, stdout=subprocess.PIPE,
+                          stderr=child, timeout=120)
+    os.close(child)
+    reader.join(timeout=10)
+    os.close(main)
+    drawn = b"".join(drawn)
+    assert proc.returncode == 0
+    assert b"\r" in drawn and b"0/20 [" in drawn and b"factorising K" in drawn and b" of 20 steps" not in drawn

@@ -193,11 +193,14 @@ def pad():
 
 def test_part_on_a_disc_sector_with_an_arc_arrow(pad):
     picture = render.frame(pad, -1, window_size=(600, 300)).astype(int)
-    grey = (np.ptp(picture, axis=-1) < 10) & (picture[..., 0] > 40) & (picture[..., 0] < 160)   # the lit disc
-    assert picture.std() > 20 and grey.mean() > 0.05
+    grey = (np.ptp(picture, axis=-1) < 10) & (picture[..., 0] > 150) & (picture[..., 0] < 235)   # the disc, seen
+    assert picture.std() > 20 and grey.mean() > 0.05                                               # through
     with render.Canvas(window_size=(600, 300)) as canvas:
         canvas.frame(pad, -1)
         drawn = canvas._picture
+        camera = np.array(canvas._plotter.camera.position)       # below the disc, looking up at the contact face
+        assert camera[2] < -pad.scene.contact.gap and canvas._plotter.camera.direction[2] > 0.5
+        assert set(canvas._plotter.scalar_bars.keys()) == {"wear w (m)", "‖u − δν‖ (m)"}
         rotor = drawn.rotor
         radii = np.linalg.norm(pad.contact_points[:, :2], axis=1)
         assert rotor["radii"][0] < radii.min() < radii.max() < rotor["radii"][1]

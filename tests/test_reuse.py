@@ -84,6 +84,7 @@ def plate_only(fn):
 # key → the overrides that change it in a scene (None: not for that scene)
 CHANGES = {
     "name": lambda s: {"name": "other"},
+    "units": lambda s: {"units": None if s.units else "SI"},
     "geometry.kind": lambda s: {**geometry(s, kind="half_disk", size=[1.0], dirichlet=["top"]),
                                 "loads.traction": {}, "loads.body_force": [0.0, -0.01], "mesh.maxh": 0.3}
     if s.geometry.kind == "strip" else None,

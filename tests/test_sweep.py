@@ -118,6 +118,24 @@ def test_cli_cluster_gives_identical_numbers(local, cli_cluster, tmp_path):
     assert "4 cases (4 completed); 0 finished earlier, 4 run on 2 workers" in done.stdout
 
 
+def test_cli_sweep_prints_its_table_and_path_not_dask_logs(tmp_path):
+    """A successful `ngwear sweep` on a local cluster: the table and where it is; on stderr only its progress lines."""
+    path = write(tmp_path, GRID)
+    done = subprocess.run([sys.executable, "-m", "ngwear.cli", "sweep", str(path), "--workers", "2", "--out",
+                           str(tmp_path / "out")], capture_output=True, text=True, cwd=tmp_path, timeout=180)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines()[0].split()[:3] == ["case", "contact.friction", "contact.wear"]
+    assert done.stdout.rstrip().endswith(f"results in {tmp_path / 'out'}") and len(done.stdout.splitlines()) == 7
+    lines = done.stderr.splitlines()
+    assert lines and all(line.startswith("ngwear: study: ") or line.startswith("ngwear: Dask dashboard: ")
+                         for line in lines), done.stderr
+    assert "\r" not in done.stderr and "Traceback" not in done.stderr and "INFO" not in done.stderr
+    verbose = subprocess.run([sys.executable, "-m", "ngwear.cli", "sweep", str(path), "--workers", "2", "--out",
+                              str(tmp_path / "again"), "--verbose"], capture_output=True, text=True, cwd=tmp_path,
+                             timeout=180)
+    assert verbose.returncode == 0 and "Scheduler" in verbose.stderr    # Dask's own lines, when asked for
+
+
 def test_cases_of_a_dead_worker_run_on_the_other(cli_cluster, tmp_path):
     from distributed import Client
 

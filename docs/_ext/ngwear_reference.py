@@ -2,7 +2,7 @@
 
 * ``{scene-keys} SECTION`` — the keys of one table of a scene file: the rows of
   :func:`ngwear.model.messages.reference_table` (the declarations) whose key is in SECTION (``name`` for the
-  top-level key), with the level a change of the key invalidates (its declared ``invalidates``).
+  top-level keys ``name`` and ``units``), with the level a change of the key invalidates (its declared ``invalidates``).
 * ``{result-keys} FILE`` — the keys of ``result.npz``, ``summary.json`` or ``checkpoint.npz`` with their
   meaning.  The keys are those of files really written by a small run at build time; a key the code writes
   that :data:`MEANING` does not explain, or one it explains that the code no longer writes, fails the build.
@@ -34,6 +34,11 @@ MEANING = {
         "normal_force": ("(N,)", "Σ m_i (p_i + λ_i): the force the foundation carries"),
         "torque": ("(N,)", "Σ m_i μ p_i ((x_i − c) × n*_i)·e: friction moment about the counterface's axis "
                            "(negative: braking)"),
+        "tangential_force": ("(N, d)", "F_t = Σ m_i μ p_i n*_i: the friction force on the foundation (against its "
+                                       "slip)"),
+        "friction_force": ("(N,)", "|F_t|, the friction force's magnitude"),
+        "apparent_friction": ("(N,)", "|F_t| / normal force, the apparent friction coefficient (0 where the normal "
+                                      "force is 0; μ where every point slides one way and none is at the bound)"),
         "contact_area": ("(N,)", "Σ m_i over the points with p_i + λ_i > 0"),
         "wear_volume": ("(N,)", "Σ m_i w_i: the worn volume (an area in 2D)"),
         "contact_points": ("(n, d)", "x_i, the contact points"),
@@ -51,12 +56,15 @@ MEANING = {
         "newton_tangents": ("(N,)", "tangent stiffnesses factorised in the run up to each step (nonlinear material)"),
         "newton_cutbacks": ("(N,)", "load cut-backs each step needed before its Newton converged (0: none)"),
         "status": ("()", "`completed`, `interrupted`, or the message of the step that failed"),
-        "wall_time": ("()", "seconds the run took"),
+        "wall_time": ("()", "seconds the run took: meshing, factorising and the time loop"),
+        "solve_time": ("()", "seconds of the time loop alone"),
         "rejected": ("()", "rejected steps of an adaptive run"),
         "warnings": ("(·,)", "warnings of the run (e.g. the explicit update's stability)"),
         "mesh_sha256": ("()", "SHA-256 of `mesh.vol` beside it: read only with the mesh it was computed on"),
         "field_steps": ("(F,)", "the frames: steps whose full displacement is stored"),
         "fields": ("(F, DOFs)", "the displacement's DOF vector at each frame"),
+        "units": ("()", "only for a scene with `units = \"SI\"`: the unit of each key, as JSON (`{\"torque\": "
+                        "\"N·m\", …}`)"),
     },
     "summary.json": {
         "status": ("", "as in result.npz"),
@@ -67,6 +75,8 @@ MEANING = {
         "gap": ("", "g"),
         "normal_force": ("", "at the last step"),
         "torque": ("", "at the last step"),
+        "friction_force": ("", "|F_t| at the last step"),
+        "apparent_friction": ("", "|F_t| / normal force at the last step"),
         "contact_area": ("", "at the last step"),
         "wear_volume": ("", "at the last step"),
         "plate_displacement": ("", "δ at the last step (only with `loads.plate`)"),
@@ -75,7 +85,10 @@ MEANING = {
         "rejected_steps": ("", "rejected steps (only with `time.adaptive`)"),
         "newton_iterations_total": ("", "all Newton iterations of the converged steps"),
         "newton_iterations_max": ("", "the most of one step"),
-        "wall_time_s": ("", "seconds the run took"),
+        "wall_time_s": ("", "seconds the run took: meshing, factorising and the time loop"),
+        "solve_time_s": ("", "seconds of the time loop alone"),
+        "units": ("", "only for a scene with `units = \"SI\"`: the unit of each number above (`{\"torque\": "
+                      "\"N·m\", …}`)"),
     },
     "checkpoint.npz": {
         "rows": ("()", "how many steps count"),
@@ -89,17 +102,18 @@ MEANING = {
 }
 HEADER = ("contact_points weights newton_iterations newton_converged newton_active newton_damped newton_lengths "
           "newton_residuals newton_cutbacks newton_bulk newton_tangents friction_coefficient wear_coefficient "
-          "contact_stiffness mesh_sha256 status wall_time rejected warnings").split()
+          "contact_stiffness mesh_sha256 status wall_time solve_time rejected warnings").split()
 MEANING["checkpoint.npz"] = {**{k: MEANING["result.npz"][k] for k in HEADER}, **MEANING["checkpoint.npz"]}
 
 
 def scene_key_rows(section: str) -> list[str]:
-    """The rows of the declared reference table whose key is in ``section`` (``name``: the top-level key)."""
+    """The rows of the declared reference table whose key is in ``section`` (``name``: the top-level keys)."""
     from ngwear.model.messages import reference_table
 
     rows = reference_table().splitlines()[2:]
-    prefix = "| `name`" if section == "name" else f"| `{section}."
-    return [row for row in rows if row.startswith(prefix)]
+    if section == "name":                       # the top-level keys: name, units
+        return [row for row in rows if "." not in row.split("`")[1]]
+    return [row for row in rows if row.startswith(f"| `{section}.")]
 
 
 def scene_key_table(section: str) -> str:
@@ -119,11 +133,11 @@ def scene_key_table(section: str) -> str:
 
 @cache
 def written_keys() -> dict[str, list[str]]:
-    """The keys of the files a small run writes: a strip under a rigid plate, adaptive steps, checkpointed."""
+    """The keys of the files a small run writes: a strip under a rigid plate, adaptive steps, checkpointed, in SI."""
     import ngwear
 
     scene = ngwear.Scene.from_dict({
-        "name": "reference", "mesh": {"maxh": 0.5}, "contact": {"friction": 0.5, "wear": 1.0},
+        "name": "reference", "units": "SI", "mesh": {"maxh": 0.5}, "contact": {"friction": 0.5, "wear": 1.0},
         "loads": {"plate": {"boundary": "top", "force": [0.0, -0.3]}},
         "time": {"T": 0.2, "steps": 4, "adaptive": True}})
     with tempfile.TemporaryDirectory() as folder:

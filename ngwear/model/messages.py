@@ -63,8 +63,7 @@ def json_schema(scene_model: type[BaseModel]) -> dict[str, Any]:
 
 def reference_table() -> str:
     """The scene reference: one Markdown row per key, from the declarations."""
-    rows = ["| key | meaning | default | allowed |", "|---|---|---|---|",
-            "| `name` | name of the scene (output folder, titles) | file name | non-empty string |"]
+    rows = ["| key | meaning | default | allowed |", "|---|---|---|---|"]
     for name, info in declared_keys():
         extra = info.json_schema_extra or {}
         rows.append(f"| `{name}` | {info.description} | {extra.get('shown', _plain(info.default))} | "

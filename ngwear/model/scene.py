@@ -1,7 +1,8 @@
 """Scenes: plain frozen data describing one contact-with-wear simulation.
 
 A scene is read from TOML with nested tables (``[geometry]``, ``[mesh]``, ``[material]``, ``[contact]``,
-``[foundation]``, ``[loads]``, ``[time]``, ``[wear]``, ``[solver]``, ``[output]``), each key declared once
+``[foundation]``, ``[loads]``, ``[time]``, ``[wear]``, ``[solver]``, ``[output]``) and two top-level keys
+(``name``, ``units``), each key declared once
 in :mod:`ngwear.model.sections`.  :meth:`Scene.from_dict` first prepares the raw tables (a part given in
 Python becomes a cached file, a part file is read, the defaults that depend on the kind and on other keys
 are filled), then pydantic validates every key against its declaration and :mod:`ngwear.model.rules` checks
@@ -19,8 +20,8 @@ from typing import Any
 
 from pydantic import ConfigDict, ValidationError, model_validator
 
-from . import cad, functions, messages, rules
-from .keys import Level, SceneError, Section, key, level_of
+from . import cad, examples, functions, messages, rules
+from .keys import Level, SceneError, level_of
 from .kinds import KINDS
 from .sections import (
     PARAMETRISATIONS,
@@ -33,6 +34,7 @@ from .sections import (
     Output,
     SolverSpec,
     TimeGrid,
+    TopLevel,
     WearSpec,
     declared_keys,
 )
@@ -40,13 +42,28 @@ from .sections import (
 __all__ = ["Level", "Scene", "SceneError", "json_schema", "load_scene", "parse_override", "set_dotted"]
 
 
-class Scene(Section):
-    """A complete, validated simulation set-up.  Build with :func:`load_scene` or :meth:`from_dict`."""
+class Scene(TopLevel):
+    """A complete, validated simulation set-up.  Build with :func:`load_scene` or :meth:`from_dict`.
+
+    Frozen: :meth:`replace` gives a changed copy.  The reference of every key is ``docs/reference/scene.md``
+    (generated from :mod:`ngwear.model.sections`).
+
+    Attributes
+    ----------
+    name : str
+        The scene's name (output folder, titles).
+    units : {"SI"} or None
+        The unit system of its numbers (None: dimensionless).
+    geometry, mesh, material, contact, foundation, loads, time, wear, solver, output : Section
+        The scene file's tables, with their keys as attributes (``scene.contact.friction``).
+    dim : int
+        2 or 3.
+    dt : float
+        The uniform step T / steps.
+    """
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
-    name: str = key("scene", "name of the scene (output folder, titles)", reuse=Level.NOTHING,
-                    pattern=r"^[A-Za-z0-9][A-Za-z0-9._ -]*$", max_length=100)
     geometry: Geometry = Geometry()
     mesh: MeshSpec = MeshSpec()
     material: Material = Material()
@@ -123,10 +140,25 @@ class Scene(Section):
 
 
 def load_scene(path: str | Path) -> Scene:
-    """Read and validate a scene TOML file."""
-    path = Path(path)
-    if not path.is_file():
-        raise SceneError(f"scene file: {path} does not exist")
+    """Read and validate a scene TOML file, or a shipped scene by name.
+
+    Parameters
+    ----------
+    path : str or Path
+        A scene file, or the name of a shipped scene (``"paper_strip"``, see ``ngwear examples``).
+
+    Returns
+    -------
+    Scene
+        The validated scene; its ``name`` is the file's stem unless the file names it.
+
+    Raises
+    ------
+    SceneError
+        The file is missing, unreadable or not TOML, or a key is missing, of the wrong type or out of range
+        (one line naming the dotted key and its allowed range).
+    """
+    path = examples.find(path)
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as err:

@@ -1,8 +1,8 @@
 """The tables of a scene file and their keys, each declared once: type, range, documentation, what it invalidates.
 
-``[geometry]``, ``[mesh]``, ``[material]``, ``[contact]``, ``[foundation]``, ``[loads]`` (with ``plate``),
-``[time]``, ``[wear]``, ``[solver]``, ``[output]``.  Ranges that depend on other keys are rules of
-:mod:`ngwear.model.rules`; the kinds of ``geometry.kind`` come from the registry
+The top-level keys ``name`` and ``units``, then ``[geometry]``, ``[mesh]``, ``[material]``, ``[contact]``,
+``[foundation]``, ``[loads]`` (with ``plate``), ``[time]``, ``[wear]``, ``[solver]``, ``[output]``.  Ranges
+that depend on other keys are rules of :mod:`ngwear.model.rules`; the kinds of ``geometry.kind`` come from the registry
 (:mod:`ngwear.model.kinds`).
 """
 from __future__ import annotations
@@ -19,6 +19,17 @@ from .kinds import KINDS, ordered
 
 KindName = Literal[tuple(kind.name for kind in ordered())]
 Coefficient = float | str | tuple[float, ...]
+
+
+class TopLevel(Section):
+    """The keys outside the tables: the scene's name and its unit system."""
+
+    name: str = key("scene", "name of the scene (output folder, titles)", reuse=Level.NOTHING, shown="file name",
+                    allowed="letters, digits, `._ -` (at most 100)", pattern=r"^[A-Za-z0-9][A-Za-z0-9._ -]*$",
+                    max_length=100)
+    units: Literal["SI"] | None = key(None, "the unit system of the numbers: `SI` (m, N, Pa, s) puts units on the "
+                                      "summary, the plots and the result files; absent: dimensionless (the paper's "
+                                      "scenes)", reuse=Level.NOTHING, shown="— (dimensionless)", allowed="SI")
 
 
 class Geometry(Section):
@@ -309,7 +320,7 @@ def nested_table(info) -> type[Section] | None:
 
 
 def declared_keys():
-    """(dotted name, declaration) of every scene key, in file order, the keys of nested tables included."""
+    """(dotted name, declaration) of every scene key, in file order: the top-level keys, then the tables' (nested too)."""
     def walk(model, prefix):
         for name, info in model.model_fields.items():
             table = nested_table(info)
@@ -318,5 +329,6 @@ def declared_keys():
             else:
                 yield from walk(table, f"{prefix}{name}.")
 
+    yield from walk(TopLevel, "")
     for section, model in SECTIONS.items():
         yield from walk(model, f"{section}.")

@@ -60,6 +60,20 @@ class Discretization:
     one back-substitution) or ``auto``: dense up to ``condense.DENSE_LIMIT`` contact DOFs, or up to
     ``condense.SOFT_LIMIT`` when the layer is soft against the body (:meth:`layer_ratio` < 1).
 
+    Parameters
+    ----------
+    scene : Scene
+        What to discretize.
+    mesh : ngsolve.Mesh, optional
+        A mesh with the scene's named boundaries (default: Netgen's mesh of the scene, or the cache's).
+    contact_solve : {"auto", "dense", "krylov"}
+        How the contact problem is condensed (see above).
+
+    Raises
+    ------
+    ValueError
+        ``contact_solve`` is none of these.
+
     Attributes
     ----------
     scene : Scene

@@ -10,6 +10,9 @@ reads off a part, one value per step, with m_i the nodal weights of the contact 
 * ``normal_force``  Σ m_i (p_i + λ_i), the force the foundation carries;
 * ``torque``  T = Σ m_i μ p_i ((x_i − c) × n*_i)·e, the friction moment about the counterface's axis
   (negative: it opposes the rotation; see :mod:`ngwear.model.kinematics`);
+* ``tangential_force``  F_t = Σ m_i μ_i p_i n*_i (steps + 1, d), the friction force on the foundation (against
+  its slip), ``friction_force`` |F_t| and ``apparent_friction`` |F_t| / normal force (0 where that is 0; it is
+  μ where every point slides one way and none is held at the bound, less on a turning counterface);
 * ``contact_area``  Σ m_i over the points with p_i + λ_i > 0;
 * ``wear_volume``  Σ m_i w_i, the worn volume (area in 2D).
 
@@ -21,7 +24,8 @@ output times (``output.every`` apart from t = 0, or ``output.times``) and the la
 number of frames does not grow with the number of steps.  ``save(dir)`` writes ``result.npz``
 (these names as keys, with the Newton records), ``scene.json``, ``summary.json``, ``mesh.vol`` and
 a VTU/PVD series of the frames, each file written under a temporary name and then renamed, so that
-an interrupt never leaves half a file; :func:`load_result` reads them back.
+an interrupt never leaves half a file; :func:`load_result` reads them back.  A scene in SI (``units``) adds
+the unit of every number (:mod:`ngwear.results.units`) to ``summary.json`` and ``result.npz``.
 """
 from __future__ import annotations
 
@@ -39,15 +43,51 @@ from ..numerics.forms import initial_distance
 from ..numerics.solver import NewtonRecord
 from .folder import FolderError, NoSpace, digest, no_space
 from .history import History
+from .units import units
 
 ARRAYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces", "plate_displacement")
-PART = ("normal_force", "torque", "contact_area", "wear_volume")
+PART = ("normal_force", "torque", "friction_force", "apparent_friction", "contact_area", "wear_volume")
 COEFFICIENTS = ("friction_coefficient", "wear_coefficient", "contact_stiffness")
 
 
 @dataclass
 class Result:
-    """What a run produced; see the module docstring for the array layout."""
+    """What a run produced: per-step arrays at the contact points, what a part's engineer reads, the fields.
+
+    Made by :func:`~ngwear.simulate` or read by :func:`load_result`; the module docstring gives the layout.
+
+    Attributes
+    ----------
+    scene : Scene
+        The scene that ran.
+    contact_points, weights : ndarray
+        x_i (n, d) and the quadrature weights m_i (n,) of Γ_C.
+    friction_coefficient, wear_coefficient, contact_stiffness : ndarray
+        μ_i, κ_i and L_i at the contact points (n,): the scene's numbers or fields.
+    times : ndarray
+        t_j of the completed steps (N,).
+    wear, normal_displacement, pressure, reaction : ndarray
+        w, u_ν, p and λ at the contact points, (N, n).
+    forces : ndarray
+        The contact forces at the points, (N, n, d).
+    plate_displacement : ndarray
+        δ of a rigid plate, (N, r) (r = 0 without one).
+    normal_force, torque, friction_force, apparent_friction, contact_area, wear_volume : ndarray
+        Per step (N,): Σ m (p + λ), the friction moment about the counterface's axis, |F_t|, |F_t| / normal force,
+        the area in contact and the worn volume (properties).
+    tangential_force : ndarray
+        F_t = Σ m_i μ_i p_i n*_i, (N, d): the friction force on the foundation (a property).
+    newton : list of NewtonRecord
+        Each step's Newton iterations, residuals, active set, cut-backs.
+    status : str
+        ``completed``, ``interrupted`` or what stopped the run.
+    warnings : list of str
+        What the run warns of (the explicit update's stability, a missed tolerance).
+    wall_time, solve_time : float
+        Seconds of the whole run (meshing and factorising included) and of its time loop.
+    discretization : Discretization or None
+        The mesh and factorisation it ran on (``displacement`` and pictures need it).
+    """
 
     scene: Scene
     contact_points: np.ndarray
@@ -66,6 +106,7 @@ class Result:
     status: str = "completed"
     warnings: list[str] = field(default_factory=list)
     wall_time: float = 0.0
+    solve_time: float = 0.0
     rejected: int = 0
     fields: dict[int, np.ndarray] = field(default_factory=dict)
     discretization: object = field(default=None, repr=False)
@@ -168,6 +209,24 @@ class Result:
         return signs * (self.pressure @ (self.friction_coefficient * slip.moment_arms() * self.weights))
 
     @property
+    def tangential_force(self) -> np.ndarray:
+        """F_t = Σ m_i μ_i p_i n*_i per step, shape (steps + 1, d): the friction force on the foundation."""
+        slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
+        signs = np.sign([slip.factor(t) for t in self.times])
+        return signs[:, None] * ((self.pressure * self.friction_coefficient * self.weights) @ slip.direction)
+
+    @property
+    def friction_force(self) -> np.ndarray:
+        """|F_t| per step."""
+        return np.linalg.norm(self.tangential_force, axis=1)
+
+    @property
+    def apparent_friction(self) -> np.ndarray:
+        """|F_t| / Σ m_i (p_i + λ_i) per step; 0 where the normal force is 0."""
+        normal = self.normal_force
+        return np.divide(self.friction_force, normal, out=np.zeros_like(normal), where=normal > 0)
+
+    @property
     def contact_area(self) -> np.ndarray:
         """Σ m_i over the points in contact (p_i + λ_i > 0) per step."""
         return (self.pressure + self.reaction > 0) @ self.weights
@@ -240,6 +299,9 @@ class Result:
             "newton_iterations_total": int(sum(its)),
             "newton_iterations_max": int(max(its, default=0)),
             "wall_time_s": round(self.wall_time, 3),
+            "solve_time_s": round(self.solve_time, 3),
+            **({"units": units(self.scene, ("gap", "max_wear", "max_penetration", "plate_displacement", *PART))}
+               if self.scene.units else {}),
         }
 
     def arrays(self) -> dict[str, np.ndarray]:
@@ -251,6 +313,7 @@ class Result:
         return {"contact_points": self.contact_points, "weights": self.weights,
                 **{name: getattr(self, name) for name in COEFFICIENTS}, **records_to_arrays(self.newton),
                 "status": np.array(self.status), "wall_time": np.array(self.wall_time),
+                "solve_time": np.array(self.solve_time),
                 "rejected": np.array(self.rejected), "warnings": np.array(self.warnings, dtype=str)}
 
     def save(self, directory) -> Path:
@@ -260,13 +323,17 @@ class Result:
         steps = self.stored_steps
         fields = np.array([self.displacement(s) for s in steps]) if self.discretization else np.zeros((0, 0))
         mesh = {"mesh_sha256": np.array(keep_mesh(self, out))} if self.discretization is not None else {}
+        arrays = {**self.arrays(), **{name: getattr(self, name) for name in (*PART, "tangential_force")},
+                  "field_steps": np.array(steps, dtype=int), "fields": fields, **mesh}
+        if self.scene.units:
+            arrays["units"] = np.array(json.dumps(units(self.scene, arrays), ensure_ascii=False))
         with replacing(out / "result.npz") as tmp:
-            np.savez(tmp, **self.arrays(), **{name: getattr(self, name) for name in PART},   # zlib: 10x slower
-                     field_steps=np.array(steps, dtype=int), fields=fields, **mesh)         # for 20 % less
+            np.savez(tmp, **arrays)                 # not compressed: zlib takes 10x longer for 20 % less
+
         with replacing(out / "scene.json") as tmp:
             tmp.write_text(json.dumps(self.scene.to_dict(), indent=2))
         with replacing(out / "summary.json") as tmp:
-            tmp.write_text(json.dumps(self.summary(), indent=2))
+            tmp.write_text(json.dumps(self.summary(), indent=2, ensure_ascii=False), encoding="utf-8")
         if self.discretization is not None:
             from .vtk import write_series
             write_series(self, out)
@@ -274,7 +341,26 @@ class Result:
 
 
 def load_result(directory) -> Result:
-    """Read a saved result; ``displacement_at`` works for its stored steps."""
+    """Read a result that :meth:`Result.save` wrote.
+
+    Parameters
+    ----------
+    directory : str or Path
+        The run's output folder (``result.npz``, ``scene.json`` and ``mesh.vol``).
+
+    Returns
+    -------
+    Result
+        The run with its discretization on the saved mesh (without ``mesh.vol``: none); ``displacement`` is
+        stored for its frames and recovered for the other steps.
+
+    Raises
+    ------
+    FileNotFoundError
+        ``directory`` holds no ``result.npz``.
+    FolderError
+        ``mesh.vol`` is not the mesh the result was computed on.
+    """
     src = Path(directory)
     if not (src / "result.npz").is_file():
         raise FileNotFoundError(f"{src}: no result.npz (not a saved ngwear result)")
@@ -303,6 +389,7 @@ def from_arrays(scene: Scene, data, disc, history: History | None = None) -> Res
                     for name, key in zip(COEFFICIENTS, ("friction", "wear", "stiffness")))   # before fields: numbers
     return Result(scene, data["contact_points"], data["weights"], *rows, *coefficients, newton=records_from_arrays(data),
                   status=str(data["status"]), wall_time=float(data["wall_time"]),
+                  solve_time=float(data["solve_time"]) if "solve_time" in data else 0.0,
                   warnings=[str(w) for w in data["warnings"]], rejected=int(data["rejected"]),
                   discretization=disc, history=history)
 

@@ -36,6 +36,7 @@ from ..results.folder import NoSpace, hold, no_space
 from ..results.invariants import StepCheck
 from ..results.result import Result
 from .clock import Clock
+from .progress import bar
 from .stepper import Stepper
 
 log = logging.getLogger(__name__)
@@ -47,6 +48,8 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
 
     Parameters
     ----------
+    scene : Scene or None
+        What to run (None with ``resume``: the checkpoint's scene).
     discretization : Discretization, optional
         Of an earlier run: its mesh, factorisation and contact compliance are reused wherever the
         scene change allows (see :meth:`Discretization.with_scene`).
@@ -58,6 +61,14 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
         extend ``time.T``; ``None`` takes the checkpoint's scene.  Checkpoints go on in that folder.
     stop : threading.Event, optional
         When set, the run stops at the next step boundary with status ``interrupted``.
+    progress : bool
+        Show the set-up's stages and the steps: a bar in a terminal or notebook, else log lines
+        (``ngwear.progress`` at INFO, see :mod:`ngwear.runs.progress`).
+
+    Returns
+    -------
+    Result
+        Every completed step; ``status`` says whether the run completed.
 
     Raises
     ------
@@ -110,7 +121,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
     if resume is not None and result.history.is_in(resume):
         saver.rows = len(result.times)          # what the checkpoint read keeps
     bar = _progress(scene, result) if progress else None
-    before = result.wall_time
+    before, solving = result.wall_time, time.perf_counter()
     try:
         if result.steps < 0:
             x, lam = _first(stepper, integrator, result, x, lam)
@@ -137,6 +148,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
         result.settle()
         saver.full = err
     result.wall_time, result.rejected = before + time.perf_counter() - start, clock.rejected
+    result.solve_time += time.perf_counter() - solving
     if clock.unmet:
         result.warnings.append(f"time.tolerance: steps at time.min_step = {scene.time.min_step:g} missed the "
                                "tolerance; lower time.min_step")
@@ -241,8 +253,7 @@ class Stages:
     def __init__(self, name: str, show: bool):
         self.name, self.bar = name, None
         if show:
-            from tqdm.auto import tqdm
-            self.bar = tqdm(total=None, desc=f"{name}: set-up", leave=False, bar_format="{desc} [{elapsed}]")
+            self.bar = bar(total=None, desc=f"{name}: set-up", leave=False, bar_format="{desc} [{elapsed}]")
 
     def run(self, label: str, build):
         if self.bar is not None:
@@ -278,9 +289,8 @@ def _remedy(scene: Scene, record) -> str:
 
 def _progress(scene: Scene, result: Result):
     """A progress bar over the steps (uniform) or over time (adaptive), from where the run starts."""
-    from tqdm.auto import tqdm
     if not scene.time.adaptive:
-        return tqdm(total=scene.time.steps, initial=max(result.steps, 0), desc=scene.name, unit="step",
-                    leave=False)
-    return tqdm(total=scene.time.T, initial=result.times[-1] if len(result.times) else 0.0, desc=scene.name,
-                leave=False, bar_format="{l_bar}{bar}| t = {n:.4g} of {total:.4g} [{elapsed}<{remaining}]")
+        return bar(total=scene.time.steps, initial=max(result.steps, 0), desc=scene.name, unit="step",
+                   leave=False)
+    return bar(total=scene.time.T, initial=result.times[-1] if len(result.times) else 0.0, desc=scene.name,
+               leave=False, bar_format="{l_bar}{bar}| t = {n:.4g} of {total:.4g} [{elapsed}<{remaining}]")

@@ -95,7 +95,25 @@ class Case:
 
 @dataclass(frozen=True)
 class Study:
-    """A validated study: the base scene, its cases, the varied keys and the outputs to tabulate."""
+    """A validated study: the base scene, its cases, the varied keys and the outputs to tabulate.
+
+    Build with :func:`load_study`.
+
+    Attributes
+    ----------
+    name : str
+        The study's name (its file's stem): the output folder ``out/<name>``.
+    base : Scene
+        The scene every case starts from (with the study's ``[set]``).
+    cases : tuple of Case
+        Each case's index, its values of the varied keys, its scene (None and an ``error`` when invalid).
+    varied : tuple of str
+        The dotted scene keys the cases vary.
+    grid : tuple of str
+        The keys of ``[grid]`` (every combination); the others come from ``[cases]``.
+    outputs : tuple of str
+        The numbers each case's row gets (:data:`ngwear.studies.outputs.OUTPUTS`).
+    """
 
     name: str
     base: Scene
@@ -106,7 +124,26 @@ class Study:
 
 
 def load_study(path: str | Path, overrides: dict[str, Any] | None = None) -> Study:
-    """Read and validate a study TOML file; ``overrides`` are extra ``[set]`` entries (dotted keys)."""
+    """Read and validate a study TOML file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The study file; its ``scene`` is relative to it.
+    overrides : dict, optional
+        Extra ``[set]`` entries (dotted scene keys), e.g. ``{"time.steps": 10}``.
+
+    Returns
+    -------
+    Study
+        The study with every case's scene validated (an invalid case keeps its error and is not run).
+
+    Raises
+    ------
+    StudyError
+        The file is missing or not TOML, a field is unknown or malformed, or no case is valid (one line naming
+        the field).
+    """
     path = Path(path)
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))

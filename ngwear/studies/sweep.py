@@ -35,6 +35,7 @@ from __future__ import annotations
 import json
 import logging
 import shutil
+import sys
 import tempfile
 import threading
 import uuid
@@ -46,6 +47,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..model.keys import Level
 from ..model.scene import SceneError
+from ..runs.progress import bar as progress_bar
 from ..runs.simulate import simulate
 from .child import Child, ChildError
 from .outputs import OUTPUTS, outputs
@@ -85,7 +87,20 @@ def sweep(study, client=None, *, out=None, workers: int | None = None,
     overrides : dict, optional
         Extra fixed scene overrides (dotted keys, like the study's ``[set]``) for a path or dict.
     progress : bool
-        Show a progress bar over all cases (and the Dask dashboard's link when it has one).
+        Show a progress bar over all cases (and the Dask dashboard's link when it has one); without a terminal,
+        log lines (see :mod:`ngwear.runs.progress`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case: its index, the varied keys, the outputs, status, error, warnings, wall time, worker;
+        ``attrs["summary"]`` counts the cases by status.  Also written to ``out`` (``results.parquet``,
+        ``results.csv``, ``summary.json``, plots, each case's result folder).
+
+    Raises
+    ------
+    StudyError
+        The study or ``workers`` is invalid, or the scheduler cannot be reached (one line naming the field).
     """
     if isinstance(study, Study) and overrides:
         raise StudyError("overrides: only for a study file or dict (a Study is already built)")
@@ -238,7 +253,6 @@ def _wait(client, workers) -> None:
 def _run(client, cases: list[Case], out: Path, name: str, total: int, progress: bool) -> dict[int, dict]:
     """Submit the cases grouped by mesh and material; save each as it completes; rows by case index."""
     from distributed import as_completed
-    from tqdm.auto import tqdm
 
     token = uuid.uuid4().hex[:8]
     keys = {}
@@ -248,10 +262,10 @@ def _run(client, cases: list[Case], out: Path, name: str, total: int, progress: 
                                pure=False, retries=RETRIES)
         keys[future.key] = case
         futures.append(future)
-    bar = tqdm(total=total, initial=total - len(cases), desc=name, unit="case", disable=not progress)
+    bar = progress_bar(total=total, initial=total - len(cases), desc=name, unit="case", disable=not progress)
     link = _dashboard(client)
     if link and progress:
-        bar.write(f"Dask dashboard: {link}")
+        bar.write(f"Dask dashboard: {link}", file=sys.stderr)
     rows = {}
     try:
         for future in as_completed(futures):

@@ -1,10 +1,11 @@
 """Plots a brake or pin-on-disc engineer reads off a run (matplotlib, no display needed).
 
 ``contact_maps``: the contact face Γ_C seen from above (projected on the plane ⟂ ν), coloured by the
-pressure p and by the wear depth w at chosen steps (a 3D result).  ``history``: the normal force, the
-friction torque about the counterface's axis, the worn volume and the plate's displacement over
-time.  ``pressure_radius``: p·r against the distance r from the axis at a few steps, with its mean:
-under a rigid backing plate a worn-in pad wears evenly, so p·r tends to a constant.
+pressure p and by the wear depth w at chosen steps (a 3D result; the colour bars name the field).
+``history``: the normal force, the friction torque about the counterface's axis (the friction force |F_t|
+when the counterface does not turn), the worn volume and the plate's displacement over time.
+``pressure_radius``: p·r against the distance r from the axis at a few steps, with its mean: under a rigid
+backing plate a worn-in pad wears evenly, so p·r tends to a constant.  Axes carry units in an SI scene.
 """
 from __future__ import annotations
 
@@ -17,9 +18,10 @@ from matplotlib.figure import Figure
 from matplotlib.tri import Triangulation
 
 from ..model.kinematics import Slip
-from .plots import _sampled, _save
+from ..results.units import label, unit
+from .plots import _sampled, _save, plain
 
-FIELDS = {"pressure": ("pressure p", "plasma"), "wear": ("wear depth w", "YlOrRd")}
+FIELDS = {"pressure": ("pressure p", "plasma", "pressure"), "wear": ("wear depth w", "YlOrRd", "length")}
 
 
 def _plane(nu: np.ndarray) -> np.ndarray:
@@ -71,33 +73,41 @@ def contact_maps(result, path, steps=None, fields=("pressure", "wear")) -> Path:
     tri, at_nodes = _triangulation(result)
     aspect = np.clip(np.ptp(tri.x) / max(np.ptp(tri.y), 1e-300), 0.35, 3.0)
     fig = Figure(figsize=((2.6 * aspect + 0.6) * len(steps) + 1, 3.0 * len(fields)), layout="constrained")
+    seconds = f" {unit(result.scene, 'time')}" if result.scene.units else ""
     axes = np.atleast_2d(fig.subplots(len(fields), len(steps), squeeze=False))
     for row, name in zip(axes, fields):
-        label, cmap = FIELDS[name]
+        title, cmap, quantity = FIELDS[name]
         values = getattr(result, name)
         top = max(float(values[steps].max()), 1e-300)
         for ax, step in zip(row, steps):
             shaded = ax.tripcolor(tri, at_nodes @ values[step], shading="gouraud", cmap=cmap, vmin=0.0, vmax=top)
             ax.set_aspect("equal")
-            ax.set_title(f"{label}, t = {result.times[step]:.4g}", fontsize=9)
+            ax.set_title(f"t = {result.times[step]:.4g}{seconds}", fontsize=9)
             ax.tick_params(labelsize=7)
-        fig.colorbar(shaded, ax=row.tolist(), shrink=0.9, format="%.3g")
+        fig.colorbar(shaded, ax=row.tolist(), shrink=0.9, format="%.3g", label=label(result.scene, title, quantity))
     fig.suptitle(f"{result.scene.name}: contact face from above", fontsize=10)
     return _save(fig, path)
 
 
 def history(result, path) -> Path:
-    """Normal force, friction torque, worn volume and (with a plate) its displacement over time."""
-    panels = [("normal force Σ m (p + λ)", result.normal_force), ("friction torque T (< 0: braking)", result.torque),
-              ("worn volume Σ m w", result.wear_volume)]
+    """Normal force, friction torque (or force), worn volume and (with a plate) its displacement over time.
+
+    A counterface that turns gets the torque about its axis; one that translates, the friction force |F_t|.
+    """
+    scene = result.scene
+    turning = Slip(scene.foundation, result.contact_points, scene.contact.direction).rotating
+    friction = (("friction torque T (< 0: braking)", result.torque, "torque") if turning
+                else ("friction force |F_t| = |Σ m μ p n*|", result.friction_force, "force"))
+    panels = [("normal force Σ m (p + λ)", result.normal_force, "force"), friction,
+              ("worn volume Σ m w", result.wear_volume, "volume")]
     if result.plate_displacement.shape[1]:
-        panels.append(("plate displacement δ along ν", result.plate_displacement[:, 0]))
+        panels.append(("plate displacement δ along ν", result.plate_displacement[:, 0], "length"))
     fig = Figure(figsize=(3.4 * len(panels), 3.0), layout="constrained")
-    for ax, (title, values) in zip(fig.subplots(1, len(panels)), panels):
+    for ax, (title, values, quantity) in zip(fig.subplots(1, len(panels)), panels):
         ax.plot(result.times, values, color="C0")
-        ax.set(xlabel="time t", title=title)
+        ax.set(xlabel=label(scene, "time t", "time"), title=label(scene, title, quantity))
         ax.title.set_fontsize(9)
-        ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 4))
+        plain(ax, values)
     fig.suptitle(result.scene.name, fontsize=10)
     return _save(fig, path)
 
@@ -116,7 +126,8 @@ def pressure_radius(result, path, count: int = 4) -> Path:
         ax.plot(radius[touching], pr[touching], ".", ms=3, color=colour, label=f"t = {result.times[step]:.4g}")
         mean = pr[touching] @ result.weights[touching] / max(result.weights[touching].sum(), 1e-300)
         ax.axhline(mean, color=colour, lw=0.8, ls="--")
-    ax.set(xlabel="distance r from the axis", ylabel="p · r",
+    ax.set(xlabel=label(result.scene, "distance r from the axis", "length"),
+           ylabel=label(result.scene, "p · r", "line load"),
            title=f"{result.scene.name}: p·r over Γ_C (dashed: its mean; worn in: constant)")
     ax.title.set_fontsize(9)
     ax.legend(fontsize=8)

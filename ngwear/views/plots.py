@@ -3,7 +3,8 @@
 ``wear_profiles``: w(x, t_k) at a few times with the layer thickness g, the bound w ≤ g reaches
 where the layer is worn through.  ``pressure_history``: p(x, t_k) and the rigid reaction λ(x, t_k)
 along Γ_C, and max_x w(x, t) and max_x (u_ν − d₀)(x, t) over time.
-In 3D every contact point is drawn against its x coordinate.
+In 3D every contact point is drawn against its x coordinate.  The axes of a scene in SI carry units
+(:mod:`ngwear.results.units`); :func:`plain` keeps a constant curve's axis readable.
 """
 from __future__ import annotations
 
@@ -12,6 +13,9 @@ from pathlib import Path
 import numpy as np
 from matplotlib import colormaps
 from matplotlib.figure import Figure
+from matplotlib.ticker import ScalarFormatter
+
+from ..results.units import label as unit_label
 
 
 def wear_profiles(result, path, count: int = 5) -> Path:
@@ -21,7 +25,9 @@ def wear_profiles(result, path, count: int = 5) -> Path:
     for step, colour in _sampled(result, count):
         _along(ax, result, result.wear[step], color=colour, label=f"t = {result.times[step]:.2f}")
     ax.axhline(result.scene.contact.gap, color="black", ls="--", lw=1, label="layer thickness g")
-    ax.set(xlabel="x on Γ_C", ylabel="wear w", title=f"{result.scene.name}: wear of the soft layer")
+    scene = result.scene
+    ax.set(xlabel=unit_label(scene, "x on Γ_C", "length"), ylabel=unit_label(scene, "wear w", "length"),
+           title=f"{scene.name}: wear of the soft layer")
     ax.legend(fontsize=8)
     return _save(fig, path)
 
@@ -34,15 +40,34 @@ def pressure_history(result, path, count: int = 4) -> Path:
         at = f"t = {result.times[step]:.2f}"
         _along(left, result, result.pressure[step], color=colour, label=f"p, {at}")
         _along(left, result, result.reaction[step], color=colour, ls=":", label=f"λ, {at}")
-    left.set(xlabel="x on Γ_C", ylabel="contact traction", title="pressure p (solid), reaction λ (dotted)")
+    scene = result.scene
+    left.set(xlabel=unit_label(scene, "x on Γ_C", "length"), ylabel=unit_label(scene, "contact traction", "pressure"),
+             title="pressure p (solid), reaction λ (dotted)")
     left.legend(fontsize=7, ncols=2)
     t = result.times
     right.plot(t, result.wear.max(axis=1, initial=0.0), label="max wear w")
     right.plot(t, (result.normal_displacement - result.d0).max(axis=1, initial=0.0), label="max u_ν − d₀")
     right.axhline(result.scene.contact.gap, color="black", ls="--", lw=1, label="layer thickness g")
-    right.set(xlabel="time t", ylabel="length", title="wear and penetration over time")
+    right.set(xlabel=unit_label(scene, "time t", "time"), ylabel=unit_label(scene, "length", "length"),
+              title="wear and penetration over time")
     right.legend(fontsize=8)
     return _save(fig, path)
+
+
+def plain(ax, values) -> None:
+    """The y axis without an offset (no ``1e-10+1e1``), powers of ten outside [1e-3, 1e4], a constant as itself.
+
+    Values equal to round-off (a force held by a plate) get the axis ±5 % around them, not a zoom into the noise.
+    """
+    formatter = ScalarFormatter(useOffset=False)
+    formatter.set_powerlimits((-3, 4))
+    ax.yaxis.set_major_formatter(formatter)
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    if len(values) and np.ptp(values) <= 1e-9 * np.abs(values).max():
+        middle = float(values.mean())
+        pad = 0.05 * abs(middle) or 1.0
+        ax.set_ylim(middle - pad, middle + pad)
 
 
 def _sampled(result, count: int):

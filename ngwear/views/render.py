@@ -4,7 +4,9 @@ The picture (paper, Figs. 1–4) is described, and its arrays computed, in
 :mod:`ngwear.views.picture_data` (no pyvista there); this module turns them into pyvista
 objects and draws them: the body coloured by |u| (or plain), the remaining layer coloured by w (or
 p), the worn-away part of the layer translucent, the foundation (a block, or a sector of the
-rotor) with an arrow or an arc arrow for its motion.  No numerical module imports this one.
+rotor) with an arrow or an arc arrow for its motion.  A 3D picture looks from below, through the
+translucent foundation, at the worn contact face; the colour bars say what they show, with units in an SI
+scene.  No numerical module imports this one.
 A :class:`Canvas` keeps one plotter for many pictures (figures, animations, the explorer).
 
 VTK's OpenGL contexts belong to the thread that created them: a plotter used from another thread
@@ -22,13 +24,18 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 import pyvista as pv
+from matplotlib import font_manager
 from PIL import Image
+from vtkmodules.vtkCommonCore import VTK_FONT_FILE
 
+from ..results.units import label
+from ..results.vtk import frame_name
 from .picture_data import LAYER_FIELDS, ArcArrow, MeshArrays, PictureData, StraightArrow, xyz
 
 pv.OFF_SCREEN = True
 
-TITLES = {"displacement": "displacement", "wear": "wear w", "pressure": "pressure p"}
+FONT = font_manager.findfont("DejaVu Sans")
+"""A font with Greek letters (VTK's own have none): matplotlib's DejaVu Sans."""
 CMAPS = {"displacement": "viridis", "wear": "YlOrRd", "pressure": "plasma"}
 BODY_COLOR, FOUNDATION_COLOR, WORN_COLOR, ARROW_COLOR = "lightsteelblue", "dimgray", "white", "white"
 CELL_TYPES = {(2, 3): pv.CellType.TRIANGLE, (3, 4): pv.CellType.TETRA}
@@ -143,10 +150,10 @@ class Canvas:
             pl = pv.Plotter(off_screen=True, window_size=list(self.window_size))
         pl.set_background("white")
         mesh, lit, width = picture.mesh, dict(lighting=picture.dim == 3), self.window_size[0]
-        parts = {"mesh": mesh, "lit": lit}
+        parts, titles = {"mesh": mesh, "lit": lit}, bar_titles(picture.result)
         parts["body"] = _Cells(mesh.points, mesh.body, ("|u|",))
         colour = (dict(scalars="|u|", cmap=CMAPS["displacement"],
-                       scalar_bar_args=_bar(TITLES["displacement"], 0, width))
+                       scalar_bar_args=_bar(titles["displacement"], 0, width))
                   if self.field == "displacement" else dict(color=BODY_COLOR))
         parts["body_actor"] = pl.add_mesh(parts["body"].grid, show_edges=True, edge_color="#404040",
                                           line_width=0.5, **lit, **colour)
@@ -156,11 +163,11 @@ class Canvas:
             parts["worn"] = _Layer(mesh.facets, ())
             parts["layer_actor"] = pl.add_mesh(
                 parts["layer"].grid, scalars=name, cmap=CMAPS[name], show_edges=True, edge_color="#808080",
-                line_width=0.5, scalar_bar_args=_bar(TITLES[name], int(self.field == "displacement"), width),
-                **lit)
-            pl.add_mesh(parts["worn"].grid, color=WORN_COLOR, opacity=0.5, **lit)
-        parts["foundation"] = foundation(picture)
-        pl.add_mesh(parts["foundation"], color=FOUNDATION_COLOR, **lit)
+                line_width=0.5, scalar_bar_args=_bar(titles[name], int(self.field == "displacement"), width),
+                lighting=False)                         # its colours as the bar shows them, seen from any side
+            pl.add_mesh(parts["worn"].grid, color=WORN_COLOR, opacity=0.5 if picture.dim == 2 else 0.2, **lit)
+        parts["foundation"] = foundation(picture)      # 3D: seen through from below, onto the contact face
+        pl.add_mesh(parts["foundation"], color=FOUNDATION_COLOR, opacity=0.15 if picture.dim == 3 else 1.0, **lit)
         parts["arrow"] = pv.Arrow()
         parts["arrow_actor"] = pl.add_mesh(parts["arrow"], color=ARROW_COLOR, **lit)
         parts["label"] = pv.PolyData(np.zeros((1, 3)))
@@ -171,8 +178,12 @@ class Canvas:
         parts["caption"] = pl.add_text("", position=(12, self.window_size[1] - 36), font_size=12,
                                        color="black")
         if len(mesh.facets):
-            pl.add_text("light grey: worn-away part of the layer", position="lower_right", font_size=9,
+            below = "seen from below through the foundation; " if picture.dim == 3 else ""
+            pl.add_text(f"{below}light grey: worn-away part of the layer", position="lower_right", font_size=9,
                         color="black")
+        for bar in pl.scalar_bars.values():
+            _font(bar.GetTitleTextProperty(), bar.GetLabelTextProperty())
+        _font(parts["caption"].GetTextProperty())
         self._plotter, self._parts = pl, parts
 
     def _update(self, picture: PictureData, step: int) -> None:
@@ -221,14 +232,18 @@ def save_frame(result, step: int, path, **kw) -> Path:
 
 
 def paper_figures(result, out_dir, steps=None, **kw) -> list[Path]:
-    """The paper's Figs. 1–4: ``figK_stepNNN.png`` at 25, 50, 75 and 100 % of the run (or ``steps``)."""
-    steps = quartile_steps(result) if steps is None else [range(result.steps + 1)[s] for s in steps]
+    """The paper's Figs. 1–4: ``figK_stepNNN.png`` at the frames after t = 0 (or at ``steps``).
+
+    The frames are the steps whose VTU files are written (``fields_stepNNN.vtu``, ``output.every``: a quarter
+    of the run by default, as the paper's figures at 25, 50, 75 and 100 of 100 steps).
+    """
+    steps = picture_steps(result) if steps is None else [range(result.steps + 1)[s] for s in steps]
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     paths = []
     with Canvas(**kw) as canvas:
         for k, step in enumerate(steps, start=1):
-            paths.append(out / f"fig{k}_step{step:03d}.png")
+            paths.append(out / f"fig{k}_{frame_name(step)}.png")
             Image.fromarray(canvas.frame(result, step, steps)).save(paths[-1])
     return paths
 
@@ -281,9 +296,9 @@ def _write_mp4(ffmpeg, frames, path: Path, fps: float) -> None:
     writer.close()
 
 
-def quartile_steps(result) -> list[int]:
-    """Steps at 25, 50, 75 and 100 % of the completed run (the paper's 25, 50, 75, 100 of 100)."""
-    return sorted({round(q * result.steps) for q in (0.25, 0.5, 0.75, 1.0)})
+def picture_steps(result) -> list[int]:
+    """The frames of the result (:attr:`~ngwear.results.result.Result.stored_steps`) but step 0, if it has others."""
+    return [step for step in result.stored_steps if step > 0] or result.stored_steps
 
 
 # ---------------------------------------------------------------- pyvista plumbing
@@ -328,6 +343,20 @@ class _Layer:
         self.grid.Modified()
 
 
+def bar_titles(result) -> dict[str, str]:
+    """The colour bars' titles: what each colours, with its unit in an SI scene (‖u − δν‖ under a plate)."""
+    scene, plate = result.scene, result.plate_displacement.shape[1] > 0
+    return {"displacement": label(scene, "‖u − δν‖" if plate else "‖u‖", "length"),
+            "wear": label(scene, "wear w", "length"), "pressure": label(scene, "pressure p", "pressure")}
+
+
+def _font(*properties) -> None:
+    """Draw text with :data:`FONT` (VTK drops Greek letters and '|' from its own fonts)."""
+    for prop in properties:
+        prop.SetFontFamily(VTK_FONT_FILE)
+        prop.SetFontFile(FONT)
+
+
 def _bar(title: str, slot: int, width: int) -> dict:
     """A vertical scalar bar at the right edge of a window ``width`` pixels wide; slot 0 outermost."""
     scale = min(1.0, width / 1200)
@@ -339,11 +368,12 @@ def _bar(title: str, slot: int, width: int) -> dict:
 def _camera(pl: pv.Plotter, dim: int, bounds, window_size, rotor: bool = False) -> None:
     """Fit the scene into the left ~80 % of the window (room for the scalar bars on the right).
 
-    A part on a rotor is seen from higher up, so that the rotor's arc arrow shows.
+    A 3D part is seen from below, through the translucent foundation, onto its worn contact face; a part on a
+    rotor from further below, so that the whole face and the rotor's arc arrow show.
     """
     if dim == 3:
         pl.view_xz()
-        pl.camera.azimuth, pl.camera.elevation = -25, 35 if rotor else 20
+        pl.camera.azimuth, pl.camera.elevation = -25, -55 if rotor else -40
         pl.reset_camera(bounds=bounds)
         pl.camera.zoom(1.25 if rotor else 1.1)
         return

@@ -1,0 +1,41 @@
+"""The units of a run's numbers: SI when the scene declares ``units = "SI"``, none for a dimensionless scene.
+
+A scene in SI gives lengths in m, forces in N, pressures and moduli in Pa and times in s; what a run computes
+follows from them.  The contact points' weights m_i are areas (m²) in 3D and, in 2D (plane strain, per unit
+thickness), lengths (m): so forces Σ m_i p_i are N in 3D and N/m in 2D, torques N·m and N·m/m, contact areas
+m² and m, worn volumes Σ m_i w_i m³ and m².  :func:`units` maps the name of each number a run writes (a key of
+``result.npz`` or ``summary.json``) to its unit; :func:`label` appends a unit to a plot's label.
+"""
+from __future__ import annotations
+
+QUANTITIES = {"length": ("m", "m"), "time": ("s", "s"), "pressure": ("Pa", "Pa"), "force": ("N", "N/m"),
+              "torque": ("N·m", "N·m/m"), "area": ("m²", "m"), "volume": ("m³", "m²"), "line load": ("N/m", "N/m")}
+"""Each quantity's unit in 3D and in 2D (per unit thickness)."""
+
+NAMES = {"times": "time", "wear": "length", "normal_displacement": "length", "pressure": "pressure",
+         "reaction": "pressure", "forces": "force", "plate_displacement": "length", "normal_force": "force",
+         "torque": "torque", "contact_area": "area", "wear_volume": "volume", "tangential_force": "force",
+         "friction_force": "force", "contact_points": "length", "weights": "area", "fields": "length",
+         "max_wear": "length", "max_penetration": "length", "gap": "length"}
+"""The quantity of each number a run writes (the others are counts, fractions, ratios or wall-clock seconds)."""
+
+
+def unit(scene, quantity: str) -> str | None:
+    """The unit of ``quantity`` (a key of :data:`QUANTITIES`) in ``scene``; None for a dimensionless scene."""
+    return None if scene.units is None else QUANTITIES[quantity][0 if scene.dim == 3 else 1]
+
+
+def units(scene, names=NAMES) -> dict[str, str] | None:
+    """``{name: unit}`` for the ``names`` of a run's numbers (default: all of :data:`NAMES`); None if dimensionless.
+
+    ``plate_displacement`` in ``result.npz`` holds the plate's translation (m) and then its tilts (rad).
+    """
+    if scene.units is None:
+        return None
+    return {name: unit(scene, NAMES[name]) for name in names if name in NAMES}
+
+
+def label(scene, text: str, quantity: str) -> str:
+    """``text (unit)`` in an SI scene, ``text`` in a dimensionless one."""
+    symbol = unit(scene, quantity)
+    return text if symbol is None else f"{text} ({symbol})"
