@@ -11,19 +11,8 @@ import pytest
 from netgen.occ import Box, OCCGeometry, Pnt, Rectangle, X, Y, Z
 
 from ngwear.model import mandel
-from ngwear.model.materials import (
-    Anisotropic,
-    Compaction,
-    Energy,
-    Isotropic,
-    Moduli,
-    TransverselyIsotropic,
-    estimate_moduli,
-    strain,
-    stress_at,
-    tangent_at,
-    tangent_values,
-)
+from ngwear.model.materials import Anisotropic, Compaction, Energy, Isotropic, TransverselyIsotropic, strain
+from ngwear.model.moduli import Moduli, estimate_moduli, stress_at, tangent_at, tangent_values
 from ngwear.model.scene import SceneError
 
 LAM, ETA, BETA = 2.0, 1.5, 10.0
