@@ -180,3 +180,55 @@ def test_displacement_converges_under_mesh_refinement():
     rate = np.polyfit(np.log(sizes), np.log(largest), 1)[0]
     assert 0.7 <= rate <= 2.1, (rate, largest)
     assert rms[-1] < 2e-3 * np.abs(reference).max()
+
+
+def test_full_residual_has_its_linearisation_as_derivative_across_the_kinks():
+    """Taylor test of the whole step's residual R(u) (compaction bulk + compliance + friction μ n*, wear w set).
+
+    d(ε) = R(u + εw) − R(u) − ε R'(u) w tested against w falls as ε² (as in NGSolve's test_contact.py), although
+    tr ε(u) and the layer's compression u_ν − d₀ − w change sign (points cross both kinks in a band O(ε)).  A
+    linearisation that forgets the friction term μ n* leaves a remainder of order ε, which the test sees.
+    """
+    scene = ngwear.load_scene("paper_strip").replace(**{**COMPACTION, "mesh.maxh": 0.05, "mesh.order": 2,
+                                                        "solver.method": "full"})
+    disc = ngwear.Discretization(scene)
+    full = disc.full_form
+    x = disc.points.coords[:, 0]
+    disc.set_nodal(full.w, 0.01 * x)
+
+    def friction(scale):
+        for gf, component in zip(full.friction, disc.friction_directions(0.0).T):
+            disc.set_nodal(gf, scale * component)
+
+    friction(1.0)
+    u, w = ngs.GridFunction(disc.fes), ngs.GridFunction(disc.fes)
+    X, Y = ngs.x - 1.5, ngs.y - 0.5
+    u.Set(ngs.CF((0.05 * X * (X * X + Y * Y - 0.5), 0.05 * Y * (X * X + Y * Y - 0.5) - 0.05 * ngs.sin(2 * ngs.x))))
+    w.Set(ngs.CF((ngs.sin(2 * ngs.x + ngs.y), ngs.cos(ngs.x) + ngs.x * ngs.y ** 2)))
+    compression = disc.condensation.N @ u.vec.FV().NumPy() - disc.condensation.d0 - 0.01 * x
+    assert compression.min() < -0.01 and compression.max() > 0.01
+    trace = ngs.Trace(ngs.Sym(ngs.Grad(u)))(disc.mesh.MapToAllElements(ngs.IntegrationRule(ngs.TRIG, 2), ngs.VOL))
+    assert np.min(trace) < -0.01 and np.max(trace) > 0.01
+    form, steps = full.form, 0.005 * 0.5 ** np.arange(6)
+    r0, r1, jw, shifted = (u.vec.CreateVector() for _ in range(4))
+
+    def tested(jacobian_friction):
+        form.Apply(u.vec, r0)
+        friction(jacobian_friction)
+        form.AssembleLinearization(u.vec)
+        friction(1.0)
+        jw.data = form.mat * w.vec
+        out = []
+        for eps in steps:
+            shifted.data = u.vec + float(eps) * w.vec
+            form.Apply(shifted, r1)
+            out.append(abs((r1.FV().NumPy() - r0.FV().NumPy() - eps * jw.FV().NumPy()) @ w.vec.FV().NumPy()))
+        return np.array(out), np.linalg.norm(jw.FV().NumPy())
+
+    remainder, size = tested(1.0)
+    rate = np.polyfit(np.log(steps), np.log(remainder), 1)[0]
+    assert 1.7 <= rate <= 2.2, (rate, remainder)                   # 1.90 measured
+    assert remainder[-1] > 1e-8 * steps[-1] * size                  # the kinks are crossed: not round-off
+    wrong, _ = tested(0.0)
+    rate = np.polyfit(np.log(steps), np.log(wrong), 1)[0]
+    assert rate < 1.2 and wrong[-1] > 10 * remainder[-1], (rate, wrong)
