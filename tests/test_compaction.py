@@ -28,18 +28,34 @@ def lame(material):
     return e * nu / ((1 + nu) * (1 - 2 * nu)), e / (2 * (1 + nu))
 
 
-def minimised(scene, mesh, beta):
-    """NGSolve's Newton on Π(u) = ∫ψ(ε(u)) + Σ_i m_i L/2 (u·ν − d₀)₊² − ℓ(u) over the scene's mesh and space.
+def region_constants(scene, beta):
+    """{region: (λ, η, β)} from the scene's tables (the energy law's ψ is :func:`psi`, of the strip's λ = η = 1)."""
+    out = {}
+    for region, table in scene.material.by_region(scene.geometry.regions).items():
+        if table.kind == "energy":
+            out[region] = (1.0, 1.0, beta)
+        else:
+            out[region] = (*lame(table), beta if table.kind == "compaction" else 0.0)
+    return out
 
-    Written from the model alone (scene constants, loads, Dirichlet boundaries): the compliance energy is integrated
-    with the nodal rule of the contact facets (:data:`NODAL_RULES`), d₀ = max_ΓC ν·x − ν·x.  Returns the minimiser.
+
+def psi(eps, lam=1.0, eta=1.0, beta=BETA):
+    """The compaction law's ψ(ε) as an NGSolve expression (also the Python ``material.energy`` of a scene)."""
+    tr = ngs.Trace(eps)
+    return eta * ngs.InnerProduct(eps, eps) + lam / 2 * tr ** 2 + beta / 2 * ngs.IfPos(tr, 0, tr ** 2)
+
+
+def minimised(scene, mesh, beta):
+    """NGSolve's Newton on Π(u) = Σ_regions ∫ψ(ε(u)) + Σ_i m_i L/2 (u·ν − d₀)₊² − ℓ(u) over the scene's mesh.
+
+    Written from the model alone (scene constants, loads, Dirichlet boundaries): β of the compaction regions is
+    ``beta``; the compliance energy is integrated with the nodal rule of the contact facets (:data:`NODAL_RULES`),
+    d₀ = max_ΓC ν·x − ν·x.  Returns the minimiser.
     """
     dim, order = scene.dim, scene.mesh.order
-    lam, eta = lame(scene.material)
     fes = ngs.VectorH1(mesh, order=order, dirichlet="|".join(scene.geometry.dirichlet))
     u = fes.TrialFunction()
     eps = ngs.Sym(ngs.Grad(u))
-    tr = ngs.Trace(eps)
     nu = ngs.CF(scene.contact.direction)
     X = ngs.CF((ngs.x, ngs.y, ngs.z)[:dim])
     contact = mesh.Boundaries("contact")
@@ -48,8 +64,8 @@ def minimised(scene, mesh, beta):
     r = ngs.InnerProduct(u, nu) - (height - ngs.InnerProduct(X, nu))
     et, points, weights = NODAL_RULES[dim, order]
     energy = ngs.BilinearForm(fes, symmetric=True)
-    energy += ngs.Variation((eta * ngs.InnerProduct(eps, eps) + lam / 2 * tr ** 2
-                             + beta / 2 * ngs.IfPos(tr, 0, tr ** 2)) * ngs.dx)
+    for region, constants in region_constants(scene, beta).items():
+        energy += ngs.Variation(psi(eps, *constants) * ngs.dx(region))
     energy += ngs.Variation(scene.contact.stiffness / 2 * ngs.IfPos(r, r * r, 0)
                             * ngs.ds(definedon=contact, intrules={et: ngs.IntegrationRule(points, weights)}))
     for name, traction in scene.loads.traction.items():
@@ -70,6 +86,10 @@ SCENES = {   # one step of compliance alone (no friction, no wear, a layer too t
                                "material.young": 1.0, "material.poisson": 0.3}),
     "box-P1": ("box3d", {"mesh.maxh": 0.25}),
     "box-P2": ("box3d", {"mesh.maxh": 0.4, "mesh.order": 2}),
+    "box-on-backing-P1": ("box3d", {"mesh.maxh": 0.25, "geometry.backing": 0.25, "material": {
+        "law": "compaction", "lame_lambda": 1.0, "lame_mu": 1.0, "compaction_modulus": BETA,
+        "regions": {"backing": {"law": "linear", "young": 50.0, "poisson": 0.3}}}}),
+    "strip-energy-P1": ("paper_strip", {"mesh.maxh": 0.2, "material": {"law": "energy", "energy": psi}}),
 }
 
 
@@ -80,12 +100,14 @@ def test_one_step_agrees_with_an_ngsolve_energy_minimisation(name):
     Both solve the same discrete equations (same mesh, space, nodal rule): ngwear stops its bulk iteration at a
     relative change of 1e-12 (``solver.tolerance``), NGSolve's Newton at an energy-norm error of 1e-13; with
     condition numbers of these small meshes ≲ 1e4 the solutions agree to ≲ 1e-8 relative (measured: ~1e-14).
-    β matters: the minimiser of the linear law (β = 0) is ≥ 1e-3 (relative) away.
+    β matters: the minimiser of the linear law (β = 0) is ≥ 1e-3 (relative) away.  Also two regions (a compaction
+    body glued onto a linear backing 50× stiffer) and the same ψ given as a Python ``material.energy``.
     """
     shipped, changes = SCENES[name]
     scene = ngwear.load_scene(shipped).replace(**{
-        **changes, **COMPACTION, "time.steps": 1, "time.T": 1.0, "output.every": 1.0, "contact.friction": 0.0,
-        "contact.wear": 0.0, "contact.gap": 10.0, "solver.tolerance": 1e-12, "loads.time_table": []})
+        **({} if "material" in changes else COMPACTION), **changes, "time.steps": 1, "time.T": 1.0,
+        "output.every": 1.0, "contact.friction": 0.0, "contact.wear": 0.0, "contact.gap": 10.0,
+        "solver.tolerance": 1e-12, "loads.time_table": []})
     result = ngwear.simulate(scene, progress=False)
     assert result.completed and np.all(result.reaction == 0)
     mesh = result.discretization.mesh
@@ -95,6 +117,8 @@ def test_one_step_agrees_with_an_ngsolve_energy_minimisation(name):
         un = np.array([np.dot(gfu(mesh(*x)), nu) for x in result.contact_points])
         return un, scene.contact.stiffness * np.maximum(un - result.d0, 0.0)
 
+    if name == "strip-energy-P1":
+        assert result.scene.material.kind == "energy"
     un, p = at_points(minimised(scene, mesh, BETA))
     assert p.max() > 0 and (not name.startswith("half") or (p == 0).sum() > len(p) / 2)   # the disk touches in part
     for step in (0, 1):
