@@ -141,23 +141,36 @@ def worn_strip():
     return ngwear.load_scene("paper_strip").replace(**{"mesh.maxh": 0.2, "time.steps": 16, "output.every": 0.5})
 
 
-@pytest.mark.parametrize("order", [1, 2])
-def test_full_path_equals_the_condensed_path(worn_strip, order):
+PAD = {"mesh.maxh": 0.012, "time.T": 30.0, "time.steps": 6, "output.every": 30.0, "material.law": "compaction",
+       "material.compaction_modulus": 4e9}                          # β = 10η of the shipped pad's friction material
+WORN = {   # compaction runs with friction and wear: (shipped scene, changes)
+    "strip-P1": ("paper_strip", {"mesh.maxh": 0.2, "time.steps": 16, **COMPACTION}),
+    "strip-P2": ("paper_strip", {"mesh.maxh": 0.2, "time.steps": 16, "mesh.order": 2, **COMPACTION}),
+    "box-P1": ("box3d", {"mesh.maxh": 0.25, "time.steps": 16, **COMPACTION}),
+    "pad-plate": ("brake_pad", PAD),
+    "pad-tilting-plate": ("brake_pad", {**PAD, "loads.plate.tilt": True}),
+}
+
+
+@pytest.mark.parametrize("name", list(WORN))
+def test_full_path_equals_the_condensed_path(name):
     """The NGSolve form's Newton on the whole nonlinear system = the condensed bulk iteration, step by step.
 
-    Wear reaches the layer (λ > 0 at the end) and both branches of the law are used; agreement to 1e-9 of each
-    array's max, the solvers' tolerance 1e-10 (measured: ~1e-13).
+    Friction and wear over a few explicit steps (k α L ≤ 1); on the strip and the box wear reaches the layer
+    (λ > 0), on the pad a rigid plate (translating, or tilting too) is pressed by a force.  Agreement to 1e-9 of
+    each array's max, the solvers' tolerance 1e-10 (measured: 1e-15 to 3e-13).
     """
-    scene = worn_strip.replace(**{**COMPACTION, "mesh.order": order})
+    shipped, changes = WORN[name]
+    scene = ngwear.load_scene(shipped).replace(**changes)
     fast = ngwear.simulate(scene, progress=False)
     full = ngwear.simulate(scene.replace(**{"solver.method": "full"}), progress=False)
     assert fast.completed and full.completed and not fast.warnings
-    assert fast.reaction[-1].max() > 0 and fast.wear[-1].max() > 0.5 * scene.contact.gap
+    assert fast.wear[-1].max() > 0.3 * scene.contact.gap or fast.plate_displacement.size
     assert max(r.bulk for r in fast.newton) >= 2                          # the bulk iteration ran
-    for name in ("normal_displacement", "wear", "pressure", "reaction"):
-        a, b = getattr(fast, name), getattr(full, name)
-        assert np.abs(a - b).max() <= 1e-9 * np.abs(b).max(), name
-    pts = [[3.0, 1.0], [1.5, 0.0], [0.5, 0.5]]
+    for array in ("normal_displacement", "wear", "pressure", "reaction", "plate_displacement"):
+        a, b = getattr(fast, array), getattr(full, array)
+        assert np.abs(a - b).max(initial=0.0) <= 1e-9 * np.abs(b).max(initial=0.0), array
+    pts = full.contact_points[[0, len(full.weights) // 2]]
     u = full.displacement_at(pts, -1)
     assert np.abs(fast.displacement_at(pts, -1) - u).max() <= 1e-9 * np.abs(u).max()
 
