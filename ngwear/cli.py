@@ -342,8 +342,8 @@ class _Stderr(logging.StreamHandler):
 def _logging(quiet: bool, verbose: bool) -> None:
     """Log lines on stderr as ``ngwear: …``: ngwear's warnings, its progress lines unless ``quiet``; ``verbose``: all.
 
-    Other libraries' lines below ERROR (Dask's INFO lines and the tracebacks of connections closed at the end of
-    a study) are shown only with ``verbose``.
+    Other libraries' warnings and errors are shown (the app server's refusals among them), except Dask's below
+    ERROR (its INFO lines and the notes on connections closed at the end of a study), which only ``verbose`` shows.
     """
     root = logging.getLogger()
     for handler in [h for h in root.handlers if h.get_name() == "ngwear"]:
@@ -352,10 +352,17 @@ def _logging(quiet: bool, verbose: bool) -> None:
     handler.set_name("ngwear")
     handler.setFormatter(logging.Formatter("ngwear: %(message)s"))
     if not verbose:
-        handler.addFilter(lambda record: record.name.split(".")[0] == "ngwear" or record.levelno >= logging.ERROR)
+        handler.addFilter(_shown)
     root.addHandler(handler)
     logging.getLogger("ngwear").setLevel(logging.DEBUG if verbose else logging.NOTSET)
     logging.getLogger("ngwear.progress").setLevel(logging.WARNING if quiet else logging.INFO)
+
+
+def _shown(record: logging.LogRecord) -> bool:
+    """Without --verbose: ngwear's lines, errors, and other libraries' warnings but Dask's."""
+    library = record.name.split(".")[0]
+    return (library == "ngwear" or record.levelno >= logging.ERROR
+            or (record.levelno >= logging.WARNING and library != "distributed"))
 
 
 def main(argv: list[str] | None = None) -> int:
