@@ -333,8 +333,8 @@ def _finished(out: Path, cases) -> dict[int, dict]:
 def _table(study: Study, rows: dict[int, dict]) -> pd.DataFrame:
     import pandas as pd
 
-    records = [{"case": c.index, **{key: c.params.get(key) for key in study.varied}, **{name: rows[c.index].get(name) for name in study.outputs},
-                **{name: rows[c.index].get(name) for name in COLUMNS}} for c in study.cases]
+    records = [{"case": c.index, **{key: c.params.get(key) for key in study.varied},
+                **{name: rows[c.index].get(name) for name in (*study.outputs, *COLUMNS)}} for c in study.cases]
     table = pd.DataFrame.from_records(records)
     for key in study.varied:
         given = [v for v in table[key] if v is not None and not (isinstance(v, float) and v != v)]   # v != v: NaN
