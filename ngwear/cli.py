@@ -235,12 +235,17 @@ def _write(result, out: Path, pictures: bool, check: tuple[str, str] | None = No
         from .views.pictures import write_pictures
         STAGES.info("%s: drawing the pictures", result.scene.name)
         written = write_pictures(result, out)
+    from .results.materials import describe
+    from .results.units import unit as unit_of
+
     summary = result.summary()
-    unit = summary.pop("units", {})
+    unit, materials = summary.pop("units", {}), summary.pop("materials")
     width = max(map(len, summary))
     for key, value in summary.items():
         text = f"{value:.4g}" if isinstance(value, float) else f"{value}"
         print(f"{key:<{width}}  {text} {unit[key]}" if key in unit else f"{key:<{width}}  {text}")
+    for region, entry in materials.items():         # m_F, L_F of each law beside (H_S)
+        print(f"{'material':<{width}}  {region}: {describe(entry, unit_of(result.scene, 'pressure'))}")
     if check is not None:
         print(f"{check[0]:<{width}}  {check[1]}")
     for warning in result.warnings:

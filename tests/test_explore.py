@@ -222,7 +222,7 @@ def test_brake_pad_sliders_force_omega_kappa_mu():
     """The pad gets the sliders a brake engineer turns: force, ω, κ, μ; each acts as physics says."""
     ex = Explorer(ngwear.load_scene(PAPER.with_name("brake_pad.toml")), maxh=0.012, steps=20,
                   window_size=(400, 170))
-    assert [s.name for s in ex.sliders] == ["force", "omega", "kappa", "friction"]
+    assert [s.name for s in ex.sliders] == ["force", "omega", "kappa", "friction", "backing"]
     before = ex.result
     doubled = ex.set(force=6000.0)
     assert doubled.normal_force[-1] == pytest.approx(6000.0, rel=1e-9)
@@ -235,6 +235,36 @@ def test_brake_pad_sliders_force_omega_kappa_mu():
     ex.set(kappa=0.0)
     assert not ex.result.wear.any() and before.wear.any()
     assert ex.disc.elastic.operator is before.discretization.elastic.operator          # no new factorisation for any of them
+    ex.close()
+
+
+def test_pad_of_compaction_material_with_fields_and_a_backing():
+    """β re-solves with the law's new L_F; μ, κ sliders scale their fields; the backing comes and goes."""
+    scene = ngwear.load_scene(PAPER.with_name("brake_pad.toml")).replace(**{
+        "material": {"law": "compaction", "young": 1.0e9, "poisson": 0.25, "compaction_modulus": 1.0e9},
+        "contact.friction": "where(hypot(x, y) < 0.125, 0.3, 0.45)", "contact.wear": "8e-13 * 0.12 / hypot(x, y)"})
+    ex = Explorer(scene, maxh=0.012, steps=10, window_size=(400, 170))
+    sliders = {s.name: s for s in ex.sliders}
+    assert list(sliders) == ["force", "omega", "kappa", "friction", "compaction", "backing"]
+    assert sliders["friction"].label == "friction μ × field" and ex.values["friction"] == 1.0
+    lam, eta = scene.material.lame
+    assert (sliders["compaction"].minimum, sliders["compaction"].maximum) == (0.0, pytest.approx(20 * eta))
+    first = ex.result
+    ex.set(friction=0.5, kappa=2.0)
+    assert ex.scene.contact.friction == "0.5 * (where(hypot(x, y) < 0.125, 0.3, 0.45))"
+    assert ex.result.friction_coefficient == pytest.approx(0.5 * first.friction_coefficient, rel=1e-15)
+    assert ex.result.wear_coefficient == pytest.approx(2.0 * first.wear_coefficient, rel=1e-15)
+    assert ex.values["friction"] == 0.5 and ex.values["kappa"] == 2.0
+    ex.set(compaction=4 * eta)
+    body = ex.result.summary()["materials"]["body"]
+    assert body["compaction_modulus"] == pytest.approx(4 * eta)
+    assert body["L_F"] == pytest.approx(2 * eta + 3 * (lam + 4 * eta), rel=1e-12)
+    before = ex.picture()
+    ex.set(backing=0.004)
+    assert ex.disc.mesh.GetMaterials() == ("body", "backing") and ex.values["backing"] == 0.004
+    assert np.abs(ex.picture().astype(int) - before).mean() > 0.05
+    ex.set(backing=0.0)
+    assert ex.scene.geometry.backing is None and ex.disc.mesh.GetMaterials() == ("body",)
     ex.close()
 
 

@@ -55,6 +55,26 @@ def test_a_value_invalid_alone_is_a_rejected_case():
     assert s.cases[1].error == "contact.gap: must be > 0 (got -1.0)"
 
 
+def test_set_that_needs_the_varied_keys_is_applied_with_each_case():
+    """[material.regions.backing] names a region that only the cases' geometry.backing creates, and vice versa."""
+    s = study(set={"mesh.maxh": 0.2, "time.steps": 10, "geometry.backing": 0.2,
+                   "material.regions.backing.poisson": 0.3},
+              grid={"material.regions.backing.young": [10.0, 100.0], "contact.friction": ["0.2 + 0.1*x", 0.4]},
+              cases=[{"material.law": "linear"}, {"material.law": "compaction", "material.compaction_modulus": 5.0}])
+    assert s.varied == ("material.regions.backing.young", "contact.friction", "material.law",
+                        "material.compaction_modulus")
+    assert all(c.error is None for c in s.cases) and len(s.cases) == 8
+    backing = [(c.scene.material.regions["backing"].young, c.scene.material.regions["backing"].poisson)
+               for c in s.cases]
+    assert backing == [(young, 0.3) for young in (10.0, 100.0) for _ in range(4)]
+    assert [c.scene.contact.friction for c in s.cases[:4]] == ["0.2 + 0.1*x"] * 2 + [0.4] * 2
+    assert [c.scene.material.kind for c in s.cases[:2]] == ["linear", "compaction"]
+    assert len({c.group for c in s.cases}) == 4           # μ does not touch the factorisation: young × law
+    with pytest.raises(StudyError, match=r"^set\.material\.regions\.backing: unknown region"):
+        study(set={"material.regions.backing.young": 1.0, "material.regions.backing.poisson": 0.3},
+              grid={"contact.friction": [0.1, 0.2]})
+
+
 @pytest.mark.parametrize("data, message", [
     ({"grid": {"contact.frictoin": [0.2, 0.4]}},
      "grid.contact.frictoin: unknown key (allowed: law, stiffness, exponent, gap, friction, wear, direction)"),

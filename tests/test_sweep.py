@@ -231,6 +231,43 @@ def test_grouped_study_factorises_once_per_group(tmp_path):
     assert first.tolist() == [[True, False, False], [True, False, False]]
 
 
+def test_study_of_regions_laws_and_fields(tmp_path):
+    """The keys of issue 18 in a grid and cases: text beside numbers, dotted region keys, groups by material."""
+    path = write(tmp_path, f'''scene = "{PAPER}"
+[set]
+"mesh.maxh" = 0.25
+"time.steps" = 10
+"contact.wear" = 0.3
+"geometry.backing" = 0.2
+"material.regions.backing.poisson" = 0.3
+[grid]
+"material.regions.backing.young" = [10.0, 100.0]
+"contact.friction" = [0.3, "where(x < 1.5, 0.3, 0.6)"]
+[[cases]]
+"material.law" = "linear"
+[[cases]]
+"material.law" = "compaction"
+"material.compaction_modulus" = 5.0
+''')
+    table = ngwear.sweep(path, out=tmp_path / "out", workers=2, progress=False)
+    keys = ["material.regions.backing.young", "contact.friction", "material.law", "material.compaction_modulus"]
+    assert list(table.columns[:5]) == ["case", *keys]
+    assert (table.status == "completed").all()
+    assert table["contact.friction"].tolist() == ["0.3", "0.3", "where(x < 1.5, 0.3, 0.6)",
+                                                  "where(x < 1.5, 0.3, 0.6)"] * 2
+    assert table["material.law"].tolist() == ["linear", "compaction"] * 4
+    assert np.isnan(table["material.compaction_modulus"][::2]).all() and (table["material.compaction_modulus"][1::2]
+                                                                           == 5.0).all()
+    assert table.attrs["summary"]["groups"] == 4
+    for case, row in zip(load_study(path).cases, table.itertuples()):
+        direct = outputs(ngwear.simulate(case.scene, progress=False))
+        np.testing.assert_allclose([getattr(row, k) for k in direct], list(direct.values()), rtol=1e-12)
+    pd.testing.assert_frame_equal(pd.read_parquet(tmp_path / "out" / "results.parquet"), table, check_like=False)
+    assert {p.name for p in (tmp_path / "out" / "plots").iterdir()} >= {f"{k}.png" for k in keys}
+    worn = table.set_index(["material.regions.backing.young", "contact.friction", "material.law"]).max_wear
+    assert worn[(10.0, "0.3", "linear")] != worn[(100.0, "0.3", "linear")]     # the backing's stiffness acts
+
+
 @pytest.mark.slow
 def test_a_case_that_kills_its_process_fails_alone(tmp_path, monkeypatch):
     """Cases die by a segfault, os._exit and SIGKILL on a one-worker cluster: only they crash.

@@ -87,6 +87,10 @@ MEANING = {
         "newton_iterations_max": ("", "the most of one step"),
         "wall_time_s": ("", "seconds the run took: meshing, factorising and the time loop"),
         "solve_time_s": ("", "seconds of the time loop alone"),
+        "materials": ("", "each region's material by name (`body`, `backing`, a file's): `law`, its constants under "
+                          "their scene keys (`young`, `poisson`, `compaction_modulus`, …) and the law's `m_F` and "
+                          "`L_F` (H(F)); an `energy` law's estimated over the run's frames, with `estimated`, the "
+                          "number of sampled tangents"),
         "units": ("", "only for a scene with `units = \"SI\"`: the unit of each number above (`{\"torque\": "
                       "\"N·m\", …}`)"),
     },

@@ -23,7 +23,7 @@ Full displacement fields are kept for the frames (``stored_steps``): the steps n
 output times (``output.every`` apart from t = 0, or ``output.times``) and the last step, so that the
 number of frames does not grow with the number of steps.  ``save(dir)`` writes ``result.npz``
 (these names as keys, with the Newton records), ``scene.json``, ``summary.json``, ``mesh.vol`` and
-a VTU/PVD series of the frames, each file written under a temporary name and then renamed, so that
+a VTU/PVD series of the frames (with each cell's region), each file written under a temporary name and then renamed, so that
 an interrupt never leaves half a file; :func:`load_result` reads them back.  A scene in SI (``units``) adds
 the unit of every number (:mod:`ngwear.results.units`) to ``summary.json`` and ``result.npz``.
 """
@@ -43,6 +43,7 @@ from ..numerics.forms import initial_distance
 from ..numerics.solver import NewtonRecord
 from .folder import FolderError, NoSpace, digest, no_space
 from .history import History
+from .materials import region_materials
 from .units import units
 
 ARRAYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces", "plate_displacement")
@@ -276,7 +277,10 @@ class Result:
         return self.discretization
 
     def summary(self) -> dict:
-        """Key numbers of the run (what ``ngwear run`` prints)."""
+        """Key numbers of the run (what ``ngwear run`` prints); ``materials``: each region's law, constants, m_F, L_F.
+
+        See :func:`ngwear.results.materials.region_materials` (an energy law's moduli estimated over the frames).
+        """
         g = self.scene.contact.gap
         its = [r.iterations for r in self.newton if r.converged]
         # the paper's "penetration": how far Γ_C has moved into the layer, u_ν − d₀ ≤ g
@@ -300,6 +304,8 @@ class Result:
             "newton_iterations_max": int(max(its, default=0)),
             "wall_time_s": round(self.wall_time, 3),
             "solve_time_s": round(self.solve_time, 3),
+            "materials": region_materials(self.scene, self.discretization,
+                                          [self.fields[s] for s in self.stored_steps if s in self.fields]),
             **({"units": units(self.scene, ("gap", "max_wear", "max_penetration", "plate_displacement", *PART))}
                if self.scene.units else {}),
         }

@@ -166,10 +166,11 @@ def study_from_dict(data: dict, *, base_dir: str | Path = ".", name: str = "stud
     limit = _whole(data.get("max_cases", MAX_CASES), "max_cases", 1)
     base = _base(data.get("scene"), Path(base_dir))
     fixed = _flat(_table(data, "set"), "set")
+    pending, refusal = {}, None
     try:
         base = base.replace(**{**fixed, **(overrides or {})})
-    except SceneError as err:
-        raise StudyError(f"set.{err}") from None
+    except SceneError as err:       # it may need the varied keys (material.regions.backing: a geometry.backing)
+        pending, refusal = {**fixed, **(overrides or {})}, f"set.{err}"
     blocks = []                            # (where, its keys, its sizes, its parameter sets when built)
     if "grid" in data:
         grid = _grid(data)
@@ -187,8 +188,10 @@ def study_from_dict(data: dict, *, base_dir: str | Path = ".", name: str = "stud
     owner = {k: where for where, keys, _, _ in blocks for k in keys}
     _refuse_conflicts([*(("set", k) for k in fixed), *((where, k) for where, keys, _, _ in blocks for k in keys),
                        *(("--set", k) for k in overrides or ())])
-    cases = tuple(_case(i, {k: v for p in combo for k, v in p.items()}, base)
+    cases = tuple(_case(i, {k: v for p in combo for k, v in p.items()}, base, pending)
                   for i, combo in enumerate(itertools.product(*(build() for *_, build in blocks))))
+    if refusal and all(c.error for c in cases):
+        raise StudyError(refusal)
     _refuse_invalid(cases, owner)
     _refuse_same_scenes(cases, owner)
     grid_keys = tuple(k for k, where in owner.items() if where == "grid")
@@ -315,9 +318,10 @@ def _show(params: dict, keys=None) -> str:
 # ---------------------------------------------------------------- cases
 
 
-def _case(index: int, params: dict, base: Scene) -> Case:
+def _case(index: int, params: dict, base: Scene, fixed: dict) -> Case:
+    """The case of ``params`` on ``base`` with ``fixed`` (the ``[set]`` that is valid only with a case's keys)."""
     try:
-        return Case(index, params, base.replace(**params))
+        return Case(index, params, base.replace(**{**fixed, **params}))
     except SceneError as err:
         return Case(index, params, None, str(err))
 

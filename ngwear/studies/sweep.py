@@ -5,7 +5,8 @@
 per usable core — and returns a pandas table with one row per case: ``case``, the varied parameters
 under their dotted keys, the study's outputs (:mod:`ngwear.studies.outputs`), ``status``, ``error``,
 ``warnings``, ``wall_time`` (seconds on the worker), ``worker`` (its address), ``factorised`` and
-``case_id``; ``table.attrs["summary"]`` says what the study did.
+``case_id``; ``table.attrs["summary"]`` says what the study did.  A varied key whose values mix text with numbers
+(``contact.friction = [0.3, "0.2 + 0.1*x"]``) is a column of text, the others written as JSON (``"0.3"``).
 
 Reuse.  Cases are submitted grouped by mesh and material (:attr:`Case.group`).  A worker runs its
 cases in a case process of its own (:class:`~ngwear.studies.child.Child`, one per worker thread), which
@@ -332,9 +333,14 @@ def _finished(out: Path, cases) -> dict[int, dict]:
 def _table(study: Study, rows: dict[int, dict]) -> pd.DataFrame:
     import pandas as pd
 
-    records = [{"case": c.index, **c.params, **{name: rows[c.index].get(name) for name in study.outputs},
-                **{name: rows[c.index].get(name) for name in COLUMNS}} for c in study.cases]
-    return pd.DataFrame.from_records(records)
+    records = [{"case": c.index, **{key: c.params.get(key) for key in study.varied},
+                **{name: rows[c.index].get(name) for name in (*study.outputs, *COLUMNS)}} for c in study.cases]
+    table = pd.DataFrame.from_records(records)
+    for key in study.varied:
+        given = [v for v in table[key] if v is not None and not (isinstance(v, float) and v != v)]   # v != v: NaN
+        if any(isinstance(v, str) for v in given) and not all(isinstance(v, str) for v in given):
+            table[key] = [v if isinstance(v, str) or v not in given else json.dumps(v) for v in table[key]]
+    return table
 
 
 def _summary(study: Study, rows, ran, earlier, wall_time: float, out: Path) -> dict:

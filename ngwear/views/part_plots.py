@@ -2,6 +2,8 @@
 
 ``contact_maps``: the contact face Γ_C seen from above (projected on the plane ⟂ ν), coloured by the
 pressure p and by the wear depth w at chosen steps (a 3D result; the colour bars name the field).
+``coefficient_maps``: the contact coefficients that are fields over Γ_C (μ, κ, L: an expression, an array or a
+function, not a number), one panel each: maps of the face in 3D, curves along x in 2D.
 ``history``: the normal force, the friction torque about the counterface's axis (the friction force |F_t|
 when the counterface does not turn), the worn volume and the plate's displacement over time.
 ``pressure_radius``: p·r against the distance r from the axis at a few steps, with its mean: under a rigid
@@ -22,6 +24,10 @@ from ..results.units import label, unit
 from .plots import _sampled, _save, plain
 
 FIELDS = {"pressure": ("pressure p", "plasma", "pressure"), "wear": ("wear depth w", "YlOrRd", "length")}
+COEFFICIENTS = {"friction_coefficient": ("friction", "friction μ", "viridis"),
+                "wear_coefficient": ("wear", "wear coefficient κ", "cividis"),
+                "contact_stiffness": ("stiffness", "compliance stiffness L", "magma")}
+"""The contact coefficients of a result: its array, the scene key (``contact.<key>``), title, colour map."""
 
 
 def _plane(nu: np.ndarray) -> np.ndarray:
@@ -87,6 +93,48 @@ def contact_maps(result, path, steps=None, fields=("pressure", "wear")) -> Path:
         fig.colorbar(shaded, ax=row.tolist(), shrink=0.9, format="%.3g", label=label(result.scene, title, quantity))
     fig.suptitle(f"{result.scene.name}: contact face from above", fontsize=10)
     return _save(fig, path)
+
+
+def varying(result) -> list[str]:
+    """The coefficients of :data:`COEFFICIENTS` that the scene gives as fields (not numbers)."""
+    return [name for name, (key, _, _) in COEFFICIENTS.items()
+            if not isinstance(getattr(result.scene.contact, key), (int, float))]
+
+
+def coefficient_figure(result, names=None) -> Figure:
+    """One panel per coefficient of ``names`` (default: :func:`varying`) over Γ_C: a map in 3D, a curve in 2D.
+
+    Each panel draws the result's array (``result.friction_coefficient``, …) at the contact points, coloured from
+    its smallest to its largest value.
+    """
+    names = varying(result) if names is None else list(names)
+    if not names:
+        raise ValueError("names: no coefficient to draw (the scene's μ, κ and L are numbers)")
+    dim = result.scene.dim
+    tri, at_nodes = _triangulation(result) if dim == 3 else (None, None)
+    aspect = np.clip(np.ptp(tri.x) / max(np.ptp(tri.y), 1e-300), 0.35, 3.0) if dim == 3 else 1.6
+    fig = Figure(figsize=((2.6 * aspect + 1.2) * len(names), 3.2), layout="constrained")
+    for ax, name in zip(np.atleast_1d(fig.subplots(1, len(names), squeeze=False)[0]), names):
+        key, title, cmap = COEFFICIENTS[name]
+        values = getattr(result, name)
+        ax.set_title(f"{title}: contact.{key}", fontsize=9)
+        ax.tick_params(labelsize=7)
+        if dim == 2:
+            order = np.argsort(result.contact_points[:, 0])
+            ax.plot(result.contact_points[order, 0], values[order], color="C0")
+            ax.set(xlabel=label(result.scene, "x on Γ_C", "length"))
+            continue
+        lo, hi = float(values.min()), float(values.max())   # a field that is constant after all: one colour
+        shaded = ax.tripcolor(tri, at_nodes @ values, shading="gouraud", cmap=cmap, vmin=lo, vmax=hi)
+        ax.set_aspect("equal")
+        fig.colorbar(shaded, ax=ax, shrink=0.9, format="%.3g")
+    fig.suptitle(f"{result.scene.name}: contact coefficients over Γ_C", fontsize=10)
+    return fig
+
+
+def coefficient_maps(result, path, names=None) -> Path:
+    """Write :func:`coefficient_figure` as a PNG."""
+    return _save(coefficient_figure(result, names), path)
 
 
 def history(result, path) -> Path:

@@ -25,24 +25,33 @@ from functools import cached_property
 import ngsolve as ngs
 import numpy as np
 
-LAYER_FIELDS = {"displacement": "wear", "wear": "wear", "pressure": "pressure"}
+LAYER_FIELDS = {"displacement": "wear", "wear": "wear", "pressure": "pressure", "region": "wear"}
+"""What the layer is coloured by for each ``field`` of a picture (``region`` colours the part by its regions)."""
 
 
 @dataclass(frozen=True)
 class MeshArrays:
-    """Reference vertex coordinates, the vertex numbers of the body's elements and of the Γ_C facets."""
+    """Reference vertex coordinates, the vertex numbers of the part's elements and of the Γ_C facets.
+
+    ``regions``: each element's region, its index among ``names`` (``mesh.GetMaterials()``: body, backing, …).
+    """
 
     points: np.ndarray
     body: np.ndarray
     facets: np.ndarray
+    regions: np.ndarray
+    names: tuple[str, ...]
 
     @classmethod
     def of(cls, mesh: ngs.Mesh) -> MeshArrays:
-        body = [[v.nr for v in el.vertices] for el in mesh.Elements(ngs.VOL) if el.mat == "body"]
+        names = tuple(mesh.GetMaterials())
+        elements = list(mesh.Elements(ngs.VOL))
+        body = [[v.nr for v in el.vertices] for el in elements]
         facets = [[v.nr for v in el.vertices] for el in mesh.Elements(ngs.BND) if el.mat == "contact"]
         points = np.array([v.point for v in mesh.vertices])
         return cls(points, np.array(body, dtype=int).reshape(-1, mesh.dim + 1),
-                   np.array(facets, dtype=int).reshape(-1, mesh.dim))
+                   np.array(facets, dtype=int).reshape(-1, mesh.dim),
+                   np.array([names.index(el.mat) for el in elements], dtype=int), names)
 
 
 @dataclass(frozen=True)

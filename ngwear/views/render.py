@@ -24,7 +24,8 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 import pyvista as pv
-from matplotlib import font_manager
+from matplotlib import colormaps, font_manager
+from matplotlib.colors import ListedColormap, to_hex
 from PIL import Image
 from vtkmodules.vtkCommonCore import VTK_FONT_FILE
 
@@ -89,8 +90,9 @@ class Canvas:
 
     Parameters
     ----------
-    field : {"displacement", "wear", "pressure"}
-        Colour the body by |u| and the layer by w, or only the layer by w or by the pressure p.
+    field : {"displacement", "wear", "pressure", "region"}
+        Colour the body by |u| and the layer by w, or only the layer by w or by the pressure p; ``region``: the
+        part by its regions (body, backing, a file's solids, with a legend) and the layer by w.
     magnify : float
         Scale of u and w in the picture.
     window_size : (int, int)
@@ -152,9 +154,16 @@ class Canvas:
         mesh, lit, width = picture.mesh, dict(lighting=picture.dim == 3), self.window_size[0]
         parts, titles = {"mesh": mesh, "lit": lit}, bar_titles(picture.result)
         parts["body"] = _Cells(mesh.points, mesh.body, ("|u|",))
+        parts["body"].grid.cell_data["region"] = mesh.regions
         colour = (dict(scalars="|u|", cmap=CMAPS["displacement"],
                        scalar_bar_args=_bar(titles["displacement"], 0, width))
                   if self.field == "displacement" else dict(color=BODY_COLOR))
+        if self.field == "region":
+            colours = region_colours(len(mesh.names))
+            colour = dict(scalars="region", cmap=ListedColormap(colours), clim=(-0.5, len(colours) - 0.5),
+                          show_scalar_bar=False)
+            pl.add_legend([[name, c] for name, c in zip(mesh.names, colours)], bcolor="white", face="rectangle",
+                          loc="lower left", size=(0.16, 0.06 * len(colours)))
         parts["body_actor"] = pl.add_mesh(parts["body"].grid, show_edges=True, edge_color="#404040",
                                           line_width=0.5, **lit, **colour)
         if len(mesh.facets):
@@ -216,7 +225,8 @@ def frame(result, step: int, *, field: str = "displacement", magnify: float = 1.
     """RGB image (height, width, 3) of the body, layer and foundation at a step.
 
     ``field`` colours the body by |u| and the layer by w (``"displacement"``), or only the layer by
-    the wear w (``"wear"``) or the compliance pressure p (``"pressure"``).  ``magnify`` scales u and w.
+    the wear w (``"wear"``) or the compliance pressure p (``"pressure"``); ``"region"`` colours the part by
+    its regions and the layer by w.  ``magnify`` scales u and w.
     To draw many pictures of the same mesh, keep a :class:`Canvas` instead.
     """
     with Canvas(field, magnify, window_size) as canvas:
@@ -341,6 +351,12 @@ class _Layer:
         for name, values in data.items():
             self.grid.point_data[name][:] = np.tile(values[self.used], 2)
         self.grid.Modified()
+
+
+def region_colours(count: int) -> list[str]:
+    """A colour for each of ``count`` regions (matplotlib's tab10: body blue, backing orange, …)."""
+    palette = colormaps["tab10"].colors
+    return [to_hex(palette[k % len(palette)]) for k in range(count)]
 
 
 def bar_titles(result) -> dict[str, str]:

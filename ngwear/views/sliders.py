@@ -5,12 +5,20 @@ scene key (``key``) or scales a vector of the starting scene (``scale``: ``"load
 traction and the body force so that the largest has the slider's magnitude, ``"speed"`` sets ‖v*‖
 and keeps the foundation's direction, ``"force"`` the plate force's magnitude and ``"omega"`` the
 counterface's ‖ω‖, each in its starting direction).  Ranges are absolute or relative to the starting scene's
-value.  Which sliders a scene gets depends on its ``geometry.kind`` (the ``[scenes]`` table).
+value, or to one of its :data:`MEASURES` (``relative = "shear"``: η of ``[material]``; ``"thickness"``: the
+part's height above Γ_C).  Which sliders a scene gets depends on its ``geometry.kind`` (the ``[scenes]`` table)
+and, for a slider with a ``law``, on the law of its ``[material]``.
 A new scalar parameter is a new ``[slider.NAME]`` entry with its ``key`` and a name in ``[scenes]``.
+
+A slider whose key is a contact coefficient that the scene gives as a field (an expression in x, y, z or a list of
+values) scales the field instead of replacing it: its value is the factor s, ``contact.friction = "s * (field)"``
+(a list: each value times s), its label ends in ``× field`` and its range, read as factors, is the slider's range
+(relative or not: μ × [0, 2], κ × [0, 5]).  A field given as a Python function gets no slider.
 """
 from __future__ import annotations
 
 import logging
+import re
 import tomllib
 from dataclasses import dataclass
 from functools import cache
@@ -18,10 +26,14 @@ from pathlib import Path
 
 import numpy as np
 
+from ..model.functions import is_token
+from ..model.kinds import KINDS
 from ..model.scene import Scene, SceneError
 
 log = logging.getLogger(__name__)
 DATA = Path(__file__).with_name("sliders.toml")
+SCALED = re.compile(r"(\S+) \* \((.*)\)", re.DOTALL)
+"""A field scaled by a slider, ``s * (field)``."""
 
 
 @dataclass(frozen=True)
@@ -39,13 +51,18 @@ class Slider:
     key: str | None = None
     scale: str | None = None
     integer: bool = False
+    field: str | tuple | None = None
 
     def value(self, scene: Scene):
-        """The slider's value in ``scene``."""
+        """The slider's value in ``scene`` (the factor on the starting scene's ``field``, if it scales one)."""
+        if self.field is not None:
+            return field_factor(scene.value(self.key), self.field)
         return _read(scene, self.key, self.scale)
 
     def changes(self, base: Scene, value) -> dict:
         """Dotted scene changes that give the slider ``value``, relative to the starting scene ``base``."""
+        if self.field is not None:
+            return {self.key: scaled_field(self.field, value)}
         if self.scale is not None:
             return SCALES[self.scale][1](base, value)
         return {self.key: value}
@@ -58,9 +75,20 @@ def sliders_for(scene: Scene) -> tuple[Slider, ...]:
     out = []
     for name in names:
         spec = data["slider"][name]
+        if "law" in spec and scene.material.kind != spec["law"]:
+            continue
         lo, hi, step = spec["range"]
-        if spec.get("relative", False):
-            start = _read(scene, spec.get("key"), spec.get("scale"))
+        start = _read(scene, spec.get("key"), spec.get("scale"))
+        if "key" in spec and isinstance(scene.value(spec["key"]), (str, tuple)):   # a field: the slider scales it
+            start = scene.value(spec["key"])
+            if is_token(start):
+                log.info("explorer: no %s slider (%s is a Python function)", name, spec["key"])
+                continue
+            out.append(Slider(name, f"{spec['label']} × field", lo, hi, step, spec["key"], field=start))
+            continue
+        relative = spec.get("relative", False)
+        if relative:
+            start = MEASURES[relative](scene) if isinstance(relative, str) else start
             if start == 0:
                 log.info("explorer: no %s slider (the scene's value is 0, nothing to scale)", name)
                 continue
@@ -72,12 +100,34 @@ def sliders_for(scene: Scene) -> tuple[Slider, ...]:
     return tuple(out)
 
 
+def field_factor(value, field) -> float:
+    """The factor s with which :func:`scaled_field` of ``field`` gives ``value`` (NaN if it gives none)."""
+    if value == field:
+        return 1.0
+    if isinstance(field, tuple):
+        ratio = np.divide(value, field, out=np.full(len(field), np.nan), where=np.asarray(field) != 0)
+        return float(np.nanmax(ratio)) if isinstance(value, tuple) and len(value) == len(field) else float("nan")
+    match = SCALED.fullmatch(value) if isinstance(value, str) else None
+    return float(match.group(1)) if match and match.group(2) == field else float("nan")
+
+
+def scaled_field(field, factor: float):
+    """``field`` times ``factor``: ``"s * (expression)"``, or each value of a list times s (s = 1: the field)."""
+    if factor == 1:
+        return field
+    if isinstance(field, tuple):
+        return tuple(factor * v for v in field)
+    return f"{factor!r} * ({field})"
+
+
 @cache
 def _data() -> dict:
     data = tomllib.loads(DATA.read_text(encoding="utf-8"))
     for name, spec in data["slider"].items():
         if ("key" in spec) == ("scale" in spec) or spec.get("scale", "load") not in SCALES:
             raise ValueError(f"{DATA.name}: slider.{name}: give either key or scale ({', '.join(SCALES)})")
+        if isinstance(spec.get("relative"), str) and spec["relative"] not in MEASURES:
+            raise ValueError(f"{DATA.name}: slider.{name}.relative: true, false or one of {', '.join(MEASURES)}")
     return data
 
 
@@ -154,5 +204,36 @@ def scaled_spin(base: Scene, size: float) -> dict:
     return {"foundation.angular_velocity": (size / spin(base) * np.asarray(base.foundation.angular_velocity)).tolist()}
 
 
-SCALES = {"load": (load_size, scaled_load), "speed": (speed, scaled_velocity), "force": (plate_force, scaled_plate_force),
+def backing(scene: Scene) -> float:
+    """t_b of the scene's backing (0 without one)."""
+    return float(scene.geometry.backing or 0.0)
+
+
+def scaled_backing(base: Scene, size: float) -> dict:
+    """A backing of thickness ``size`` (0: none), of the starting scene's backing material if it has one.
+
+    Without a backing the scene may not name its material (``material.regions.backing`` of a missing region is
+    refused): the starting scene's ``material.regions`` are kept otherwise.
+    """
+    regions = base.to_dict()["material"].get("regions", {})
+    if size == 0:
+        regions = {name: table for name, table in regions.items() if name != "backing"}
+    return {"geometry.backing": float(size) if size > 0 else None, "material.regions": regions}
+
+
+def shear(scene: Scene) -> float:
+    """η of ``[material]`` (0 if it gives no isotropic constants)."""
+    return float(scene.material.lame[1] or 0.0) if scene.material.kind in ("linear", "compaction") else 0.0
+
+
+def thickness(scene: Scene) -> float:
+    """The part's height above Γ_C, ``geometry.size`` along ν (0 for a kind without one)."""
+    index = KINDS[scene.geometry.kind].thickness
+    return float(scene.geometry.size[index]) if index is not None and scene.geometry.size else 0.0
+
+
+MEASURES = {"shear": shear, "thickness": thickness}
+"""What a ``relative = "NAME"`` range is relative to."""
+SCALES = {"backing": (backing, scaled_backing), "load": (load_size, scaled_load),
+          "speed": (speed, scaled_velocity), "force": (plate_force, scaled_plate_force),
           "omega": (spin, scaled_spin)}

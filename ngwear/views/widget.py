@@ -106,6 +106,8 @@ class _View:
         self.syncing.active = True
         try:
             for name, value in ex.values.items():
+                if value != value:          # NaN: a field slider whose field was replaced from Python
+                    continue
                 slider = c[name]
                 slider.min, slider.max = min(slider.min, value), max(slider.max, value)
                 slider.value = value
