@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.materials import estimate_moduli, region_laws, strain, tangent_values
+from ..model.materials import region_laws, strain
+from ..model.moduli import estimate_moduli, tangent_values
 
 SYMBOLS = {"young": "E", "poisson": "ν", "lame_lambda": "λ", "lame_mu": "η", "young_plane": "E_plane",
            "young_axis": "E_axis", "poisson_plane": "ν_plane", "poisson_axis": "ν_axis", "shear_axis": "G_axis",
