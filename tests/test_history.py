@@ -11,7 +11,8 @@ from conftest import PAPER
 import ngwear
 from ngwear.results.checkpoint import CHECKPOINT
 from ngwear.results.history import History
-from ngwear.results.result import ARRAYS, save_mesh
+from ngwear.results.mesh_file import save_mesh
+from ngwear.results.result import ARRAYS
 
 
 def small(**changes):

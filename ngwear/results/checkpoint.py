@@ -22,9 +22,10 @@ from pathlib import Path
 import numpy as np
 
 from ..model.scene import Scene, SceneError
-from .folder import FolderError, no_space
+from .folder import FolderError, no_space, replacing
 from .history import History, remove_others
-from .result import Result, checked_mesh, from_arrays, keep_mesh, replacing, row_shapes
+from .mesh_file import checked_mesh, keep_mesh
+from .result import Result, from_arrays, row_shapes
 
 CHECKPOINT = "checkpoint.npz"
 FREE = ("time.T", "time.steps")

@@ -138,3 +138,16 @@ def digest(path) -> str:
 def _digest(path: str, size: int, mtime: int) -> str:
     with open(path, "rb") as file:
         return hashlib.file_digest(file, "sha256").hexdigest()
+
+
+@contextmanager
+def replacing(path):
+    """``with replacing(path) as tmp:`` write ``tmp``; then it replaces ``path`` in one rename (or vanishes)."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
+    try:
+        yield tmp
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    os.replace(tmp, path)

@@ -30,8 +30,6 @@ the unit of every number (:mod:`ngwear.results.units`) to ``summary.json`` and `
 from __future__ import annotations
 
 import json
-import os
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -41,9 +39,11 @@ from ..model.kinematics import Slip
 from ..model.scene import Scene
 from ..numerics.forms import initial_distance
 from ..numerics.solver import NewtonRecord
-from .folder import FolderError, NoSpace, digest, no_space
+from .folder import NoSpace, no_space, replacing
 from .history import History
 from .materials import region_materials
+from .mesh_file import keep_mesh, saved_discretization
+from .records import records_from_arrays, records_to_arrays
 from .units import units
 
 ARRAYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces", "plate_displacement")
@@ -75,9 +75,7 @@ class Result:
         δ of a rigid plate, (N, r) (r = 0 without one).
     normal_force, torque, friction_force, apparent_friction, contact_area, wear_volume : ndarray
         Per step (N,): Σ m (p + λ), the friction moment about the counterface's axis, |F_t|, |F_t| / normal force,
-        the area in contact and the worn volume (properties).
-    tangential_force : ndarray
-        F_t = Σ m_i μ_i p_i n*_i, (N, d): the friction force on the foundation (a property).
+        the area in contact and the worn volume (properties; ``tangential_force`` is F_t itself, (N, d)).
     newton : list of NewtonRecord
         Each step's Newton iterations, residuals, active set, cut-backs.
     status : str
@@ -372,7 +370,7 @@ def load_result(directory) -> Result:
         raise FileNotFoundError(f"{src}: no result.npz (not a saved ngwear result)")
     data = np.load(src / "result.npz")
     scene = Scene.from_dict(json.loads((src / "scene.json").read_text()))
-    result = from_arrays(scene, data, _discretization(scene, src, data))
+    result = from_arrays(scene, data, saved_discretization(scene, src, data))
     result.fields = {int(s): f for s, f in zip(data["field_steps"], data["fields"])}
     return result
 
@@ -398,93 +396,3 @@ def from_arrays(scene: Scene, data, disc, history: History | None = None) -> Res
                   solve_time=float(data["solve_time"]) if "solve_time" in data else 0.0,
                   warnings=[str(w) for w in data["warnings"]], rejected=int(data["rejected"]),
                   discretization=disc, history=history)
-
-
-def _discretization(scene: Scene, folder: Path, data):
-    """The discretization of a saved run on the mesh of its folder (None without one)."""
-    if not (folder / "mesh.vol").is_file():
-        return None
-    from ..numerics.discrete import Discretization
-    return Discretization(scene, checked_mesh(folder, data, scene.dim, "directory"))
-
-
-def checked_mesh(folder: Path, data, dim: int, key: str):
-    """The folder's ``mesh.vol`` once it is seen to be the mesh ``data`` was computed on (else a FolderError).
-
-    Its SHA-256 must be ``data``'s ``mesh_sha256``; older files without one are read in a child process first
-    (:func:`ngwear.model.cad.describe`) and must be of dimension ``dim``.
-    """
-    from ..model.cad import PartError, describe
-    from ..model.geometry import load_mesh
-
-    path = Path(folder) / "mesh.vol"
-    if not path.is_file():
-        raise FolderError(key, f"{folder} holds no mesh.vol (the mesh its results were computed on)")
-    if "mesh_sha256" in data:
-        if digest(path) != str(data["mesh_sha256"]):
-            raise FolderError(key, f"{path} is not the mesh its results were computed on (its SHA-256 differs: "
-                                   "replaced or damaged)")
-        return load_mesh(path, dim)
-    try:
-        part = describe(str(path), "mesh")
-    except PartError as err:
-        raise FolderError(key, f"{path}: {err}") from None
-    if part.dim != dim:
-        raise FolderError(key, f"{path} is a {part.dim}D mesh, its results are of a {dim}D scene")
-    return load_mesh(path, dim)
-
-
-def keep_mesh(result: Result, folder) -> str:
-    """Write the result's mesh as ``mesh.vol`` in ``folder`` unless it is there already; its SHA-256."""
-    path = Path(folder) / "mesh.vol"
-    if result.mesh_digest is None or not path.is_file() or digest(path) != result.mesh_digest:
-        save_mesh(result.discretization.mesh, Path(folder))
-        result.mesh_digest = digest(path)
-    return result.mesh_digest
-
-
-def records_to_arrays(newton: list[NewtonRecord]) -> dict[str, np.ndarray]:
-    """Newton records as flat arrays (residual histories concatenated, with their lengths)."""
-    return {"newton_iterations": np.array([r.iterations for r in newton], dtype=int),
-            "newton_converged": np.array([r.converged for r in newton], dtype=bool),
-            "newton_active": np.array([r.active for r in newton], dtype=int),
-            "newton_damped": np.array([r.damped for r in newton], dtype=int),
-            "newton_bulk": np.array([r.bulk for r in newton], dtype=int),
-            "newton_tangents": np.array([r.tangents for r in newton], dtype=int),
-            "newton_cutbacks": np.array([r.cutbacks for r in newton], dtype=int),
-            "newton_lengths": np.array([len(r.residuals) for r in newton], dtype=int),
-            "newton_residuals": np.array([v for r in newton for v in r.residuals], dtype=float)}
-
-
-def records_from_arrays(data) -> list[NewtonRecord]:
-    """The Newton records that :func:`records_to_arrays` flattened (files without cut-backs: 0)."""
-    bounds = np.concatenate([[0], np.cumsum(data["newton_lengths"])])
-    residuals = data["newton_residuals"]
-    zero = np.zeros(len(data["newton_iterations"]), dtype=int)
-    cutbacks, bulk, tangents = (data[name] if name in data else zero
-                                for name in ("newton_cutbacks", "newton_bulk", "newton_tangents"))
-    return [NewtonRecord(bool(c), int(i), [float(v) for v in residuals[a:b]], int(act), int(dmp), bulk=int(blk),
-                         tangents=int(tan), cutbacks=int(cut))
-            for i, c, act, dmp, blk, tan, cut, a, b in zip(data["newton_iterations"], data["newton_converged"],
-                                                           data["newton_active"], data["newton_damped"], bulk,
-                                                           tangents, cutbacks, bounds[:-1], bounds[1:])]
-
-
-@contextmanager
-def replacing(path):
-    """``with replacing(path) as tmp:`` write ``tmp``; then it replaces ``path`` in one rename (or vanishes)."""
-    path = Path(path)
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
-    try:
-        yield tmp
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    os.replace(tmp, path)
-
-
-def save_mesh(mesh, folder: Path) -> Path:
-    """The run's mesh as ``mesh.vol`` in ``folder`` (atomically); the mesh a resumed run reads."""
-    with replacing(Path(folder) / "mesh.vol") as tmp:
-        mesh.ngmesh.Save(str(tmp))
-    return Path(folder) / "mesh.vol"
