@@ -44,7 +44,6 @@ import hashlib
 import itertools
 import json
 import math
-import re
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
@@ -55,17 +54,13 @@ import numpy as np
 from ..model.keys import Level
 from ..model.scene import Scene, SceneError, load_scene
 from .outputs import OUTPUTS
+from .tables import StudyError, as_text, first_repeat, flat, shown, table_of, whole_number
 
 FIELDS = ("name", "scene", "outputs", "max_cases", "set", "grid", "cases", "sample")
 SAMPLE_FIELDS = ("method", "count", "seed", "ranges")
 SAMPLE_METHODS = ("latin_hypercube", "random")
-BARE = re.compile(r"[A-Za-z0-9_-]+")                 # a TOML bare key; other keys are written quoted
 MAX_CASES = 100_000
 """Default of a study's ``max_cases``: a larger study is refused before its cases are built."""
-
-
-class StudyError(ValueError):
-    """A study field is missing, malformed or gives no valid case (the message names the field)."""
 
 
 @dataclass(frozen=True)
@@ -163,9 +158,9 @@ def study_from_dict(data: dict, *, base_dir: str | Path = ".", name: str = "stud
         if key not in FIELDS:
             raise StudyError(f"{key}: unknown study field (allowed: {', '.join(FIELDS)})")
     name = _name(data.get("name", name))
-    limit = _whole(data.get("max_cases", MAX_CASES), "max_cases", 1)
+    limit = whole_number(data.get("max_cases", MAX_CASES), "max_cases", 1)
     base = _base(data.get("scene"), Path(base_dir))
-    fixed = _flat(_table(data, "set"), "set")
+    fixed = flat(table_of(data, "set"), "set")
     pending, refusal = {}, None
     try:
         base = base.replace(**{**fixed, **(overrides or {})})
@@ -180,7 +175,7 @@ def study_from_dict(data: dict, *, base_dir: str | Path = ".", name: str = "stud
         listed = _listed(data)
         blocks.append(("cases", list(dict.fromkeys(k for c in listed for k in c)), [len(listed)], lambda: listed))
     if "sample" in data:
-        sample = _sample(_table(data, "sample"))
+        sample = _sample(table_of(data, "sample"))
         blocks.append(("sample.ranges", list(sample[3]), [sample[1]], lambda: _draw(*sample)))
     if not blocks:
         raise StudyError("grid: nothing to vary (give a [grid], [[cases]] or [sample])")
@@ -203,14 +198,14 @@ def study_from_dict(data: dict, *, base_dir: str | Path = ".", name: str = "stud
 
 def _grid(data: dict) -> dict[str, list]:
     """The grid's lists by dotted key, each non-empty and without a value listed twice."""
-    grid = _flat(_table(data, "grid"), "grid")
+    grid = flat(table_of(data, "grid"), "grid")
     if not grid:
         raise StudyError("grid: names no scene key")
     for key, values in grid.items():
         if not isinstance(values, list) or not values:
             raise StudyError(f"grid.{key}: must be a non-empty list of values (got {values!r})")
-        if repeat := _repeat(values):
-            raise StudyError(f"grid.{key}: {_text(values[repeat[0]])} is listed twice (give each value once)")
+        if repeat := first_repeat(values):
+            raise StudyError(f"grid.{key}: {as_text(values[repeat[0]])} is listed twice (give each value once)")
     return grid
 
 
@@ -219,12 +214,12 @@ def _listed(data: dict) -> list[dict]:
     cases = data["cases"]
     if not isinstance(cases, list) or not cases or not all(isinstance(c, dict) for c in cases):
         raise StudyError(f"cases: must be a non-empty list of tables ([[cases]]) (got {cases!r})")
-    cases = [_flat(c, f"cases[{i}]") for i, c in enumerate(cases)]
+    cases = [flat(c, f"cases[{i}]") for i, c in enumerate(cases)]
     for i, params in enumerate(cases):
         if not params:
             raise StudyError(f"cases[{i}]: names no scene key")
         _refuse_conflicts([(f"cases[{i}]", k) for k in params])
-    if repeat := _repeat(cases):
+    if repeat := first_repeat(cases):
         raise StudyError(f"cases[{repeat[1]}]: same as cases[{repeat[0]}] (give each case once)")
     return cases
 
@@ -237,8 +232,8 @@ def _sample(spec: dict) -> tuple[str, int, int, dict[str, list]]:
     method = spec.get("method", "latin_hypercube")
     if method not in SAMPLE_METHODS:
         raise StudyError(f"sample.method: must be one of {', '.join(SAMPLE_METHODS)} (got {method!r})")
-    count, seed = _whole(spec.get("count"), "sample.count", 1), _whole(spec.get("seed", 0), "sample.seed", 0)
-    ranges = _flat(_table(spec, "ranges", "sample"), "sample.ranges")
+    count, seed = whole_number(spec.get("count"), "sample.count", 1), whole_number(spec.get("seed", 0), "sample.seed", 0)
+    ranges = flat(table_of(spec, "ranges", "sample"), "sample.ranges")
     if not ranges:
         raise StudyError("sample.ranges: names no scene key")
     for key, bounds in ranges.items():
@@ -261,8 +256,8 @@ def _draw(method: str, count: int, seed: int, ranges: dict[str, list]) -> list[d
         whole = isinstance(lo, int) and isinstance(hi, int)
         for params, u in zip(sets, unit[:, column]):
             params[key] = min(int(lo + u * (hi - lo + 1)), hi) if whole else float(lo + u * (hi - lo))
-    if repeat := _repeat(sets):
-        raise StudyError(f"sample.ranges: draws {repeat[0]} and {repeat[1]} are the same ({_show(sets[repeat[0]])}): "
+    if repeat := first_repeat(sets):
+        raise StudyError(f"sample.ranges: draws {repeat[0]} and {repeat[1]} are the same ({shown(sets[repeat[0]])}): "
                          "whole-number ranges repeat values (draw fewer, or vary them in a [grid])")
     return sets
 
@@ -295,24 +290,6 @@ def _refuse_conflicts(given: list[tuple[str, str]]) -> None:
         exact.setdefault(key, []).append((where, key))
         for p in prefixes:
             inside.setdefault(p, []).append((where, key))
-
-
-def _repeat(items: list) -> tuple[int, int] | None:
-    """The first (i, j), i < j, of two items equal as written (``1`` and ``1.0`` differ), or None."""
-    seen: dict[str, int] = {}
-    for j, item in enumerate(items):
-        i = seen.setdefault(_text(item), j)
-        if i != j:
-            return i, j
-    return None
-
-
-def _text(value: Any) -> str:
-    return json.dumps(value, sort_keys=True, default=str)
-
-
-def _show(params: dict, keys=None) -> str:
-    return ", ".join(f"{k} = {_text(params[k])}" for k in (keys or params) if k in params) or "as the base scene"
 
 
 # ---------------------------------------------------------------- cases
@@ -349,10 +326,10 @@ def _refuse_same_scenes(cases: tuple[Case, ...], owner: dict) -> None:
         if a is not case:
             keys = dict.fromkeys([*a.params, *case.params])
             differ = [k for k in keys if k not in a.params or k not in case.params
-                      or _text(a.params[k]) != _text(case.params[k])] or list(keys)
+                      or as_text(a.params[k]) != as_text(case.params[k])] or list(keys)
             field_name = f"{owner[differ[0]]}.{differ[0]}" if len(differ) == 1 else _where(a, owner, differ)
-            raise StudyError(f"{field_name}: cases {a.index} ({_show(a.params, differ)}) and {case.index} "
-                             f"({_show(case.params, differ)}) give the same scene (give each case once)")
+            raise StudyError(f"{field_name}: cases {a.index} ({shown(a.params, differ)}) and {case.index} "
+                             f"({shown(case.params, differ)}) give the same scene (give each case once)")
 
 
 def _names(error: str, key: str) -> bool:
@@ -389,44 +366,6 @@ def _name(name: Any) -> str:
     except SceneError as err:
         raise StudyError(str(err)) from None
     return name
-
-
-def _whole(value: Any, name: str, low: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or value < low:
-        raise StudyError(f"{name}: must be a whole number >= {low} (got {value!r})")
-    return value
-
-
-def _table(data: dict, key: str, prefix: str = "") -> dict:
-    value = data.get(key, {})
-    if not isinstance(value, dict):
-        name = f"{prefix}.{key}" if prefix else key
-        raise StudyError(f"{name}: must be a table of dotted scene keys (got {value!r})")
-    return value
-
-
-def _flat(table: dict, where: str) -> dict[str, Any]:
-    """``{"contact": {"friction": x}}`` and ``{"contact.friction": x}`` → ``{"contact.friction": x}``.
-
-    Two spellings of one key in ``table`` (``"contact.friction"`` beside ``contact = {friction = ...}``)
-    are refused naming both.
-    """
-    out, spelled = {}, {}
-    for path, value in _leaves(table, ()):
-        key, spelling = ".".join(path), ".".join(p if BARE.fullmatch(p) else json.dumps(p) for p in path)
-        if key in out:
-            raise StudyError(f"{where}.{key}: given twice, as {where}.{spelled[key]} and {where}.{spelling} "
-                             "(give it once)")
-        out[key], spelled[key] = value, spelling
-    return out
-
-
-def _leaves(table: dict, path: tuple[str, ...]):
-    for key, value in table.items():
-        if isinstance(value, dict):
-            yield from _leaves(value, (*path, key))
-        else:
-            yield (*path, key), value
 
 
 def _outputs(names: Any) -> tuple[str, ...]:
