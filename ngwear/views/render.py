@@ -31,6 +31,7 @@ from vtkmodules.vtkCommonCore import VTK_FONT_FILE
 
 from ..results.units import label
 from ..results.vtk import frame_name
+from . import video
 from .picture_data import LAYER_FIELDS, ArcArrow, MeshArrays, PictureData, StraightArrow, xyz
 
 pv.OFF_SCREEN = True
@@ -269,41 +270,12 @@ def animation(result, path, fps: float = 10, steps=None, **kw) -> Path:
     suffix = path.suffix.lower()
     if suffix not in (".gif", ".mp4"):
         raise ValueError(f"path: animations are .gif or .mp4 (got {path.name!r})")
-    write = partial(_write_mp4, _ffmpeg()) if suffix == ".mp4" else _write_gif
+    write = partial(video.write_mp4, video.ffmpeg()) if suffix == ".mp4" else video.write_gif
     steps = list(range(result.steps + 1) if steps is None else steps)
     path.parent.mkdir(parents=True, exist_ok=True)
     with Canvas(**kw) as canvas:
         write((canvas.frame(result, s, steps) for s in steps), path, fps)
     return path
-
-
-def _ffmpeg():
-    """The optional module imageio_ffmpeg, or an error saying how to get it."""
-    try:
-        import imageio_ffmpeg
-    except ImportError as err:
-        raise ModuleNotFoundError("MP4 animations need the optional package imageio-ffmpeg "
-                                  "(pip install imageio-ffmpeg); write a .gif instead") from err
-    return imageio_ffmpeg
-
-
-def _write_gif(frames, path: Path, fps: float) -> None:
-    first, *rest = (Image.fromarray(f) for f in frames)
-    first.save(path, save_all=True, append_images=rest, duration=round(1000 / fps), loop=0)
-
-
-def _write_mp4(ffmpeg, frames, path: Path, fps: float) -> None:
-    """H.264 in yuv420p through imageio-ffmpeg; frames are padded to even width and height."""
-    writer = None
-    for image in frames:
-        h, w = image.shape[:2]
-        image = np.pad(image, ((0, h % 2), (0, w % 2), (0, 0)), mode="edge")
-        if writer is None:
-            writer = ffmpeg.write_frames(str(path), (image.shape[1], image.shape[0]), fps=fps,
-                                         macro_block_size=1, pix_fmt_out="yuv420p")
-            writer.send(None)
-        writer.send(np.ascontiguousarray(image))
-    writer.close()
 
 
 def picture_steps(result) -> list[int]:
