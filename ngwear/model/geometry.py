@@ -22,7 +22,7 @@ from .cad import read_mesh
 from .keys import Level, SceneError
 from .kinds import KINDS
 
-CACHE_VERSION = 3
+CACHE_VERSION = 4
 
 
 def mesh_key(scene) -> str:
