@@ -41,7 +41,7 @@ class Part:
     dim: int
     boundaries: tuple[str, ...]
     extent: float
-    regions: tuple[str, ...] = ("body",)
+    regions: tuple[str, ...]
 
 
 def describe(path: str, kind: str) -> Part:
