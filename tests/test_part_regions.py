@@ -118,3 +118,17 @@ def test_an_unknown_region_of_a_cad_part_is_one_line(tmp_path):
                   cwd=tmp_path)
     assert_one_line_error(proc, "material.regions.friction")
     assert "unknown region (the part's regions: body, steel)" in proc.stderr
+
+
+def test_a_solid_apart_from_the_rest_is_one_line(tmp_path):
+    """A lining that does not touch its plate floats (K is singular): refused naming geometry.file, not PARDISO's error."""
+    lining, plate = Box(Pnt(0, 0, 0), Pnt(0.1, 0.1, T1)), Box(Pnt(0, 0, T1 + 0.1), Pnt(0.1, 0.1, T1 + 0.2))
+    lining.faces.Min(Z).name, lining.faces.Max(Z).name, plate.faces.Max(Z).name = "contact", "lid", "top"
+    lining.solids.name, plate.solids.name = "lining", "plate"
+    scene = column_scene({"kind": "step", "file": _written(Compound([lining, plate]), tmp_path / "apart.step")}, 1e3)
+    with pytest.raises(ng.SceneError) as info:
+        ng.simulate(scene, progress=False)
+    assert str(info.value).startswith("geometry.file: the part falls apart: region body is held by neither "
+                                      "geometry.dirichlet nor loads.plate")
+    held = scene.replace(**{"geometry.dirichlet": ["lid"]})          # each piece held: the mesh is accepted
+    assert set(build_mesh(held).GetMaterials()) == {"body", "plate"}
