@@ -93,7 +93,8 @@ def test_auto_is_matrix_free_for_a_soft_layer_only(monkeypatch):
     """From SOFT_LIMIT contact DOFs a layer soft against the body (ρ = p' t / E < 1) goes matrix-free."""
     pad = Discretization(ngwear.load_scene(ROOT / "geometries" / "brake_pad.toml").replace(**{"mesh.maxh": 0.012}))
     box = Discretization(ngwear.load_scene(ROOT / "geometries" / "box3d.toml").replace(**{"mesh.maxh": 0.25}))
-    assert pad.layer_ratio == pytest.approx(1e10 * 0.012 / 1e9) and box.layer_ratio == pytest.approx(10 * 0.5 / 2.5)
+    height = pad.scene.geometry.size[3] + pad.scene.geometry.backing      # the friction material and its backing
+    assert pad.layer_ratio == pytest.approx(1e10 * height / 1e9) and box.layer_ratio == pytest.approx(10 * 0.5 / 2.5)
     assert not pad.matrix_free and not box.matrix_free
     monkeypatch.setattr(discrete, "SOFT_LIMIT", min(len(pad.body.contact_dofs), len(box.body.contact_dofs)) - 1)
     assert Discretization(pad.scene, pad.mesh).matrix_free and not Discretization(box.scene, box.mesh).matrix_free

@@ -26,7 +26,9 @@ BASES = {   # a small scene per part kind: (shipped scene, overrides)
     "half_disk": ("hertz.toml", {"mesh.maxh": 0.3, "mesh.contact_maxh": 0.05, "mesh.contact_zone": 0.3,
                                  "mesh.grading": 0.3, "contact.gap": 0.01, "contact.friction": 0.2,
                                  "contact.wear": 0.5, "foundation.velocity": [1.0, 0.0]}),
-    "pad": ("brake_pad.toml", {"mesh.maxh": 0.02, "time.T": 3.0, "output.every": 1.5}),
+    # the pad's friction material isotropic (the changes below derive from an isotropic one), on its steel backing
+    "pad": ("brake_pad.toml", {"mesh.maxh": 0.02, "time.T": 3.0, "output.every": 1.5, "material": {
+        "young": 1e9, "poisson": 0.25, "regions": {"backing": {"young": 2.1e11, "poisson": 0.3}}}}),
     "pin": ("pin_on_disc.toml", {"mesh.maxh": 0.005, "mesh.contact_maxh": 0.002, "time.T": 3.0,
                                  "output.every": 1.5}),
     "step": ("cad_pad.toml", {"mesh.maxh": 0.03, "time.T": 3.0, "output.every": 1.5}),

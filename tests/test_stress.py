@@ -47,7 +47,8 @@ def test_catalogue_covers_the_issue():
     assert len(names) >= 30 and len(set(names)) == len(names)
     scenes = {s.name: s.scene() for s in CATALOGUE if s.expect != "rejected"}
     for spec in CATALOGUE:
-        if spec.expect == "rejected" and "rejected_names_steps" not in spec.checks:   # these need the mesh's α
+        if spec.expect == "rejected" and not {"rejected_names_steps", "rejected_names_friction"} & set(spec.checks):
+            # the others need the mesh: its α, its contact points
             with pytest.raises(SceneError):
                 spec.scene()
     values = lambda f: {f(sc) for sc in scenes.values()}  # noqa: E731
@@ -56,7 +57,7 @@ def test_catalogue_covers_the_issue():
     assert {1e-2, 1e8} <= values(lambda sc: sc.contact.stiffness)
     assert {2.0, 3.0} <= {sc.contact.exponent for sc in scenes.values() if sc.contact.law == "power"}
     assert {"explicit", "implicit", "trapezoidal"} <= values(lambda sc: sc.wear.integrator)
-    kal = {k_alpha_slope(sc) for sc in scenes.values() if sc.contact.wear > 0}
+    kal = {k_alpha_slope(sc) for sc in scenes.values() if not isinstance(sc.contact.wear, str) and sc.contact.wear > 0}
     assert min(kal) <= 0.01 and any(math.isclose(k, 100) for k in kal)
     assert 2 in values(lambda sc: sc.mesh.order) and 3 in values(lambda sc: sc.dim)
     assert any(sc.geometry.size == (10.0, 0.1) for sc in scenes.values())
@@ -68,6 +69,36 @@ def test_catalogue_covers_the_issue():
         assert sc.time.steps <= 40
         if sc.geometry.kind == "strip" and sc.geometry.size == (3.0, 1.0):
             assert sc.mesh.maxh >= 0.05
+
+
+def test_catalogue_covers_regions_laws_and_fields():
+    """Issue 18: a backing 1000× stiffer, β = 100η, a μ field up to 2 with a zone of 0, κ = 0 on half of Γ_C.
+
+    And a field negative somewhere, refused.
+    """
+    from ngwear.model.materials import region_laws, young_along
+    from ngwear.numerics.discrete import Discretization
+
+    specs = {s.name: s for s in CATALOGUE}
+    scenes = {name: spec.scene() for name, spec in specs.items() if spec.expect != "rejected"}
+    stiffer = []
+    for sc in scenes.values():
+        if sc.geometry.backing:
+            laws = region_laws(sc)
+            stiffer.append(young_along(laws["backing"], sc.contact.direction) /
+                           young_along(laws["body"], sc.contact.direction))
+    assert any(math.isclose(ratio, 1000) for ratio in stiffer), stiffer
+    assert any(sc.material.kind == "compaction" and math.isclose(sc.material.compaction_modulus, 100 * sc.material.lame[1])
+               for sc in scenes.values())
+    fields = {}
+    for sc in scenes.values():
+        if isinstance(sc.contact.friction, str) or isinstance(sc.contact.wear, str):
+            coefficients = Discretization(sc).coefficients
+            fields[sc.name] = coefficients.friction, coefficients.wear
+    assert any(mu.max() == 2 and (mu == 0).any() for mu, _ in fields.values())
+    assert any(math.isclose((kappa == 0).mean(), 0.5, abs_tol=0.05) and kappa.max() > 0 for _, kappa in fields.values())
+    negative = [s for s in CATALOGUE if s.expect == "rejected" and "rejected_names_friction" in s.checks]
+    assert negative and isinstance(negative[0].scene().contact.friction, str)
 
 
 def test_invariant_checker_is_not_vacuous():

@@ -15,8 +15,8 @@ PAD = ROOT / "geometries" / "brake_pad.toml"
 
 def test_millimetres_typed_for_metres_are_refused_with_the_remedy(tmp_path):
     """The pad 1000× too large: α = κωr 1000× too; k·α·L = 60.  One line naming time.steps, exit 2, no output."""
-    proc = ngwear("run", PAD, "--set", "geometry.size=[100,150,60,12]", "mesh.maxh=6", "--quiet", "--out",
-                  tmp_path / "out", cwd=tmp_path)
+    proc = ngwear("run", PAD, "--set", "geometry.size=[100,150,60,12]", "geometry.backing=5.5", "mesh.maxh=6",
+                  "--quiet", "--out", tmp_path / "out", cwd=tmp_path)
     assert_one_line_error(proc, "time.steps")
     assert "k·α·L = 60 > 2 diverges" in proc.stderr
     assert "wear.integrator = 'implicit' or 'trapezoidal'" in proc.stderr and "wear.allow_unstable" in proc.stderr

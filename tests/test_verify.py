@@ -109,3 +109,18 @@ def test_h_study_refines_every_size():
     with pytest.raises(ngwear.SceneError, match=r"^mesh\.maxh: refining .* the meshes do not get finer"):
         verify.h_study(box, [1.0, 0.6], 0.4)                              # Netgen's box is one layer of cells
     assert verify.refined(box, 2.0).mesh.contact_maxh is None
+
+
+def test_smallness_takes_the_softest_region_of_a_two_material_pad():
+    """m_F of (H_S) is min over the regions: the friction material's smallest Mandel eigenvalue, not the steel's 2η."""
+    pad = ngwear.load_scene(ROOT / "geometries" / "brake_pad.toml").replace(**{"mesh.maxh": 0.024})
+    m = pad.material
+    compliance = np.zeros((6, 6))
+    compliance[:3, :3] = [[1 / m.young_plane, -m.poisson_plane / m.young_plane, -m.poisson_axis / m.young_axis],
+                          [-m.poisson_plane / m.young_plane, 1 / m.young_plane, -m.poisson_axis / m.young_axis],
+                          [-m.poisson_axis / m.young_axis, -m.poisson_axis / m.young_axis, 1 / m.young_axis]]
+    compliance[3:, 3:] = np.diag([1 / (2 * m.shear_axis)] * 2 + [(1 + m.poisson_plane) / m.young_plane])
+    expected = np.linalg.eigvalsh(np.linalg.inv(compliance))[0]      # invariant under the rotation onto the axis
+    steel = m.regions["backing"]
+    assert expected < steel.young / (1 + steel.poisson)               # 2η of the steel
+    assert smallness(Discretization(pad)).monotonicity == pytest.approx(expected, rel=1e-12)

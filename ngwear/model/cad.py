@@ -1,13 +1,16 @@
 """The user's own parts: CAD files, mesh files and Netgen/NGSolve objects given in Python.
 
 ``geometry.kind = "step"``: a STEP file (also IGES or BREP) read by Netgen's OpenCASCADE; its named
-faces are the boundaries, one of them ``contact``.  BREP carries no names: they are read from a
-sidecar ``<file>.names.json`` (the face names in the shape's face order) when there is one.
-``geometry.kind = "mesh"``: a Netgen ``.vol`` or Gmsh ``.msh`` mesh with named boundaries.  Every
-solid (region) of the file is the body.  A ``netgen.occ`` shape or an (NGSolve or Netgen) mesh given
-in Python is written once to a file in the cache, named by a hash of its content, so that a scene
-stays plain data that TOML, JSON and the result folders can hold.  Shapes go to BREP + sidecar, not
-STEP: STEP names a face's geometry, so faces that share it (the ends of an extrusion) lose a name.
+faces are the boundaries, one of them ``contact``, and its named solids the regions: the solid that
+carries ``contact`` (and any unnamed one) is ``body``, the others keep their names.  Solids that touch
+are glued (``Glue``), so the mesh is conforming across the faces they share.  BREP carries no names:
+they are read from a sidecar ``<file>.names.json`` (``{"faces": [...], "solids": [...]}`` in the
+shape's order; a plain list names the faces) when there is one.  ``geometry.kind = "mesh"``: a Netgen
+``.vol`` or Gmsh ``.msh`` mesh with named boundaries; its materials are the regions, by the same rule.
+A ``netgen.occ`` shape or an (NGSolve or Netgen) mesh given in Python is written once to a file in the
+cache, named by a hash of its content, so that a scene stays plain data that TOML, JSON and the result
+folders can hold.  Shapes go to BREP + sidecar, not STEP: STEP names a face's geometry, so faces that
+share it (the ends of an extrusion) lose a name.
 
 Files are read by :mod:`ngwear.model.part_files` (in a child process first).
 """
@@ -20,11 +23,11 @@ import tempfile
 from pathlib import Path
 
 import netgen.meshing
-from netgen.occ import TopoDS_Shape
+from netgen.occ import Glue, TopoDS_Shape
 
 from .cache import cache_dir
 from .kinds import Kind, register
-from .part_files import MESH_FILES, SHAPE_FILES, Part, PartError, describe, read_mesh, read_shape
+from .part_files import MESH_FILES, SHAPE_FILES, Part, PartError, describe, read_mesh, read_shape, solid_regions
 
 __all__ = ["Part", "PartError", "describe", "fingerprint", "read_mesh", "read_shape", "store"]
 
@@ -35,7 +38,7 @@ def store(part) -> tuple[str, str]:
     folder.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=folder) as scratch:
         if isinstance(part, TopoDS_Shape):
-            names = [face.name for face in part.faces]
+            names = {"faces": [face.name for face in part.faces], "solids": [solid.name for solid in part.solids]}
             target, kind = folder / f"{_fingerprint(part, names)}.brep", "step"
             if not target.is_file():
                 part.WriteBrep(str(Path(scratch) / "shape.brep"))
@@ -53,7 +56,7 @@ def store(part) -> tuple[str, str]:
     return kind, str(target)
 
 
-def _fingerprint(shape: TopoDS_Shape, names: list) -> str:
+def _fingerprint(shape: TopoDS_Shape, names: dict) -> str:
     """A hash of what a shape is (vertices, faces' areas and centres, names), not of how it was last written."""
     faces = [(round(f.mass, 12), *(round(c, 12) for c in (f.center.x, f.center.y, f.center.z))) for f in shape.faces]
     vertices = sorted(tuple(round(c, 12) for c in (v.p.x, v.p.y, v.p.z)) for v in shape.vertices)
@@ -61,14 +64,17 @@ def _fingerprint(shape: TopoDS_Shape, names: list) -> str:
 
 
 def _step(geometry, mesh):
-    """The shape of the part file; every solid is the body."""
-    body = read_shape(geometry.file)
-    body.solids.name = "body"
+    """The shape of the part file, its solids glued and named as regions (:func:`solid_regions`)."""
+    part = read_shape(geometry.file)
+    if len(part.solids) > 1:
+        part = Glue(list(part.solids))
+    for solid, region in zip(part.solids, solid_regions(part)):
+        solid.name = region
     if mesh.contact_maxh is not None:
-        for face in body.faces:
+        for face in part.faces:
             if face.name == "contact":
                 face.maxh = mesh.contact_maxh
-    return body
+    return part
 
 
 KINDS_OF_FILES = {

@@ -15,14 +15,17 @@ from pathlib import Path
 
 import netgen.meshing
 import ngsolve as ngs
+import numpy as np
+import scipy.sparse as sp
 from netgen.occ import OCCGeometry
+from scipy.sparse.csgraph import connected_components
 
 from .cache import cache_dir
 from .cad import read_mesh
 from .keys import Level, SceneError
 from .kinds import KINDS
 
-CACHE_VERSION = 3
+CACHE_VERSION = 4
 
 
 def mesh_key(scene) -> str:
@@ -52,8 +55,41 @@ def build_mesh(scene, use_cache: bool = True) -> ngs.Mesh:
 
     A new mesh is returned as read back from its file: the file stores the vertices to the last bit
     that reading restores, so a first run, a cached run and a run resumed from its output folder's
-    ``mesh.vol`` compute on the same numbers.
+    ``mesh.vol`` compute on the same numbers.  A part file's mesh must hang together where it is not held
+    (:func:`_check_held`).
     """
+    mesh = _build_mesh(scene, use_cache)
+    if scene.geometry.file is not None:
+        _check_held(mesh, scene)
+    return mesh
+
+
+def _check_held(mesh: ngs.Mesh, scene) -> None:
+    """Refuse a part that falls apart into pieces of which one is held by neither geometry.dirichlet nor the plate.
+
+    Such a piece (a solid that does not share faces with the others) floats: the stiffness is singular.
+    """
+    elements = (mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()).NumPy()
+    nodes = elements["nodes"]
+    ne, nv = len(nodes), mesh.nv
+    rows, cols = np.repeat(np.arange(ne), nodes.shape[1]), nodes.ravel() - 1
+    used = cols >= 0
+    graph = sp.coo_matrix((np.ones(used.sum()), (rows[used], ne + cols[used])), shape=(ne + nv,) * 2)
+    count, labels = connected_components(graph, directed=False)
+    if count == 1:
+        return
+    held = set(scene.geometry.dirichlet) | ({scene.loads.plate.boundary} if scene.loads.plate else set())
+    held_labels = {labels[ne + v.nr] for el in mesh.Elements(ngs.BND) if el.mat in held for v in el.vertices}
+    floating = ~np.isin(labels[:ne], list(held_labels))
+    if floating.any():
+        names = mesh.GetMaterials()
+        regions = sorted({names[index - 1] for index in elements["index"][floating]})
+        raise SceneError(f"geometry.file: the part falls apart: region {' and '.join(regions)} is held by neither "
+                         "geometry.dirichlet nor loads.plate and would float (its solids must share faces with the "
+                         "rest)")
+
+
+def _build_mesh(scene, use_cache: bool) -> ngs.Mesh:
     g, m = scene.geometry, scene.mesh
     kind = KINDS[g.kind]
     if kind.build is None:

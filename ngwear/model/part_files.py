@@ -6,6 +6,10 @@ in the child is a :class:`PartError` naming the file instead of the end of the r
 study's client.  :func:`read_mesh` and :func:`read_shape` read a file in this process only once it has
 been described.  The child runs this file as a script (``python -P part_files.py KIND PATH``), so it
 imports nothing of ngwear.
+
+Regions: the solid (a mesh's material) that carries the faces named ``contact`` is the region ``body``, and
+so is an unnamed one (no name, or Netgen's ``default``); every other solid (material) is the region of its
+name (:func:`solid_regions`, :func:`mesh_regions`).
 """
 from __future__ import annotations
 
@@ -32,11 +36,12 @@ class PartError(ValueError):
 
 @dataclass(frozen=True)
 class Part:
-    """What validation needs to know of a part file: dimension, boundary names, bounding-box diagonal."""
+    """What validation needs to know of a part file: dimension, boundary names, bounding-box diagonal, regions."""
 
     dim: int
     boundaries: tuple[str, ...]
     extent: float
+    regions: tuple[str, ...]
 
 
 def describe(path: str, kind: str) -> Part:
@@ -70,7 +75,7 @@ def _describe(path: str, kind: str, size: int, mtime: int) -> Part:
     answer = json.loads(answers[-1])
     if "error" in answer:
         raise PartError(answer["error"])
-    return Part(answer["dim"], tuple(answer["boundaries"]), answer["extent"])
+    return Part(answer["dim"], tuple(answer["boundaries"]), answer["extent"], tuple(answer["regions"]))
 
 
 def _read(path: str, kind: str) -> Part:
@@ -81,14 +86,45 @@ def _read(path: str, kind: str) -> Part:
             raise PartError(f"{Path(path).name} holds no shape (no faces): empty, or not a STEP / IGES / BREP file")
         lo, hi = (np.array(corner) for corner in shape.bounding_box)
         names = {face.name for face in shape.faces if face.name}
-        return Part(3, tuple(sorted(names)), float(np.linalg.norm(hi - lo)))
+        return Part(3, tuple(sorted(names)), float(np.linalg.norm(hi - lo)), _listed(solid_regions(shape)))
     mesh = _load_mesh(path)
     points = np.array([p.p for p in mesh.Points()])
     if not len(points):
         raise PartError(f"{Path(path).name} holds no mesh (no points): empty, or not a Netgen .vol / Gmsh .msh file")
     names = set(mesh.GetRegionNames(codim=1))
     extent = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
-    return Part(mesh.dim, tuple(sorted(n for n in names if n)), extent)
+    return Part(mesh.dim, tuple(sorted(n for n in names if n)), extent, _listed(mesh.GetRegionNames(codim=0)))
+
+
+UNNAMED = (None, "", "default")
+"""Names of unnamed solids and materials (Netgen's ``default``): they are the body."""
+
+
+def solid_regions(shape: TopoDS_Shape) -> list[str]:
+    """The region of each of the shape's solids: ``body`` where it carries a face ``contact`` or has no name."""
+    return ["body" if solid.name in UNNAMED or any(face.name == "contact" for face in solid.faces) else solid.name
+            for solid in shape.solids]
+
+
+def mesh_regions(mesh: netgen.meshing.Mesh) -> list[str]:
+    """The region of each of the mesh's materials (domains 1, 2, …).
+
+    ``body`` where the material has no name or its elements have a facet on the boundary ``contact``, else its
+    name.  The facets come from NGSolve's topology (Netgen's Python API lacks the domains of 2D boundary segments).
+    """
+    import ngsolve
+
+    topology = ngsolve.Mesh(mesh)
+    facets = (lambda el: el.faces) if mesh.dim == 3 else (lambda el: el.edges)
+    contact = {f.nr for el in topology.Elements(ngsolve.BND) if el.mat == "contact" for f in facets(el)}
+    touching = {el.index for el in topology.Elements(ngsolve.VOL) if contact.intersection(f.nr for f in facets(el))}
+    names = [mesh.GetMaterial(index) for index in range(1, mesh.GetNDomains() + 1)]
+    return ["body" if name in UNNAMED or index in touching else name for index, name in enumerate(names)]
+
+
+def _listed(regions) -> tuple[str, ...]:
+    """The distinct regions, ``body`` first."""
+    return tuple(dict.fromkeys(["body", *regions]))
 
 
 def read_shape(path: str) -> TopoDS_Shape:
@@ -98,7 +134,7 @@ def read_shape(path: str) -> TopoDS_Shape:
 
 
 def read_mesh(path: str) -> netgen.meshing.Mesh:
-    """The Netgen mesh of a ``.vol`` or Gmsh ``.msh`` file, every region renamed ``body``, once described."""
+    """The Netgen mesh of a ``.vol`` or Gmsh ``.msh`` file, its materials named as regions, once described."""
     describe(path, "mesh")
     return _load_mesh(path)
 
@@ -111,11 +147,14 @@ def _load_shape(path: str) -> TopoDS_Shape:
     sidecar = Path(f"{path}.names.json")
     if sidecar.is_file():
         names = json.loads(sidecar.read_text())
-        if len(names) != len(shape.faces):
-            raise PartError(f"{sidecar.name} names {len(names)} faces, the shape has {len(shape.faces)}")
-        for face, name in zip(shape.faces, names):
-            if name:
-                face.name = name
+        names = names if isinstance(names, dict) else {"faces": names}     # before solids were named: faces only
+        for what, shapes in (("faces", shape.faces), ("solids", shape.solids)):
+            listed = names.get(what, [None] * len(shapes))
+            if len(listed) != len(shapes):
+                raise PartError(f"{sidecar.name} names {len(listed)} {what}, the shape has {len(shapes)}")
+            for part, name in zip(shapes, listed):
+                if name:
+                    part.name = name
     return shape
 
 
@@ -129,8 +168,9 @@ def _load_mesh(path: str) -> netgen.meshing.Mesh:
             mesh.Load(str(path))
     except Exception as err:  # as above
         raise PartError(f"cannot read {Path(path).name} ({err})") from None
-    for index in range(1, mesh.GetNDomains() + 1):
-        mesh.SetMaterial(index, "body")
+    if mesh.GetNDomains() and len(mesh.Points()):
+        for index, name in enumerate(mesh_regions(mesh), start=1):
+            mesh.SetMaterial(index, name)
     return mesh
 
 

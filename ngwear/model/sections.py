@@ -82,6 +82,8 @@ class Geometry(Section):
     @property
     def regions(self) -> tuple[str, ...]:
         """The names of the part's regions: ``body`` (which carries Γ_C) and ``backing``, or the file's."""
+        if self.file is not None:
+            return self.part.regions
         return ("body", "backing") if self.backing is not None else ("body",)
 
 

@@ -117,6 +117,20 @@ def _check_wear_overshoots(row, r):
         f"expected the non-monotone update to overshoot w > g (max w = {r.wear.max():.4g}, g = {g})"]
 
 
+def _check_zero_where(name: str, field: str):
+    """Points whose coefficient ``name`` (μ_i, κ_i) is 0 carry no friction force / no wear; the others do."""
+    def check(row, r):
+        zero = getattr(r, name) == 0
+        if not zero.any() or zero.all():
+            return [f"{name} should be 0 on a part of Γ_C only (0 at {zero.sum()} of {zero.size} points)"]
+        nu = np.asarray(r.scene.contact.direction)
+        value = {"wear": lambda: r.wear,
+                 "friction": lambda: np.linalg.norm(r.forces - (r.forces @ nu)[..., None] * nu, axis=2)}[field]()
+        fails = [] if value[:, zero].max() == 0 else [f"{field} {value[:, zero].max():.3g} where {name} = 0"]
+        return fails + ([] if value[:, ~zero].max() > 0 else [f"no {field} where {name} > 0"])
+    return check
+
+
 def _check_rejected_names(field: str, remedy: str):
     def check(row, r):
         msg = row.message
@@ -142,7 +156,10 @@ CHECKS: dict[str, Callable] = {
     "divergence_warning": lambda row, r: _has_warning(row, "diverges"),
     "rejected_names_solver": _check_rejected_names("solver.method", "'condensed'"),
     "rejected_names_steps": _check_rejected_names("time.steps", "wear.allow_unstable"),
+    "rejected_names_friction": _check_rejected_names("contact.friction", ">= 0 at every contact point"),
+    "no_friction_where_mu_zero": _check_zero_where("friction_coefficient", "friction"),
+    "no_wear_where_kappa_zero": _check_zero_where("wear_coefficient", "wear"),
 }
 #: checks that need only the row (warnings, message): run for stopped and rejected scenes too
 ROW_CHECKS = {"no_warning", "oscillation_warning", "divergence_warning", "rejected_names_solver",
-              "rejected_names_steps"}
+              "rejected_names_steps", "rejected_names_friction"}

@@ -142,8 +142,16 @@ def trace_constant(disc: Discretization) -> float:
 
 def smallness(disc: Discretization) -> SmallnessCheck:
     """Evaluate the paper's (H_S) for the discretization's scene (a second factorisation: the strain form's)."""
-    _, eta = disc.scene.material.lame
-    return SmallnessCheck(trace_constant(disc), *_largest_slope_and_friction(disc), 2 * eta)
+    return SmallnessCheck(trace_constant(disc), *_largest_slope_and_friction(disc), monotonicity(disc))
+
+
+def monotonicity(disc: Discretization) -> float:
+    """m_F of the body: Σ_r ∫_r F_r(ε) : ε ≥ min_r m_F,r ‖ε‖², the smallest over its regions' laws.
+
+    A law without a closed form (a Python ψ) counts with its tangent at ε = 0.
+    """
+    return min(law.monotonicity if hasattr(law, "monotonicity") else law.tangent_at_zero().monotonicity
+               for law in disc.elastic.laws.values())
 
 
 def _largest_slope_and_friction(disc: Discretization) -> tuple[float, float]:
