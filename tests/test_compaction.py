@@ -141,8 +141,9 @@ def worn_strip():
     return ngwear.load_scene("paper_strip").replace(**{"mesh.maxh": 0.2, "time.steps": 16, "output.every": 0.5})
 
 
-PAD = {"mesh.maxh": 0.012, "time.T": 30.0, "time.steps": 6, "output.every": 30.0, "material.law": "compaction",
-       "material.compaction_modulus": 4e9}                          # β = 10η of the shipped pad's friction material
+PAD = {"mesh.maxh": 0.012, "time.T": 30.0, "time.steps": 6, "output.every": 30.0,   # β = 10η, E = 1 GPa, steel
+       "material": {"law": "compaction", "young": 1e9, "poisson": 0.25, "compaction_modulus": 4e9,
+                    "regions": {"backing": {"law": "linear", "young": 2.1e11, "poisson": 0.3}}}}
 WORN = {   # compaction runs with friction and wear: (shipped scene, changes)
     "strip-P1": ("paper_strip", {"mesh.maxh": 0.2, "time.steps": 16, **COMPACTION}),
     "strip-P2": ("paper_strip", {"mesh.maxh": 0.2, "time.steps": 16, "mesh.order": 2, **COMPACTION}),

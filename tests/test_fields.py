@@ -27,8 +27,8 @@ def stiff_pad(**changes):
     E = 1e13, ν = 0: ρ = L t / E = 1.2e-5, so the layer alone sets the pressure, uniform to O(ρ) under the plate.
     """
     return ngwear.load_scene("brake_pad").replace(**{
-        "mesh.maxh": 0.012, "time.T": 1.0, "time.steps": 10, "output.every": 1.0, "material.young": 1e13,
-        "material.poisson": 0.0, **changes})
+        "mesh.maxh": 0.012, "time.T": 1.0, "time.steps": 10, "output.every": 1.0,
+        "material": {"young": 1e13, "poisson": 0.0}, **changes})     # near-rigid friction material and backing
 
 
 def radii(result):
@@ -57,7 +57,7 @@ def test_wear_coefficient_against_radius_keeps_the_pressure_and_torque_uniform()
     alpha = field.wear_coefficient * OMEGA * r
     assert np.ptp(alpha) <= 1e-14 * alpha.mean()
     area, mean_radius = m.sum(), (m * r).sum() / m.sum()
-    assert np.allclose(field.normal_force, FORCE, rtol=1e-10) and np.all(field.reaction == 0)
+    assert np.allclose(field.normal_force, FORCE, rtol=1e-9) and np.all(field.reaction == 0)    # 1e-10 with the backing
     assert spread(field.pressure).max() < 1e-4                                     # 1.0e-5 measured (ρ = 1.2e-5)
     assert np.allclose(field.pressure, FORCE / area, rtol=1e-4)
     assert np.allclose(field.torque, -MU * FORCE * mean_radius, rtol=1e-6)          # 5e-9 measured

@@ -3,8 +3,9 @@ A brake pad wearing in: torque and p·r
 ======================================
 
 A pad (annular sector :math:`r_i = 100` mm to :math:`r_o = 150` mm, 60°, friction material on a steel backing
-plate) is pressed by the caliper's rigid piston with :math:`F = 3` kN onto a disc turning at :math:`\omega = 50` rad/s, :math:`\mu = 0.4`.  At every contact
-point the foundation moves with :math:`\boldsymbol v^* = \boldsymbol\omega \times \boldsymbol x`, so the wear rate
+plate) is pressed by the caliper's rigid piston with :math:`F = 3` kN onto a disc turning at
+:math:`\omega = 50` rad/s, :math:`\mu = 0.4`.  At every contact point the foundation moves with
+:math:`\boldsymbol v^* = \boldsymbol\omega \times \boldsymbol x`, so the wear rate
 :math:`w' = \kappa\,\omega r\, p` grows with the radius :math:`r`.  A new pad presses uniformly,
 :math:`p = F/A`, and brakes with the torque
 

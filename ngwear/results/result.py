@@ -11,7 +11,7 @@ reads off a part, one value per step, with m_i the nodal weights of the contact 
 * ``torque``  T = Σ m_i μ p_i ((x_i − c) × n*_i)·e, the friction moment about the counterface's axis
   (negative: it opposes the rotation; see :mod:`ngwear.model.kinematics`);
 * ``tangential_force``  F_t = Σ m_i μ_i p_i n*_i (steps + 1, d), the friction force on the foundation (against
-  its slip), ``friction_force`` |F_t| and ``apparent_friction`` |F_t| / normal force (0 where that is 0; it is
+  its slip), ``friction_force`` ‖F_t‖ and ``apparent_friction`` ‖F_t‖ / normal force (0 where that is 0; it is
   μ where every point slides one way and none is held at the bound, less on a turning counterface);
 * ``contact_area``  Σ m_i over the points with p_i + λ_i > 0;
 * ``wear_volume``  Σ m_i w_i, the worn volume (area in 2D).
@@ -74,7 +74,7 @@ class Result:
     plate_displacement : ndarray
         δ of a rigid plate, (N, r) (r = 0 without one).
     normal_force, torque, friction_force, apparent_friction, contact_area, wear_volume : ndarray
-        Per step (N,): Σ m (p + λ), the friction moment about the counterface's axis, |F_t|, |F_t| / normal force,
+        Per step (N,): Σ m (p + λ), the friction moment about the counterface's axis, ‖F_t‖, ‖F_t‖ / normal force,
         the area in contact and the worn volume (properties; ``tangential_force`` is F_t itself, (N, d)).
     newton : list of NewtonRecord
         Each step's Newton iterations, residuals, active set, cut-backs.
@@ -216,12 +216,12 @@ class Result:
 
     @property
     def friction_force(self) -> np.ndarray:
-        """|F_t| per step."""
+        """‖F_t‖ per step."""
         return np.linalg.norm(self.tangential_force, axis=1)
 
     @property
     def apparent_friction(self) -> np.ndarray:
-        """|F_t| / Σ m_i (p_i + λ_i) per step; 0 where the normal force is 0."""
+        """‖F_t‖ / Σ m_i (p_i + λ_i) per step; 0 where the normal force is 0."""
         normal = self.normal_force
         return np.divide(self.friction_force, normal, out=np.zeros_like(normal), where=normal > 0)
 

@@ -4,7 +4,7 @@
 pressure p and by the wear depth w at chosen steps (a 3D result; the colour bars name the field).
 ``coefficient_maps``: the contact coefficients that are fields over Γ_C (μ, κ, L: an expression, an array or a
 function, not a number), one panel each: maps of the face in 3D, curves along x in 2D.
-``history``: the normal force, the friction torque about the counterface's axis (the friction force |F_t|
+``history``: the normal force, the friction torque about the counterface's axis (the friction force ‖F_t‖
 when the counterface does not turn), the worn volume and the plate's displacement over time.
 ``pressure_radius``: p·r against the distance r from the axis at a few steps, with its mean: under a rigid
 backing plate a worn-in pad wears evenly, so p·r tends to a constant.  Axes carry units in an SI scene.
@@ -140,7 +140,7 @@ def coefficient_maps(result, path, names=None) -> Path:
 def history(result, path) -> Path:
     """Normal force, friction torque (or force), worn volume and (with a plate) its displacement over time.
 
-    A counterface that turns gets the torque about its axis; one that translates, the friction force |F_t|.
+    A counterface that turns gets the torque about its axis; one that translates, the friction force ‖F_t‖.
     """
     scene = result.scene
     turning = Slip(scene.foundation, result.contact_points, scene.contact.direction).rotating
