@@ -25,6 +25,7 @@ from ngwear.model.materials import (
     tangent_values,
 )
 from ngwear.model.scene import SceneError
+from ngwear.numerics.forms import tangent_form
 
 LAM, ETA, BETA = 2.0, 1.5, 10.0
 PAD = dict(young_plane=4.0, young_axis=2.0, poisson_plane=0.25, poisson_axis=0.15, shear_axis=1.0)  # E_p = 2 E_a
@@ -449,6 +450,24 @@ def test_energy_of_the_compaction_law_reproduces_it(field):
     zero = user.tangent_at_zero()
     assert np.abs(zero.matrix - law.tangent_at_zero().matrix).max() < 1e-13
     assert not user.is_linear and not law.is_linear
+
+
+def test_the_stepper_tangent_is_the_linearisation_of_the_residual(field):
+    """tangent_form (compaction: the scalar form of its tangent) = NGSolve's linearisation of the residual at u."""
+    mesh, fes, gfu = field
+    law = Compaction(LAM, ETA, BETA, mesh.dim)
+    residual = residual_form(law, fes)
+    residual.AssembleLinearization(gfu.vec)
+    expected = sp_matrix(residual.mat.CSR()).toarray()
+    rng = np.random.default_rng(5)
+    for laws in ({"body": law}, {"body": Energy(compaction_energy, mesh.dim)}):
+        tangent = tangent_form(fes, laws, gfu)
+        tangent.Assemble()
+        x, y = tangent.mat.CreateColVector(), tangent.mat.CreateRowVector()
+        for column in rng.standard_normal((3, fes.ndof)):                      # its products: K stored symmetric
+            x.FV().NumPy()[:] = column
+            y.data = tangent.mat * x
+            assert np.abs(y.FV().NumPy() - expected @ column).max() < 1e-12 * np.abs(expected @ column).max()
 
 
 @pytest.mark.parametrize("dim", [2, 3])
