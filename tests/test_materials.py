@@ -452,6 +452,17 @@ def test_energy_of_the_compaction_law_reproduces_it(field):
     assert not user.is_linear and not law.is_linear
 
 
+def test_linear_integrand_on_gradients_is_the_mandel_product(field):
+    """C_ijkl ∂_l u_k ∂_j v_i assembles to the same matrix as C ε_M(u) · ε_M(v) (a rotated anisotropic law)."""
+    mesh, fes, _ = field
+    law = TransverselyIsotropic(**PAD, axis=(1, 2, 3)[:mesh.dim])
+    u, v = fes.TnT()
+    mandel_form = ngs.InnerProduct(mandel.matrix_cf(law.matrix) * mandel.vector_cf(strain(u)), mandel.vector_cf(strain(v)))
+    forms = [ngs.BilinearForm(cf * ngs.dx).Assemble() for cf in (law.elastic_integrand(u, v), mandel_form)]
+    a, b = (sp_matrix(form.mat.CSR()) for form in forms)
+    assert abs(a - b).max() < 1e-13 * abs(b).max()
+
+
 def test_the_stepper_tangent_is_the_linearisation_of_the_residual(field):
     """tangent_form (compaction: the scalar form of its tangent) = NGSolve's linearisation of the residual at u."""
     mesh, fes, gfu = field
