@@ -208,6 +208,7 @@ def main():
     p.add_argument("--large-steps", type=int, default=None, help="steps at the largest pad (default --steps)")
     p.add_argument("--betas", default=",".join(f"{b:g}" for b in BETAS), help="β/η of the compaction runs")
     p.add_argument("--pads", default=None, help="maxh of the compaction pads (comma-separated)")
+    p.add_argument("--name", default="materials", help="results/NAME.* of the compaction part")
     p.add_argument("--job", default=None, help=argparse.SUPPRESS)
     p.set_defaults(blas_threads=None)
     args = p.parse_args()
@@ -234,7 +235,8 @@ def main():
             steps = args.large_steps if maxh == min(PAD_SIZES) and args.large_steps else args.steps
             for beta in (float(b) for b in args.betas.split(",")):
                 rows.append(compaction_case(maxh, beta, steps, args.reps, args.blas_threads))
-        C.finish("materials", "The compaction pad against one nonlinear elastic solve (issue 18 §7)", header + [
+                C.write_csv(f"{args.name}_partial", header, rows)          # kept should the run be stopped
+        C.finish(args.name, "The compaction pad against one nonlinear elastic solve (issue 18 §7)", header + [
             "ngwear = Discretization + simulate from the cached mesh, each run in a fresh process; NGSolve Newton = "
             "one nonlinear solve of the same law under the pad's mean contact load (back clamped), PARDISO; "
             f"target: ngwear / Newton <= {TARGET:g} at 100 steps"], rows, COMPACTION_COLUMNS, quick=args.quick)
