@@ -116,6 +116,13 @@ def linear_case(kind: str, size, reps: int) -> list[dict]:
     return rows
 
 
+def linear_cases(args) -> list[tuple]:
+    if args.cases:
+        return [(kind, size if kind == "strip" else float(size))
+                for kind, size in (case.split(":") for case in args.cases.split(","))]
+    return QUICK_LINEAR if args.quick else STRIP + BOX_PAD
+
+
 # ---- the compaction pad: each measurement in its own process -------------------------------------------
 def run_ngwear(maxh: float, beta: float | None, steps: int) -> dict:
     import ngwear
@@ -209,6 +216,8 @@ def main():
     p.add_argument("--betas", default=",".join(f"{b:g}" for b in BETAS), help="β/η of the compaction runs")
     p.add_argument("--pads", default=None, help="maxh of the compaction pads (comma-separated)")
     p.add_argument("--name", default="materials", help="results/NAME.* of the compaction part")
+    p.add_argument("--cases", default=None, help="linear cases, e.g. strip:10k,pad:0.002 (default: all)")
+    p.add_argument("--suffix", default="", help="results/materials_linearSUFFIX.* of the linear part")
     p.add_argument("--job", default=None, help=argparse.SUPPRESS)
     p.set_defaults(blas_threads=None)
     args = p.parse_args()
@@ -222,9 +231,9 @@ def main():
     if args.part in ("linear", "all"):
         rows = []
         with C.blas_limit(args.blas_threads):
-            for kind, size in QUICK_LINEAR if args.quick else STRIP + BOX_PAD:
+            for kind, size in linear_cases(args):
                 rows += linear_case(kind, size, args.reps)
-        C.finish("materials_linear", "Linear materials against today's (issue 18 §7)", header + [
+        C.finish(f"materials_linear{args.suffix}", "Linear materials against today's (issue 18 §7)", header + [
             "100 steps from the cached mesh; variants interleaved in one process, medians; elastic = NGSolve "
             f"assemble + sparsecholesky + 1 solve; regression: > {REGRESSION - 1:.0%} slower than iso (per DOF "
             "for the backing)"], rows, LINEAR_COLUMNS, quick=args.quick)
