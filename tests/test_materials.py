@@ -14,6 +14,7 @@ from ngwear.model import mandel
 from ngwear.model.materials import Anisotropic, Compaction, Energy, Isotropic, TransverselyIsotropic, strain
 from ngwear.model.moduli import Moduli, estimate_moduli, stress_at, tangent_at, tangent_values
 from ngwear.model.scene import SceneError
+from ngwear.numerics.forms import tangent_form
 
 LAM, ETA, BETA = 2.0, 1.5, 10.0
 PAD = dict(young_plane=4.0, young_axis=2.0, poisson_plane=0.25, poisson_axis=0.15, shear_axis=1.0)  # E_p = 2 E_a
@@ -438,6 +439,35 @@ def test_energy_of_the_compaction_law_reproduces_it(field):
     zero = user.tangent_at_zero()
     assert np.abs(zero.matrix - law.tangent_at_zero().matrix).max() < 1e-13
     assert not user.is_linear and not law.is_linear
+
+
+def test_linear_integrand_on_gradients_is_the_mandel_product(field):
+    """C_ijkl ∂_l u_k ∂_j v_i assembles to the same matrix as C ε_M(u) · ε_M(v) (a rotated anisotropic law)."""
+    mesh, fes, _ = field
+    law = TransverselyIsotropic(**PAD, axis=(1, 2, 3)[:mesh.dim])
+    u, v = fes.TnT()
+    mandel_form = ngs.InnerProduct(mandel.matrix_cf(law.matrix) * mandel.vector_cf(strain(u)), mandel.vector_cf(strain(v)))
+    forms = [ngs.BilinearForm(cf * ngs.dx).Assemble() for cf in (law.elastic_integrand(u, v), mandel_form)]
+    a, b = (sp_matrix(form.mat.CSR()) for form in forms)
+    assert abs(a - b).max() < 1e-13 * abs(b).max()
+
+
+def test_the_stepper_tangent_is_the_linearisation_of_the_residual(field):
+    """tangent_form (compaction: the scalar form of its tangent) = NGSolve's linearisation of the residual at u."""
+    mesh, fes, gfu = field
+    law = Compaction(LAM, ETA, BETA, mesh.dim)
+    residual = residual_form(law, fes)
+    residual.AssembleLinearization(gfu.vec)
+    expected = sp_matrix(residual.mat.CSR()).toarray()
+    rng = np.random.default_rng(5)
+    for laws in ({"body": law}, {"body": Energy(compaction_energy, mesh.dim)}):
+        tangent = tangent_form(fes, laws, gfu)
+        tangent.Assemble()
+        x, y = tangent.mat.CreateColVector(), tangent.mat.CreateRowVector()
+        for column in rng.standard_normal((3, fes.ndof)):                      # its products: K stored symmetric
+            x.FV().NumPy()[:] = column
+            y.data = tangent.mat * x
+            assert np.abs(y.FV().NumPy() - expected @ column).max() < 1e-12 * np.abs(expected @ column).max()
 
 
 @pytest.mark.parametrize("dim", [2, 3])

@@ -46,6 +46,12 @@ def from_mandel(vectors: np.ndarray) -> np.ndarray:
     return out
 
 
+def fourth_order(stiffness: np.ndarray) -> np.ndarray:
+    """C_ijkl (d, d, d, d) of a Mandel stiffness: Σ_ab B_a,ij C_ab B_b,kl with B_a the tensor of the a-th unit vector."""
+    basis = from_mandel(np.eye(len(stiffness)))
+    return np.einsum("aij,ab,bkl->ijkl", basis, stiffness, basis)
+
+
 def rotation(R: np.ndarray) -> np.ndarray:
     """Q(R), the orthogonal m × m matrix with (R ε Rᵀ)_M = Q(R) ε_M."""
     basis = from_mandel(np.eye(size(len(R))))

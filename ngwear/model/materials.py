@@ -9,6 +9,7 @@ whose methods return NGSolve CoefficientFunctions of a d × d strain ε:
 - ``stress(ε)`` σ,  ``energy(ε)`` ψ,  ``tangent(ε)`` D in Mandel notation (m × m);
 - ``elastic_integrand(u, v)`` = σ(ε(u)) : ε(v): with u a TrialFunction, the bilinear form of a linear law, or the
   residual of a nonlinear one (NGSolve's ``Apply`` and ``AssembleLinearization`` evaluate and linearise it);
+- ``tangent_integrand(ε, u, v)`` = D(ε) ε(u) : ε(v), the bilinear form of the tangent at the strain ε;
 - ``tangent_at_zero()`` the linear law a fixed stiffness K₀ is built from; ``is_linear``;
 - ``monotonicity`` m_F and ``lipschitz`` L_F in closed form (:mod:`ngwear.model.moduli` samples any law, e.g.
   :class:`Energy`, at the integration points of a strain field or at given strains).
@@ -74,8 +75,13 @@ class _Linear:
         return mandel.matrix_cf(self.matrix)
 
     def elastic_integrand(self, u, v) -> ngs.CoefficientFunction:
-        return ngs.InnerProduct(mandel.matrix_cf(self.matrix) * mandel.vector_cf(strain(u)),
-                                mandel.vector_cf(strain(v)))
+        """C_ijkl ∂_l u_k ∂_j v_i (= C ε(u) : ε(v)): on the gradients, twice as fast to assemble as in Mandel form."""
+        flat = self.dim ** 2
+        tensor = mandel.fourth_order(self.matrix).reshape(flat, flat)
+        return ngs.InnerProduct(mandel.matrix_cf(tensor) * ngs.Grad(u).Reshape((flat,)), ngs.Grad(v).Reshape((flat,)))
+
+    def tangent_integrand(self, eps, u, v) -> ngs.CoefficientFunction:
+        return self.elastic_integrand(u, v)
 
     def tangent_at_zero(self):
         return self
@@ -250,6 +256,12 @@ class Compaction:
     def elastic_integrand(self, u, v):
         return ngs.InnerProduct(self.stress(strain(u)), strain(v))
 
+    def tangent_integrand(self, eps, u, v):
+        """2η ε(u) : ε(v) + (λ + β [tr ε ≤ 0]) tr ε(u) tr ε(v): :meth:`tangent` without its m × m matrices."""
+        stiffened = self.lam + self.beta * ngs.IfPos(ngs.Trace(eps), 0.0, 1.0)
+        return (2 * self.eta * ngs.InnerProduct(strain(u), strain(v))
+                + stiffened * ngs.Trace(strain(u)) * ngs.Trace(strain(v)))
+
     def tangent_at_zero(self) -> Isotropic:
         return Isotropic(self.lam + self.beta, self.eta, self.dim, key=self.key)
 
@@ -293,6 +305,9 @@ class Energy:
 
     def elastic_integrand(self, u, v):
         return ngs.InnerProduct(self.stress(strain(u)), strain(v))
+
+    def tangent_integrand(self, eps, u, v):
+        return ngs.InnerProduct(self.tangent(eps) * mandel.vector_cf(strain(u)), mandel.vector_cf(strain(v)))
 
     def tangent_at_zero(self) -> Anisotropic:
         """The linear law of D(0)."""

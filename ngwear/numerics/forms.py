@@ -21,7 +21,6 @@ import numpy as np
 import scipy.sparse as sp
 from ngsolve.fem import NODE_TYPE
 
-from ..model import mandel
 from ..model.laws import Compliance
 from ..model.scene import Scene
 
@@ -76,8 +75,7 @@ def tangent_form(fes: ngs.FESpace, laws: dict, state: ngs.GridFunction) -> ngs.B
     """k(u, v) = Σ_r ∫_r D_r(ε(state)) ε(u) : ε(v) dx with the laws' tangents D_r at the displacement ``state``."""
     u, v = fes.TnT()
     eps = ngs.Sym(ngs.Grad(state))
-    terms = [ngs.InnerProduct(law.tangent(eps) * mandel.vector_cf(ngs.Sym(ngs.Grad(u))),
-                              mandel.vector_cf(ngs.Sym(ngs.Grad(v)))) * ngs.dx(region) for region, law in laws.items()]
+    terms = [law.tangent_integrand(eps, u, v) * ngs.dx(region) for region, law in laws.items()]
     return ngs.BilinearForm(sum(terms[1:], terms[0]), symmetric=True)
 
 

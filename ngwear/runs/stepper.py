@@ -50,7 +50,7 @@ class Stepper:
         self.remainder = Remainder(disc.fes, disc.elastic.laws, disc.elastic.stiffness) if nonlinear else None
         self.history: list = []                                     # (t, u) of the last two steps: the warm start
         self._shift = None                                          # N K⁻¹ n(u), Dᵀ n(u) of the current iterate
-        self._kept: dict = {}                                       # the Newton matrices of the other operator
+        self._kept: dict = {}                                       # K₀'s Newton matrices while a tangent is used
         self.tangents = 0                                           # tangents factorised so far
 
     @property
@@ -168,7 +168,8 @@ class Stepper:
             return
         for _, build in disc.stages():
             build()
-        self._kept[id(self.disc)] = self.disc, self._matrices, self._factors
+        if self.disc is self.base:      # K₀ is kept for the fall-back; a tangent replaced is dropped (its factor freed)
+            self._kept[id(self.disc)] = self.disc, self._matrices, self._factors
         self.disc = disc
         _, self._matrices, self._factors = self._kept.pop(id(disc), (disc, {}, {}))
         self.remainder = Remainder(disc.fes, disc.elastic.laws, disc.elastic.stiffness)
