@@ -50,8 +50,9 @@ def base_scene(kind: str, size, steps: int = 100):
     if kind == "strip":
         return C.scene_for(size, 1)
     settings = {"mesh.maxh": size, "time.steps": steps}
-    if kind == "pad":
-        settings.update({"time.T": float(steps), "output.every": float(steps)})
+    if kind == "pad":           # the pad as it was before issue 18: isotropic, E = 1 GPa, no backing plate
+        settings.update({"time.T": float(steps), "output.every": float(steps), "geometry.backing": None,
+                         "material": {"young": 1.0e9, "poisson": 0.25}})
     return ngwear.load_scene(SCENES[kind]).replace(**settings)
 
 
