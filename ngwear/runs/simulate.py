@@ -120,7 +120,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
     saver = Saver(checkpoint, scene.output.checkpoint_seconds)
     if resume is not None and result.history.is_in(resume):
         saver.rows = len(result.times)          # what the checkpoint read keeps
-    bar = _progress(scene, result) if progress else None
+    steps_bar = _progress(scene, result) if progress else None
     before, solving = result.wall_time, time.perf_counter()
     try:
         if result.steps < 0:
@@ -135,8 +135,8 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
                 break
             x, lam = attempt
             result.continuation = (x, lam, clock.next_step)
-            if bar is not None:
-                bar.update(1 if not scene.time.adaptive else result.times[-1] - result.times[-2])
+            if steps_bar is not None:
+                steps_bar.update(1 if not scene.time.adaptive else result.times[-1] - result.times[-2])
             if not saver.maybe(result):
                 break
     except KeyboardInterrupt:
@@ -153,8 +153,8 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
         result.warnings.append(f"time.tolerance: steps at time.min_step = {scene.time.min_step:g} missed the "
                                "tolerance; lower time.min_step")
     saver.write(result)
-    if bar is not None:
-        bar.close()
+    if steps_bar is not None:
+        steps_bar.close()
     if saver.full is not None:
         raise NoSpace(saver.kept(result), result, resumable=saver.rows > 0)
     if result.status != "completed":
