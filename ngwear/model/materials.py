@@ -265,6 +265,10 @@ class Compaction:
     def tangent_at_zero(self) -> Isotropic:
         return Isotropic(self.lam + self.beta, self.eta, self.dim, key=self.key)
 
+    def linear_part(self) -> Isotropic:
+        """Hooke's law without the kink: Isotropic(λ, η)."""
+        return Isotropic(self.lam, self.eta, self.dim, key=self.key)
+
     @property
     def monotonicity(self) -> float:
         return 2 * self.eta + self.dim * min(0.0, self.lam, self.lam + self.beta)

@@ -1,6 +1,7 @@
 """Nonlinear elasticity around few factorisations: F(u) = K u + n(u) (DESIGN §5).
 
-F(u) = Σ_r ∫_r σ_r(ε(u)) : ε(v) dx are the body's internal forces (assembled by NGSolve, ``Apply``), K a
+F(u) = Σ_r ∫_r σ_r(ε(u)) : ε(v) dx are the body's internal forces (:meth:`~ngwear.numerics.pieces.Elastic.forces`:
+NGSolve's ``Apply``, or for the compaction law sparse algebra, :mod:`~ngwear.numerics.kink`), K a
 factorised linear operator (K₀, the laws' tangent at ε = 0, or their tangent K_t at a recent state) and
 n(u) = F(u) − K u the remainder.  A step's problem F(u) + Pᵀ f_c(u) = f is today's condensed contact problem
 with the load f − n(u): the fixed point u = G(u) of
@@ -15,24 +16,17 @@ from __future__ import annotations
 
 from collections import deque
 
-import ngsolve as ngs
 import numpy as np
-
-from .forms import elastic_integrand
 
 
 class Remainder:
-    """n(u) = F(u) − K u as a DOF vector: the internal forces less the operator K a step is solved with."""
+    """n(u) = F(u) − K u as a DOF vector: the internal forces (:meth:`Elastic.forces`) less the operator K."""
 
-    def __init__(self, fes: ngs.FESpace, laws: dict, stiffness):
-        self.form = ngs.BilinearForm(elastic_integrand(fes, laws))
-        self.stiffness = stiffness
-        self._u, self._out = ngs.GridFunction(fes), ngs.GridFunction(fes)
+    def __init__(self, elastic):
+        self.elastic, self.stiffness = elastic, elastic.stiffness
 
     def __call__(self, u: np.ndarray) -> np.ndarray:
-        self._u.vec.FV().NumPy()[:] = u
-        self.form.Apply(self._u.vec, self._out.vec)
-        return self._out.vec.FV().NumPy() - self.stiffness @ u
+        return self.elastic.forces(u) - self.stiffness @ u
 
 
 class Anderson:

@@ -9,7 +9,8 @@ keeps the plain factorisation: the contact problem is then solved matrix-free
 (:class:`~ngwear.numerics.solver.KrylovSystem`).  So it is from ``SOFT_LIMIT`` contact DOFs when the
 layer is soft against the body (:attr:`Discretization.layer_ratio` < 1): its Newton systems are then
 well conditioned, and with the products remembered (:mod:`~ngwear.numerics.recycle`) a run needs about
-one back-substitution per step.
+one back-substitution per step.  :class:`UpdatedOperator` solves with K changed on a few rows of a low
+rank (a kinked law's tangent, :mod:`~ngwear.numerics.kink`) from K's factorisation.
 """
 from __future__ import annotations
 
@@ -73,3 +74,39 @@ class ElasticOperator:
         schur = self.contact_solve if self._cholesky is not None else None
         out[self.free] = self._factor.solve(rhs[self.free], schur)
         return out
+
+
+class UpdatedOperator:
+    """(K + Dᵀ diag(δ) D)⁻¹ from K's factorisation, for a few rows D (r × ndof), by Woodbury's identity.
+
+        (K + Dᵀ Δ D)⁻¹ = K⁻¹ − Z C⁻¹ Zᵀ,     Z = K⁻¹ Dᵀ,     C = Δ⁻¹ + D Z,
+
+    and on the contact DOFs (K_t⁻¹)_cc = S⁻¹ − Z_c C⁻¹ Z_cᵀ: r back-substitutions (``columns``, the columns of Z
+    already computed for K, keyed by row) and an r × r LU instead of a factorisation.
+    """
+
+    def __init__(self, base: ElasticOperator, D: sp.csr_matrix, delta: np.ndarray, columns: dict, keys: np.ndarray):
+        self.base, self.ndof, self.free, self.contact_dofs = base, base.ndof, base.free, base.contact_dofs
+        missing = [i for i, key in enumerate(keys) if key not in columns]
+        if missing:
+            for key, column in zip(keys[missing], base.solve(D[missing].T.toarray()).T):
+                columns[key] = column
+        self.D = D
+        self._Z = np.column_stack([columns[key] for key in keys])
+        self._lu = sla.lu_factor(np.diag(1.0 / delta) + D @ self._Z, check_finite=False)
+
+    @property
+    def condensed(self) -> bool:
+        return self.base.condensed
+
+    @property
+    def factor_nonzeros(self) -> int:
+        return self.base.factor_nonzeros
+
+    def contact_solve(self, rhs: np.ndarray) -> np.ndarray:
+        Zc = self._Z[self.contact_dofs]
+        return self.base.contact_solve(rhs) - Zc @ sla.lu_solve(self._lu, Zc.T @ np.asarray(rhs), check_finite=False)
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        y = self.base.solve(rhs)
+        return y - self._Z @ sla.lu_solve(self._lu, self.D @ y, check_finite=False)

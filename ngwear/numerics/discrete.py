@@ -150,7 +150,7 @@ class Discretization:
         """The discretization with K the laws' tangent at the displacement ``state`` (a new factorisation)."""
         new = Discretization.__new__(Discretization)
         new.scene, new.contact_solve = self.scene, self.contact_solve
-        new._assemble(self.body, Elastic(self.scene, self.body, self.elastic.schur, state))
+        new._assemble(self.body, Elastic(self.scene, self.body, self.elastic.schur, state, base=self.elastic))
         return new
 
     def stages(self) -> list[tuple[str, callable]]:
@@ -266,7 +266,7 @@ class Discretization:
         u = u if coupling is None else u + coupling.response @ plate
         if not nonlinear or self.elastic.linear:
             return u
-        remainder = Remainder(self.fes, self.elastic.laws, self.elastic.stiffness)
+        remainder = Remainder(self.elastic)
         mixing, v, tolerance = Anderson(), u, self.scene.solver.tolerance
         for _ in range(BULK_RECOVERY):
             image = u - self.elastic.operator.solve(remainder(v))

@@ -21,9 +21,21 @@ import scipy.sparse as sp
 
 from ..model.materials import region_laws
 from ..model.scene import Scene
-from .condense import ElasticOperator
-from .forms import contact_points, displacement_space, elastic_form, initial_distance, load_form, tangent_form
+from .condense import ElasticOperator, UpdatedOperator
+from .forms import (
+    contact_points,
+    displacement_space,
+    elastic_form,
+    elastic_integrand,
+    initial_distance,
+    load_form,
+    tangent_form,
+)
+from .kink import Kink, kinked
 from .plate import PlateCoupling, plate_modes
+
+LOW_RANK = 32
+"""Most kink points whose branch a tangent may change against a factorised K before it is factorised itself."""
 
 
 class Body:
@@ -82,9 +94,17 @@ class Elastic:
     Schur complement on the contact DOFs (the dense contact solve).
     """
 
-    def __init__(self, scene: Scene, body: Body, schur: bool, state: np.ndarray | None = None):
+    def __init__(self, scene: Scene, body: Body, schur: bool, state: np.ndarray | None = None,
+                 base: Elastic | None = None):
         self.scene, self.body, self.schur, self.state = scene, body, schur, state
         self.laws = region_laws(scene)
+        self.root, self.columns = self, {}  # the Elastic whose factorisation K's operator is; K⁻¹Dᵀ by kink point
+        if base is not None:                # a tangent shares K_lin and the kink of the operator it follows
+            for name in ("kink", "linear_stiffness"):
+                if name in vars(base):
+                    setattr(self, name, getattr(base, name))
+            if self.kink is not None and np.count_nonzero(self.branches != base.root.branches) <= LOW_RANK:
+                self.root = base.root
 
     @property
     def linear(self) -> bool:
@@ -92,20 +112,75 @@ class Elastic:
         return all(law.is_linear for law in self.laws.values())
 
     @cached_property
-    def stiffness(self) -> sp.csr_matrix:
-        if self.state is None:
-            a = elastic_form(self.body.fes, self.laws)
-        else:
-            a = tangent_form(self.body.fes, self.laws, self.body.gridfunction(self.state))
-        a.Assemble()
-        vals, cols, ptr = a.mat.CSR()
-        n = self.body.fes.ndof
-        return _complete_symmetric(sp.csr_matrix((np.array(vals), np.array(cols), np.array(ptr)), shape=(n, n)))
+    def kink(self) -> Kink | None:
+        """The compaction laws' kink as sparse algebra (:mod:`ngwear.numerics.kink`), where it is exact; else None."""
+        return Kink(self.body.fes, self.laws) if kinked(self.body.fes, self.laws) else None
 
     @cached_property
-    def operator(self) -> ElasticOperator:
-        """K's factorisation; for the dense contact solve with the Schur complement on the contact DOFs."""
-        return ElasticOperator(self.stiffness, self.body.free, self.body.contact_dofs, schur=self.schur)
+    def linear_stiffness(self) -> sp.csr_matrix:
+        """K_lin, the stiffness of the laws' linear parts (with :attr:`kink`: F(u) = K_lin u + kink forces)."""
+        return _assembled(elastic_form(self.body.fes, {region: law if law.is_linear else law.linear_part()
+                                                       for region, law in self.laws.items()}))
+
+    @cached_property
+    def stiffness(self) -> sp.csr_matrix:
+        """K: K₀ (the laws' tangent at ε = 0), or their tangent at ``state``; K_lin + the kink's tangent with a kink."""
+        if self.kink is not None and self.root is not self:         # the root's K and the kink's rows that changed
+            flipped = np.flatnonzero(self.branches != self.root.branches)
+            change = self.branches[flipped].astype(float) - self.root.branches[flipped]
+            return (self.root.stiffness + self.kink.tangent(change, flipped)).tocsr()
+        if self.kink is not None:
+            return (self.linear_stiffness + self.kink.tangent(self.branches)).tocsr()
+        if self.state is None:
+            return _assembled(elastic_form(self.body.fes, self.laws))
+        return _assembled(tangent_form(self.body.fes, self.laws, self.body.gridfunction(self.state)))
+
+    @cached_property
+    def branches(self) -> np.ndarray | None:
+        """The kink's branches K is the tangent on (K₀: every point compressed); None without a kink."""
+        if self.kink is None:
+            return None
+        return np.ones(len(self.kink.c), bool) if self.state is None else self.kink.compressed(self.state)
+
+    def flips(self, u: np.ndarray) -> int | None:
+        """The kink's points whose branch at u is not K's (K is F'(u) when 0); None without a kink."""
+        return None if self.kink is None else int(np.count_nonzero(self.kink.compressed(u) != self.branches))
+
+    def forces(self, u: np.ndarray) -> np.ndarray:
+        """F(u), the internal forces Σ_r ∫_r σ_r(ε(u)) : ε(v) dx (for a linear body K u)."""
+        if self.linear:
+            return self.stiffness @ u
+        if self.kink is not None:
+            return self.linear_stiffness @ u + self.kink.forces(u)
+        return self._apply(u)
+
+    @cached_property
+    def _apply(self):
+        """F(u) by NGSolve's ``Apply`` of the symbolic form (any law)."""
+        form = ngs.BilinearForm(elastic_integrand(self.body.fes, self.laws))
+        u, out = ngs.GridFunction(self.body.fes), ngs.GridFunction(self.body.fes)
+
+        def apply(values: np.ndarray) -> np.ndarray:
+            u.vec.FV().NumPy()[:] = values
+            form.Apply(u.vec, out.vec)
+            return out.vec.FV().NumPy().copy()
+        return apply
+
+    @cached_property
+    def operator(self) -> ElasticOperator | UpdatedOperator:
+        """K's factorisation; for the dense contact solve with the Schur complement on the contact DOFs.
+
+        A kinked law's tangent within :data:`LOW_RANK` branches of a factorised K (its :attr:`root`) is that
+        factorisation's update by the kink's rows on those points (:class:`UpdatedOperator`), δ_q = ±c_q.
+        """
+        root = self.root
+        if root is self:
+            return ElasticOperator(self.stiffness, self.body.free, self.body.contact_dofs, schur=self.schur)
+        flipped = np.flatnonzero(self.branches != root.branches)
+        if not len(flipped):
+            return root.operator
+        delta = self.kink.c[flipped] * (self.branches[flipped].astype(float) - root.branches[flipped])
+        return UpdatedOperator(root.operator, self.kink.D[flipped], delta, root.columns, flipped)
 
 
 class Condensation:
@@ -219,6 +294,14 @@ class Loads:
         """f_B + F_B = Dᵀ f + F_B at unit time factor: the loads' and the plate force's work on the modes."""
         plate = self.condensation.plate
         return np.zeros(0) if plate is None else plate.response.T @ self.load + self.plate_force
+
+
+def _assembled(form: ngs.BilinearForm) -> sp.csr_matrix:
+    """The form's matrix as a scipy CSR matrix (both triangles)."""
+    form.Assemble()
+    vals, cols, ptr = form.mat.CSR()
+    n = form.space.ndof
+    return _complete_symmetric(sp.csr_matrix((np.array(vals), np.array(cols), np.array(ptr)), shape=(n, n)))
 
 
 def _complete_symmetric(K: sp.csr_matrix) -> sp.csr_matrix:

@@ -47,7 +47,7 @@ class Stepper:
         self._factors: dict = {}
         nonlinear = not disc.elastic.linear and not self._full     # the full path linearises the laws itself
         self.base = disc                                            # K₀: the laws' tangent at ε = 0
-        self.remainder = Remainder(disc.fes, disc.elastic.laws, disc.elastic.stiffness) if nonlinear else None
+        self.remainder = Remainder(disc.elastic) if nonlinear else None
         self.history: list = []                                     # (t, u) of the last two steps: the warm start
         self._shift = None                                          # N K⁻¹ n(u), Dᵀ n(u) of the current iterate
         self._kept: dict = {}                                       # K₀'s Newton matrices while a tangent is used
@@ -77,23 +77,26 @@ class Stepper:
         A nonlinear material: the fixed point u = G(u) of :mod:`ngwear.numerics.bulk`, from the last two steps' u
         extrapolated to t.  First at most :data:`CHORD` Anderson-mixed images with the operator the last step
         left (the laws' tangent at its solution, or K₀): where little changed between steps they meet the
-        tolerance with no factorisation.  Else Newton: the laws' tangent at the iterate is factorised and its
-        image taken, :data:`NEWTON` times at most (3–4 from rest for the compaction law at β = 100η).  Should
-        that not converge, Anderson-mixed images with K₀, with which the compaction law's iteration contracts
-        (K₀ is its stiffest tangent), spend the rest of :data:`BULK_ITERATIONS`.
+        tolerance with no factorisation.  Else Newton: the laws' tangent at the iterate and its image,
+        :data:`NEWTON` times at most (3–4 from rest for the compaction law at β = 100η).  A kinked law
+        (:mod:`ngwear.numerics.kink`) takes a new tangent only when a point's branch differs from the operator's,
+        then CHORD images with it; that tangent is a low-rank update of the last factorisation when few points
+        flipped (:class:`~ngwear.numerics.condense.UpdatedOperator`).  Should Newton not converge, Anderson-mixed
+        images with K₀, with which the compaction law's iteration contracts (K₀ is its stiffest tangent), spend
+        the rest of :data:`BULK_ITERATIONS`.
         """
         if self.remainder is None:
             return self._contact(t, t_prev, law, x, lam, integrator)
         state, tolerance = {"x": x, "lam": lam, "newton": 0, "count": 0}, self.scene.solver.tolerance
-        u, gap = self._iterate(self._predicted(t), t, t_prev, law, integrator, state, tolerance, CHORD)
-        for _ in range(NEWTON if gap > tolerance else 0):
-            self._use(self.base.tangent(u))
-            self.tangents += 1
-            image = self._safe_image(u, t, t_prev, law, integrator, state)
-            if image is None:
-                break
-            u, gap = image, change(u, image)
-            if gap <= tolerance:
+        u, gap = self._predicted(t), np.inf
+        for newton in range(NEWTON + 1):
+            flips = self.disc.elastic.flips(u)
+            if (flips is None and newton > 0) or flips:
+                self._use(self.disc.tangent(u))
+                self.tangents += 1
+            most = 1 if flips is None and newton > 0 else CHORD
+            u, gap = self._iterate(u, t, t_prev, law, integrator, state, tolerance, most)
+            if gap <= tolerance or gap == np.inf or state["count"] >= BULK_ITERATIONS:
                 break
         if gap > tolerance:
             self._use(self.base)
@@ -172,7 +175,7 @@ class Stepper:
             self._kept[id(self.disc)] = self.disc, self._matrices, self._factors
         self.disc = disc
         _, self._matrices, self._factors = self._kept.pop(id(disc), (disc, {}, {}))
-        self.remainder = Remainder(disc.fes, disc.elastic.laws, disc.elastic.stiffness)
+        self.remainder = Remainder(disc.elastic)
 
     def _contact(self, t, t_prev, law, x, lam, integrator):
         """The contact problem of the step (with the bulk's current load shift), cut back when Newton fails."""
