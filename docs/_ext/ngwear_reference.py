@@ -53,7 +53,8 @@ MEANING = {
         "newton_lengths": ("(N,)", "length of each step's residual history in `newton_residuals`"),
         "newton_residuals": ("(Σ lengths,)", "the residual histories, concatenated"),
         "newton_bulk": ("(N,)", "a nonlinear material's bulk iterations in each step (images u = G(u); 0: linear)"),
-        "newton_tangents": ("(N,)", "tangent stiffnesses factorised in the run up to each step (nonlinear material)"),
+        "newton_tangents": ("(N,)", ("tangent stiffnesses taken in the run up to each step, factorised or low-rank "
+                                   "updates (nonlinear material)")),
         "newton_cutbacks": ("(N,)", "load cut-backs each step needed before its Newton converged (0: none)"),
         "status": ("()", "`completed`, `interrupted`, or the message of the step that failed"),
         "wall_time": ("()", "seconds the run took: meshing, factorising and the time loop"),

@@ -51,7 +51,7 @@ class Stepper:
         self.history: list = []                                     # (t, u) of the last two steps: the warm start
         self._shift = None                                          # N K⁻¹ n(u), Dᵀ n(u) of the current iterate
         self._kept: dict = {}                                       # K₀'s Newton matrices while a tangent is used
-        self.tangents = 0                                           # tangents factorised so far
+        self.tangents = 0                                           # tangents taken so far (factorised or updated)
 
     @property
     def _full(self) -> bool:
