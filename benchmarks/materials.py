@@ -194,8 +194,8 @@ def compaction_case(maxh: float, beta: float, steps: int, reps: int, blas_thread
     row["reps"] = reps
     row["target"] = C.verdict(row["to_reference"] <= TARGET) if steps == 100 else f"({steps} steps)"
     print(f"  pad {maxh} β = {beta:g}η: {row['ndof']} DOFs, {steps} steps {row['run_s']:.1f}s ({row['tangents']} "
-          f"tangents, {row['factorised']} factorised), one NGSolve solve {row['ref_pardiso_s']:.2f}s, ratio {row['to_reference']:.1f}, linear "
-          f"{row['linear_s']:.2f}s", flush=True)
+          f"tangents, {row['factorised']} factorised), one NGSolve solve {row['ref_pardiso_s']:.2f}s, ratio "
+          f"{row['to_reference']:.1f}, linear {row['linear_s']:.2f}s", flush=True)
     return row
 
 

@@ -146,11 +146,15 @@ class Discretization:
         new._assemble(self.body if rebuilt > Level.SPACE else Body(scene, self.body.mesh), *kept)
         return new
 
-    def tangent(self, state: np.ndarray) -> Discretization:
-        """The discretization with K the laws' tangent at the displacement ``state`` (a new factorisation)."""
+    def tangent(self, state: np.ndarray, columns: dict | None = None) -> Discretization:
+        """The discretization with K the laws' tangent at the displacement ``state``.
+
+        A new factorisation, or an update of this one's (see :class:`~ngwear.numerics.pieces.Elastic`, ``columns``).
+        """
         new = Discretization.__new__(Discretization)
         new.scene, new.contact_solve = self.scene, self.contact_solve
-        new._assemble(self.body, Elastic(self.scene, self.body, self.elastic.schur, state, base=self.elastic))
+        new._assemble(self.body, Elastic(self.scene, self.body, self.elastic.schur, state, base=self.elastic,
+                                         columns=columns))
         return new
 
     def stages(self) -> list[tuple[str, callable]]:

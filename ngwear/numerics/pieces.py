@@ -91,20 +91,21 @@ class Elastic:
 
     K is the laws' tangent at ε = 0 (K₀: for linear laws the stiffness), or with ``state`` their tangent at that
     displacement (a nonlinear law's step solver refactorises there when a step was slow).  ``schur``: factorise with the
-    Schur complement on the contact DOFs (the dense contact solve).
+    Schur complement on the contact DOFs (the dense contact solve).  A tangent follows the operator ``base``; when it
+    is an update of ``base``'s factorisation, ``columns`` caches that factorisation's K⁻¹Dᵀ (default: ``base``'s).
     """
 
     def __init__(self, scene: Scene, body: Body, schur: bool, state: np.ndarray | None = None,
-                 base: Elastic | None = None):
+                 base: Elastic | None = None, columns: dict | None = None):
         self.scene, self.body, self.schur, self.state = scene, body, schur, state
         self.laws = region_laws(scene)
-        self.root, self.columns = self, {}  # the Elastic whose factorisation K's operator is; K⁻¹Dᵀ by kink point
+        self.root, self.columns = self, {}  # the Elastic whose factorisation K's operator is; its K⁻¹Dᵀ by point
         if base is not None:                # a tangent shares K_lin and the kink of the operator it follows
             for name in ("kink", "linear_stiffness"):
                 if name in vars(base):
                     setattr(self, name, getattr(base, name))
             if self.kink is not None and np.count_nonzero(self.branches != base.root.branches) <= LOW_RANK:
-                self.root = base.root
+                self.root, self.columns = base.root, base.columns if columns is None else columns
 
     @property
     def linear(self) -> bool:
@@ -180,7 +181,7 @@ class Elastic:
         if not len(flipped):
             return root.operator
         delta = self.kink.c[flipped] * (self.branches[flipped].astype(float) - root.branches[flipped])
-        return UpdatedOperator(root.operator, self.kink.D[flipped], delta, root.columns, flipped)
+        return UpdatedOperator(root.operator, self.kink.D[flipped], delta, self.columns, flipped)
 
 
 class Condensation:

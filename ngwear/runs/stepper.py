@@ -52,6 +52,7 @@ class Stepper:
         self._shift = None                                          # N K⁻¹ n(u), Dᵀ n(u) of the current iterate
         self._kept: dict = {}                                       # K₀'s Newton matrices while a tangent is used
         self.tangents = 0                                           # tangents taken so far (factorised or updated)
+        self._columns: dict = {}                                    # K₀⁻¹Dᵀ of the kink points, for this run
 
     @property
     def _full(self) -> bool:
@@ -92,7 +93,8 @@ class Stepper:
         for newton in range(NEWTON + 1):
             flips = self.disc.elastic.flips(u)
             if (flips is None and newton > 0) or flips:
-                self._use(self.disc.tangent(u))
+                shared = self.disc.elastic.root is self.base.elastic      # K₀ may serve other runs: a cache of this run
+                self._use(self.disc.tangent(u, self._columns if shared else None))
                 self.tangents += 1
             most = 1 if flips is None and newton > 0 else CHORD
             u, gap = self._iterate(u, t, t_prev, law, integrator, state, tolerance, most)
