@@ -9,9 +9,10 @@ an extension that reproduces the element's polynomials and leaves every point in
 
 * :class:`Simplices`: the nearest simplex of a set (volume elements, or Γ_C facets) and the barycentric
   coordinates of the nearest point on it;
-* :class:`Locator`: NGSolve mesh points for points of (or just outside) the body;
-* :class:`StrainQuadrature`: ‖ε(u) − ε(u_ref)‖_{L²} on the reference mesh, u of the other mesh evaluated at
-  the reference's quadrature points (no interpolation onto the reference's space);
+* :class:`Locator`: NGSolve mesh points for points of (or just outside) a region, the body by default;
+* :class:`StrainQuadrature`: ‖ε(u) − ε(u_ref)‖_{L²} over every region of the reference mesh, u of the other mesh
+  evaluated at the reference's quadrature points, each in its own region (no interpolation onto the reference's
+  space);
 * :class:`ContactTrace`: the nodal wear of Γ_C as the finite element function it is (P1: linear on each facet;
   P2: quadratic through the vertex and edge-midpoint values) at points on (or near) Γ_C.
 """
@@ -60,16 +61,25 @@ def _corners(mesh: ngs.Mesh, elements) -> np.ndarray:
     return coords[np.array([[v.nr for v in el.vertices] for el in elements])]
 
 
+def _elements(mesh: ngs.Mesh) -> np.ndarray:
+    """Netgen's volume elements in NGSolve's order (a structured array: ``index`` of the region from 1, ``nodes``)."""
+    return (mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()).NumPy()
+
+
+def _element_regions(mesh: ngs.Mesh) -> np.ndarray:
+    """The region of each volume element, as an index into ``mesh.GetMaterials()``."""
+    return _elements(mesh)["index"] - 1
+
+
 class Locator:
-    """Mesh points of the body of ``mesh`` for points in it or at most ``reach`` outside it."""
+    """Mesh points of a region of ``mesh`` (default the body) for points in it or at most ``reach`` outside it."""
 
     def __init__(self, mesh: ngs.Mesh, reach: float | None = None, region: str = "body"):
         """``reach``: how far outside a point may be (default: the largest edge of the mesh's elements)."""
         self.mesh = mesh
-        elements = (mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()).NumPy()
-        self.in_region = elements["index"] == mesh.GetMaterials().index(region) + 1     # NGSolve's element order
+        self.in_region = _element_regions(mesh) == mesh.GetMaterials().index(region)
         self.numbers = np.flatnonzero(self.in_region)
-        vertices = elements["nodes"][self.numbers, :mesh.dim + 1] - 1                      # as el.vertices, from 0
+        vertices = _elements(mesh)["nodes"][self.numbers, :mesh.dim + 1] - 1              # as el.vertices, from 0
         corners = mesh.ngmesh.Coordinates()[:, :mesh.dim][vertices]
         self.simplices = Simplices(corners)
         if reach is None:
@@ -101,7 +111,7 @@ class Locator:
 
 
 class StrainQuadrature:
-    """∫_Ω |ε(u) − ε(u_ref)|² dx on the body of the reference mesh, by a rule of the given degree on its elements.
+    """∫_Ω |ε(u) − ε(u_ref)|² dx over every region of the reference mesh, by a rule of the given degree on its elements.
 
     The rule's points must lie inside the elements (not the degree-2 triangle rule).
     """
@@ -114,17 +124,23 @@ class StrainQuadrature:
             # a point on a face (the degree-2 triangle rule's edge midpoints) would be found in the neighbour of
             # its element by a search in another mesh, even an identical one (ε of P1 jumps across faces)
             raise ValueError(f"degree {degree}: the rule has points on the elements' faces; use another degree")
-        mips = mesh.MapToAllElements(rule, ngs.VOL)
-        body = np.array([el.mat == "body" for el in mesh.Elements(ngs.VOL)])[mips["nr"]]
-        self.mips = mips[body]
+        self.mips = mesh.MapToAllElements(rule, ngs.VOL)
+        self.regions = np.array(mesh.GetMaterials())[_element_regions(mesh)[self.mips["nr"]]]
         jacobian = np.abs(np.asarray(ngs.Det(ngs.specialcf.JacobianMatrix(mesh.dim))(self.mips))).ravel()
-        self.weights = np.tile(np.asarray(rule.weights), mesh.ne)[body] * jacobian
+        self.weights = np.tile(np.asarray(rule.weights), mesh.ne) * jacobian
         self.points = np.asarray(ngs.CF((ngs.x, ngs.y, ngs.z)[:mesh.dim])(self.mips)).reshape(-1, mesh.dim)
         self.ref = ngs.GridFunction(fes_ref)
 
-    def on(self, locator: Locator):
-        """The mesh points of this rule's points on another mesh (once per mesh)."""
-        return locator(self.points)
+    def on(self, mesh: ngs.Mesh):
+        """The mesh points of this rule's points on another mesh, each in its own region (once per mesh).
+
+        ε jumps across the faces between regions, so a point is taken from its region's elements (:class:`Locator`).
+        """
+        at = self.mips.copy()
+        for region in np.unique(self.regions):
+            inside = self.regions == region
+            at[inside] = Locator(mesh, region=region)(self.points[inside])
+        return at
 
     def error2(self, u: ngs.GridFunction, at, u_ref: np.ndarray) -> float:
         """‖ε(u) − ε(u_ref)‖², u on the other mesh (``at`` from :meth:`on`), u_ref the reference's DOF vector."""

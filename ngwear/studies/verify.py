@@ -76,7 +76,7 @@ class Reference:
         key = id(disc.mesh)
         if key not in self._meshes:
             locator = Locator(disc.mesh)
-            self._meshes = {key: (disc.mesh, self.quadrature.on(locator),
+            self._meshes = {key: (disc.mesh, self.quadrature.on(disc.mesh),
                                   ContactTrace(disc.mesh, disc.points, disc.scene.mesh.order, locator.reach))}
         return self._meshes[key][1:]
 
