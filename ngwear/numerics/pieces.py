@@ -90,7 +90,7 @@ class Elastic:
     """The laws of the body's regions, a stiffness K and its factorisation.
 
     K is the laws' tangent at ε = 0 (K₀: for linear laws the stiffness), or with ``state`` their tangent at that
-    displacement (a nonlinear law's step solver refactorises there when a step was slow).  ``schur``: factorise with the
+    displacement (the Newton iterate of a nonlinear law's step solver).  ``schur``: factorise with the
     Schur complement on the contact DOFs (the dense contact solve).  A tangent follows the operator ``base``; when it
     is an update of ``base``'s factorisation, ``columns`` caches that factorisation's K⁻¹Dᵀ (default: ``base``'s).
     """
