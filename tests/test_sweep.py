@@ -17,6 +17,7 @@ import numpy as np
 import pandas as pd
 import pytest
 from conftest import PAPER, ROOT
+from threadpoolctl import threadpool_limits
 
 import ngwear
 from ngwear.studies.outputs import OUTPUTS, outputs
@@ -260,12 +261,10 @@ def test_study_of_regions_laws_and_fields(tmp_path):
                                                                            == 5.0).all()
     assert table.attrs["summary"]["groups"] == 4
     for case, row in zip(load_study(path).cases, table.itertuples()):
-        direct = outputs(ngwear.simulate(case.scene, progress=False))
-        # The case processes run MKL on one thread (Dask's workers), this test on two: PARDISO's factors differ in
-        # round-off, and the compaction law's branch at an element with tr ε ≈ 0 with them, which may cost a Newton
-        # iteration more or less; the results agree to round-off all the same.
-        iterations = direct.pop("newton_iterations")
-        assert abs(row.newton_iterations - iterations) <= 0.1 * iterations
+        # Dask's workers run the BLAS on one thread: so does the direct run (on two, its dense algebra rounds
+        # otherwise, and the compaction law's branch at an element with tr ε ≈ 0 may cost a Newton iteration more)
+        with threadpool_limits(1):
+            direct = outputs(ngwear.simulate(case.scene, progress=False))
         np.testing.assert_allclose([getattr(row, k) for k in direct], list(direct.values()), rtol=1e-12)
     pd.testing.assert_frame_equal(pd.read_parquet(tmp_path / "out" / "results.parquet"), table, check_like=False)
     assert {p.name for p in (tmp_path / "out" / "plots").iterdir()} >= {f"{k}.png" for k in keys}
