@@ -17,6 +17,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..model.materials import Compaction
+from .stiffness import assembled
 
 
 def kinked(fes: ngs.FESpace, laws: dict) -> bool:
@@ -40,7 +41,7 @@ class Kink:
         weights += points.TrialFunction() * q * ngs.dx(intrules=rules)
         moduli = ngs.GridFunction(points)
         moduli.Interpolate(mesh.MaterialCF(beta, default=0.0))                        # β at the points
-        B, w = _csr(divergence, points.ndof, fes.ndof), _csr(weights, points.ndof, points.ndof).diagonal()
+        B, w = assembled(divergence), assembled(weights).diagonal()
         c = moduli.vec.FV().NumPy() * w
         keep = c > 0
         self.D = sp.csr_matrix(sp.diags(1.0 / w[keep]) @ B[keep])
@@ -59,8 +60,3 @@ class Kink:
         D, c = (self.D, self.c) if points is None else (self.D[points], self.c[points])
         return sp.csr_matrix(D.T @ sp.diags(c * compressed) @ D)
 
-
-def _csr(form: ngs.BilinearForm, rows: int, cols: int) -> sp.csr_matrix:
-    form.Assemble()
-    vals, cols_, ptr = form.mat.CSR()
-    return sp.csr_matrix((np.array(vals), np.array(cols_), np.array(ptr)), shape=(rows, cols))

@@ -25,7 +25,6 @@ from .condense import ElasticOperator, UpdatedOperator
 from .forms import (
     contact_points,
     displacement_space,
-    elastic_form,
     elastic_integrand,
     initial_distance,
     load_form,
@@ -33,6 +32,7 @@ from .forms import (
 )
 from .kink import Kink, kinked
 from .plate import PlateCoupling, plate_modes
+from .stiffness import GradientBlocks, assembled
 
 LOW_RANK = 32
 """Most kink points whose branch a tangent may change against a factorised K before it is factorised itself."""
@@ -46,6 +46,11 @@ class Body:
         self.fes = displacement_space(mesh, scene)
         self.free = np.array(list(self.fes.FreeDofs()), dtype=bool)
         self.points = contact_points(self.fes, scene.dim, scene.mesh.order)
+
+    @cached_property
+    def gradient_blocks(self) -> GradientBlocks:
+        """The scalar gradient matrices of each region: the stiffness of any linear laws by sparse sums."""
+        return GradientBlocks(self.fes)
 
     @cached_property
     def contact_regions(self) -> tuple[str, ...]:
@@ -120,8 +125,8 @@ class Elastic:
     @cached_property
     def linear_stiffness(self) -> sp.csr_matrix:
         """K_lin, the stiffness of the laws' linear parts (with :attr:`kink`: F(u) = K_lin u + kink forces)."""
-        return _assembled(elastic_form(self.body.fes, {region: law if law.is_linear else law.linear_part()
-                                                       for region, law in self.laws.items()}))
+        return self.body.gradient_blocks.stiffness({region: law if law.is_linear else law.linear_part()
+                                                    for region, law in self.laws.items()})
 
     @cached_property
     def stiffness(self) -> sp.csr_matrix:
@@ -133,8 +138,8 @@ class Elastic:
         if self.kink is not None:
             return (self.linear_stiffness + self.kink.tangent(self.branches)).tocsr()
         if self.state is None:
-            return _assembled(elastic_form(self.body.fes, self.laws))
-        return _assembled(tangent_form(self.body.fes, self.laws, self.body.gridfunction(self.state)))
+            return self.body.gradient_blocks.stiffness({r: law.tangent_at_zero() for r, law in self.laws.items()})
+        return assembled(tangent_form(self.body.fes, self.laws, self.body.gridfunction(self.state)))
 
     @cached_property
     def branches(self) -> np.ndarray | None:
@@ -295,21 +300,3 @@ class Loads:
         """f_B + F_B = Dᵀ f + F_B at unit time factor: the loads' and the plate force's work on the modes."""
         plate = self.condensation.plate
         return np.zeros(0) if plate is None else plate.response.T @ self.load + self.plate_force
-
-
-def _assembled(form: ngs.BilinearForm) -> sp.csr_matrix:
-    """The form's matrix as a scipy CSR matrix (both triangles)."""
-    form.Assemble()
-    vals, cols, ptr = form.mat.CSR()
-    n = form.space.ndof
-    return _complete_symmetric(sp.csr_matrix((np.array(vals), np.array(cols), np.array(ptr)), shape=(n, n)))
-
-
-def _complete_symmetric(K: sp.csr_matrix) -> sp.csr_matrix:
-    """Both triangles of K, whether NGSolve handed back one triangle or the whole matrix."""
-    upper, lower = sp.triu(K, 1), sp.tril(K, -1)
-    if upper.nnz == 0 and lower.nnz:
-        return (K + lower.T).tocsr()
-    if lower.nnz == 0 and upper.nnz:
-        return (K + upper.T).tocsr()
-    return K

@@ -1,0 +1,67 @@
+"""The stiffness of constant linear laws from the space's gradient blocks, assembled once per mesh.
+
+The displacement space is d copies of a scalar H1 space (NGSolve's ``VectorH1``: the DOFs of component i are its
+i-th block), so for laws C^r constant on the regions r
+
+    a(u, v) = Σ_r ∫_r C^r_ijkl ∂_l u_k ∂_j v_i dx,      K_(i,k) = Σ_r Σ_jl C^r_ijkl S^r_jl,   S^r_jl = ∫_r ∂_j ψ ∂_l φ dx,
+
+with φ, ψ the scalar basis functions.  The d(d+1)/2 scalar matrices S^r_jl (S_lj = S_jlᵀ) are the only assembly:
+any law's K is a sparse sum of them, so a material change assembles nothing.  NGSolve's symbolic form of a general
+C_ijkl costs 1.7× its isotropic form; the blocks cost about the isotropic form, whatever C (``tests/test_stiffness.py``
+checks them against the symbolic forms).
+"""
+from __future__ import annotations
+
+import ngsolve as ngs
+import numpy as np
+import scipy.sparse as sp
+
+from ..model import mandel
+
+
+class GradientBlocks:
+    """S^r_jl of every region r of the space's mesh (built on first use of each region)."""
+
+    def __init__(self, fes: ngs.FESpace):
+        self.mesh, self.dim = fes.mesh, fes.mesh.dim
+        self.scalar = ngs.H1(fes.mesh, order=fes.globalorder)
+        if fes.ndof != self.dim * self.scalar.ndof:
+            raise ValueError("GradientBlocks: the space is not d copies of H1 of its order")
+        self._regions: dict[str, dict] = {}
+
+    def of(self, region: str) -> dict:
+        """{(a, b): S_ab} of ``region`` (CSR, both triangles)."""
+        if region not in self._regions:
+            p, q = self.scalar.TnT()
+            blocks, dx = {}, ngs.dx(definedon=self.mesh.Materials(region))
+            for a in range(self.dim):
+                for b in range(a, self.dim):
+                    blocks[a, b] = assembled(ngs.BilinearForm(ngs.grad(p)[b] * ngs.grad(q)[a] * dx, symmetric=a == b))
+            for a in range(self.dim):
+                for b in range(a):
+                    blocks[a, b] = blocks[b, a].T.tocsr()
+            self._regions[region] = blocks
+        return self._regions[region]
+
+    def stiffness(self, laws: dict) -> sp.csr_matrix:
+        """K of the linear laws ``{region: law}`` (each with a Mandel ``matrix``)."""
+        block = [[None] * self.dim for _ in range(self.dim)]
+        for region, law in laws.items():
+            C, S = mandel.fourth_order(law.matrix), self.of(region)
+            for i, a, k, b in zip(*np.nonzero(C)):
+                term = C[i, a, k, b] * S[a, b]
+                block[i][k] = term if block[i][k] is None else block[i][k] + term
+        return sp.bmat(block, format="csr")
+
+
+def assembled(form: ngs.BilinearForm) -> sp.csr_matrix:
+    """The form's matrix as a scipy CSR matrix (of a symmetric form: both triangles, whichever NGSolve kept)."""
+    form.Assemble()
+    vals, cols, ptr = form.mat.CSR()
+    K = sp.csr_matrix((np.array(vals), np.array(cols), np.array(ptr)), shape=(form.mat.height, form.mat.width))
+    upper, lower = sp.triu(K, 1), sp.tril(K, -1)
+    if upper.nnz == 0 and lower.nnz:
+        return (K + lower.T).tocsr()
+    if lower.nnz == 0 and upper.nnz:
+        return (K + upper.T).tocsr()
+    return K
