@@ -105,12 +105,15 @@ class Elastic:
         self.scene, self.body, self.schur, self.state = scene, body, schur, state
         self.laws = region_laws(scene)
         self.root, self.columns = self, {}  # the Elastic whose factorisation K's operator is; its K⁻¹Dᵀ by point
+        self.changed = np.zeros(0, dtype=int)   # the kink points whose branch differs from the root's
         if base is not None:                # a tangent shares K_lin and the kink of the operator it follows
             for name in ("kink", "linear_stiffness"):
                 if name in vars(base):
                     setattr(self, name, getattr(base, name))
-            if self.kink is not None and np.count_nonzero(self.branches != base.root.branches) <= LOW_RANK:
+            changed = None if self.kink is None else np.flatnonzero(self.branches != base.root.branches)
+            if changed is not None and len(changed) <= LOW_RANK:
                 self.root, self.columns = base.root, base.columns if columns is None else columns
+                self.changed = changed
 
     @property
     def linear(self) -> bool:
@@ -131,10 +134,8 @@ class Elastic:
     @cached_property
     def stiffness(self) -> sp.csr_matrix:
         """K: K₀ (the laws' tangent at ε = 0), or their tangent at ``state``; K_lin + the kink's tangent with a kink."""
-        if self.kink is not None and self.root is not self:         # the root's K and the kink's rows that changed
-            flipped = np.flatnonzero(self.branches != self.root.branches)
-            change = self.branches[flipped].astype(float) - self.root.branches[flipped]
-            return (self.root.stiffness + self.kink.tangent(change, flipped)).tocsr()
+        if self.root is not self:                                   # the root's K and the kink's rows that changed
+            return (self.root.stiffness + self.kink.tangent(self._change, self.changed)).tocsr()
         if self.kink is not None:
             return (self.linear_stiffness + self.kink.tangent(self.branches)).tocsr()
         if self.state is None:
@@ -179,14 +180,18 @@ class Elastic:
         A kinked law's tangent within :data:`LOW_RANK` branches of a factorised K (its :attr:`root`) is that
         factorisation's update by the kink's rows on those points (:class:`UpdatedOperator`), δ_q = ±c_q.
         """
-        root = self.root
+        root, changed = self.root, self.changed
         if root is self:
             return ElasticOperator(self.stiffness, self.body.free, self.body.contact_dofs, schur=self.schur)
-        flipped = np.flatnonzero(self.branches != root.branches)
-        if not len(flipped):
+        if not len(changed):
             return root.operator
-        delta = self.kink.c[flipped] * (self.branches[flipped].astype(float) - root.branches[flipped])
-        return UpdatedOperator(root.operator, self.kink.D[flipped], delta, self.columns, flipped)
+        return UpdatedOperator(root.operator, self.kink.D[changed], self.kink.c[changed] * self._change, self.columns,
+                               changed)
+
+    @property
+    def _change(self) -> np.ndarray:
+        """+1 where a changed point is compressed (the root's K released it), −1 where it is released."""
+        return self.branches[self.changed].astype(float) - self.root.branches[self.changed]
 
 
 class Condensation:
