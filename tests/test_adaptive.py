@@ -13,7 +13,7 @@ import pytest
 from conftest import PAPER
 
 import ngwear
-from ngwear.model.laws import largest_slope
+from ngwear.model.compliance import largest_slope
 
 
 @pytest.fixture(scope="module")

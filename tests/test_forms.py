@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import ngwear
-from ngwear.model.laws import compliance_from
+from ngwear.model.compliance import compliance_from
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.forms import contact_form
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from netgen.occ import Box, Glue, OCCGeometry, Pnt, Rectangle, X, Y, Z
 
-from ngwear.model.laws import Compliance
+from ngwear.model.compliance import Compliance
 from ngwear.model.materials import Compaction, Isotropic, TransverselyIsotropic
 from ngwear.numerics.forms import contact_ds
 from ngwear.numerics.nonlinear import energy_form, minimise

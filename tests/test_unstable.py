@@ -5,7 +5,7 @@ from conftest import ROOT
 from test_cli import assert_one_line_error, ngwear
 
 import ngwear as ng
-from ngwear.model.laws import largest_slope
+from ngwear.model.compliance import largest_slope
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.wear import diverging, explicit_stability, steps_cap
 from ngwear.results.invariants import k_alpha_slope

@@ -5,7 +5,7 @@ import pytest
 from conftest import ROOT
 
 import ngwear
-from ngwear.model.laws import largest_slope
+from ngwear.model.compliance import largest_slope
 from ngwear.numerics import discrete
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.forms import elastic_form, load_form

@@ -11,9 +11,9 @@ import math
 from pathlib import Path
 
 from .coefficients import bound, describe
+from .compliance import largest_slope
 from .keys import SceneError, range_text
 from .kinds import KINDS, check_features, owners
-from .laws import largest_slope
 from .materials import check_table, law_of
 
 

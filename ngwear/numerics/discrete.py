@@ -17,10 +17,10 @@ import ngsolve as ngs
 import numpy as np
 
 from ..model.coefficients import Coefficients
+from ..model.compliance import compliance_from, piecewise_linear
 from ..model.geometry import build_mesh
 from ..model.keys import Level, SceneError
 from ..model.kinematics import Slip
-from ..model.laws import compliance_from, piecewise_linear
 from ..model.materials import region_laws, young_along
 from ..model.rules import BIG
 from ..model.scene import Scene

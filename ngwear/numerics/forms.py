@@ -21,7 +21,7 @@ import numpy as np
 import scipy.sparse as sp
 from ngsolve.fem import NODE_TYPE
 
-from ..model.laws import Compliance
+from ..model.compliance import Compliance
 from ..model.scene import Scene
 
 NODAL_WEIGHTS = {

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 from ngsolve.nonlinearsolvers import NewtonSolver
 
-from ..model.laws import Compliance
+from ..model.compliance import Compliance
 from ..model.materials import strain
 
 

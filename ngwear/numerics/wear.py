@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.laws import Compliance
+from ..model.compliance import Compliance
 from .solver import PointLaw
 
 INTEGRATORS = {

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.coefficients import bound
-from ..model.laws import largest_slope
+from ..model.compliance import largest_slope
 from ..numerics.wear import INTEGRATORS
 
 #: allowance of the invariants the scheme makes exact (round-off)
