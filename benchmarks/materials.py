@@ -128,13 +128,13 @@ def linear_cases(args) -> list[tuple]:
 # ---- the compaction pad: each measurement in its own process -------------------------------------------
 def run_ngwear(maxh: float, beta: float | None, steps: int) -> dict:
     import ngwear
-    from ngwear.numerics import condense
+    from ngwear.numerics import operators
     from ngwear.numerics.discrete import Discretization
     scene = compaction_scene(maxh, beta, steps)
     mesh = C.mesh_for(scene)
     factorised = []                                 # PARDISO factorisations (K₀ and the tangents not updated)
-    init = condense.ElasticOperator.__init__
-    condense.ElasticOperator.__init__ = lambda self, *a, **k: (factorised.append(1), init(self, *a, **k))[1]
+    init = operators.ElasticOperator.__init__
+    operators.ElasticOperator.__init__ = lambda self, *a, **k: (factorised.append(1), init(self, *a, **k))[1]
     t0 = C.perf()
     disc = Discretization(scene, mesh)
     result = ngwear.simulate(scene, discretization=disc, progress=False)

@@ -11,10 +11,10 @@ import scipy.sparse as sp
 
 import ngwear
 from ngwear.numerics import pieces
-from ngwear.numerics.condense import ElasticOperator, UpdatedOperator
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.forms import elastic_integrand, tangent_form
 from ngwear.numerics.kink import Kink, kinked
+from ngwear.numerics.operators import ElasticOperator, UpdatedOperator
 
 BACKED = {"mesh.maxh": 0.25, "geometry.backing": 0.25, "material": {
     "law": "compaction", "lame_lambda": 1.0, "lame_mu": 1.0, "compaction_modulus": 100.0,

@@ -25,8 +25,8 @@ from ..model.materials import region_laws, young_along
 from ..model.rules import BIG
 from ..model.scene import Scene
 from .bulk import Anderson, Remainder, change
-from .condense import DENSE_LIMIT, SOFT_LIMIT
 from .forms import contact_form
+from .operators import DENSE_LIMIT, SOFT_LIMIT
 from .pieces import Body, Condensation, Elastic, Loads
 
 CONTACT_SOLVES = ("auto", "dense", "krylov")
@@ -57,8 +57,8 @@ class Discretization:
 
     ``contact_solve`` chooses how the contact problem is condensed: ``dense`` (the rows ν·G of the point
     compliance, then dense Newton algebra), ``krylov`` (matrix-free: every product with the compliance is
-    one back-substitution) or ``auto``: dense up to ``condense.DENSE_LIMIT`` contact DOFs, or up to
-    ``condense.SOFT_LIMIT`` when the layer is soft against the body (:meth:`layer_ratio` < 1).
+    one back-substitution) or ``auto``: dense up to ``operators.DENSE_LIMIT`` contact DOFs, or up to
+    ``operators.SOFT_LIMIT`` when the layer is soft against the body (:meth:`layer_ratio` < 1).
 
     Parameters
     ----------

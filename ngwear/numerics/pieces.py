@@ -21,7 +21,6 @@ import scipy.sparse as sp
 
 from ..model.materials import region_laws
 from ..model.scene import Scene
-from .condense import ElasticOperator, UpdatedOperator
 from .forms import (
     contact_points,
     displacement_space,
@@ -31,6 +30,7 @@ from .forms import (
     tangent_form,
 )
 from .kink import Kink, kinked
+from .operators import ElasticOperator, UpdatedOperator
 from .plate import PlateCoupling, plate_modes
 from .stiffness import GradientBlocks, assembled
 

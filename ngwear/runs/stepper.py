@@ -82,7 +82,7 @@ class Stepper:
         :data:`NEWTON` times at most (3–4 from rest for the compaction law at β = 100η).  A kinked law
         (:mod:`ngwear.numerics.kink`) takes a new tangent only when a point's branch differs from the operator's,
         then CHORD images with it; that tangent is a low-rank update of the last factorisation when few points
-        flipped (:class:`~ngwear.numerics.condense.UpdatedOperator`).  Should Newton not converge, Anderson-mixed
+        flipped (:class:`~ngwear.numerics.operators.UpdatedOperator`).  Should Newton not converge, Anderson-mixed
         images with K₀, with which the compaction law's iteration contracts (K₀ is its stiffest tangent), spend
         the rest of :data:`BULK_ITERATIONS`.
         """

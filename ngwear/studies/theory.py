@@ -4,7 +4,7 @@
 on V = {v = 0 on Γ_D}, m_F the strong monotonicity of F (2η for Hooke's law), L_p the largest slope of p on
 [0, g].  On the scene's mesh c₀² is the largest eigenvalue of M_C v = c₀² A_ε v (M_C the Γ_C mass matrix, A_ε
 the form (ε(u), ε(v))), on the contact DOFs through the Schur complement S of A_ε: densely, or, beyond
-``condense.DENSE_LIMIT`` contact DOFs, by Lanczos in shift-invert mode on S v = c₀⁻² M_C v (each step one
+``operators.DENSE_LIMIT`` contact DOFs, by Lanczos in shift-invert mode on S v = c₀⁻² M_C v (each step one
 back-substitution with A_ε's factorisation, a second factorisation of the mesh): :func:`smallness`.
 
 **The energy form** (what ``ngwear run`` reports): with ‖v‖_K² = vᵀKv, K the run's own stiffness, the elastic
