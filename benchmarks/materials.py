@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 
 import common as C
 
@@ -151,7 +152,8 @@ def run_reference(maxh: float, beta: float) -> dict:
 
     from ngwear.model.materials import region_laws
     from ngwear.numerics.forms import displacement_space
-    from ngwear.numerics.nonlinear import energy_form, minimise
+    sys.path.insert(0, str(C.ROOT / "tests"))      # the reference solver lives beside the tests that use it
+    from energy_minimum import energy_form, minimise
     scene = compaction_scene(maxh, beta, 1)
     mesh = C.mesh_for(scene)
     fes = displacement_space(mesh, scene)

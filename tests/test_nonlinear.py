@@ -2,12 +2,12 @@
 import ngsolve as ngs
 import numpy as np
 import pytest
+from energy_minimum import energy_form, minimise
 from netgen.occ import Box, Glue, OCCGeometry, Pnt, Rectangle, X, Y, Z
 
 from ngwear.model.compliance import Compliance
 from ngwear.model.materials import Compaction, Isotropic, TransverselyIsotropic
 from ngwear.numerics.forms import contact_ds
-from ngwear.numerics.nonlinear import energy_form, minimise
 
 LAM, ETA, BETA, L, H = 1.0, 1.0, 100.0, 10.0, 2.0
 

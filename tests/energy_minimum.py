@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import ngsolve as ngs
 from ngsolve.nonlinearsolvers import NewtonSolver
 
-from ..model.compliance import Compliance
-from ..model.materials import strain
+from ngwear.model.compliance import Compliance
+from ngwear.model.materials import strain
 
 
 @dataclass(frozen=True)
