@@ -235,7 +235,7 @@ def _write(result, out: Path, pictures: bool, check: tuple[str, str] | None = No
         from .views.pictures import write_pictures
         STAGES.info("%s: drawing the pictures", result.scene.name)
         written = write_pictures(result, out)
-    from .results.materials import describe
+    from .results.material_summary import describe
     from .results.units import unit as unit_of
 
     summary = result.summary()

@@ -41,7 +41,7 @@ from ..numerics.forms import initial_distance
 from ..numerics.solver import NewtonRecord
 from .folder import NoSpace, no_space, replacing
 from .history import History
-from .materials import region_materials
+from .material_summary import region_materials
 from .mesh_file import keep_mesh, saved_discretization
 from .records import records_from_arrays, records_to_arrays
 from .units import units
@@ -277,7 +277,7 @@ class Result:
     def summary(self) -> dict:
         """Key numbers of the run (what ``ngwear run`` prints); ``materials``: each region's law, constants, m_F, L_F.
 
-        See :func:`ngwear.results.materials.region_materials` (an energy law's moduli estimated over the frames).
+        See :func:`ngwear.results.material_summary.region_materials` (an energy law's moduli estimated over the frames).
         """
         g = self.scene.contact.gap
         its = [r.iterations for r in self.newton if r.converged]
