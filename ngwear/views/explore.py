@@ -39,12 +39,19 @@ from ..model.scene import Scene, SceneError
 from ..numerics.discrete import Reuse
 from ..runs.simulate import simulate
 from .compare import Comparison, nearest_step
-from .errors import RunError
 from .plots import Dashboard
 from .render import Canvas
 from .sliders import sliders_for
 
 log = logging.getLogger(__name__)
+
+
+class RunError(RuntimeError):
+    """A run stopped part-way (Newton failure); ``result`` holds the steps it completed."""
+
+    def __init__(self, message: str, result):
+        super().__init__(message)
+        self.result = result
 
 
 @dataclass

@@ -23,7 +23,7 @@ import numpy as np
 from PIL import Image
 
 from ..model.scene import SceneError
-from .errors import RunError
+from .explore import RunError
 
 LABEL = {"description_width": "100px"}
 
