@@ -25,11 +25,15 @@ from pathlib import Path
 import netgen.meshing
 from netgen.occ import Glue, TopoDS_Shape
 
-from .cache import cache_dir
 from .kinds import Kind, register
 from .part_files import MESH_FILES, SHAPE_FILES, Part, PartError, describe, read_mesh, read_shape, solid_regions
 
-__all__ = ["Part", "PartError", "describe", "fingerprint", "read_mesh", "read_shape", "store"]
+__all__ = ["Part", "PartError", "cache_dir", "describe", "fingerprint", "read_mesh", "read_shape", "store"]
+
+
+def cache_dir() -> Path:
+    """``$NGWEAR_CACHE``, or ``~/.cache/ngwear``: where meshes and the parts given in Python are kept."""
+    return Path(os.environ.get("NGWEAR_CACHE", Path.home() / ".cache" / "ngwear"))
 
 
 def store(part) -> tuple[str, str]:

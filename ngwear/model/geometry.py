@@ -20,8 +20,7 @@ import scipy.sparse as sp
 from netgen.occ import OCCGeometry
 from scipy.sparse.csgraph import connected_components
 
-from .cache import cache_dir
-from .cad import read_mesh
+from .cad import cache_dir, read_mesh
 from .keys import Level, SceneError
 from .kinds import KINDS
 
