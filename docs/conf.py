@@ -34,7 +34,7 @@ extensions = [
     "ngwear_reference",
 ]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
-exclude_patterns = ["_build", "node_modules", "examples", "**/out"]
+exclude_patterns = ["_build", "node_modules", "demos", "**/out"]
 root_doc = "index"
 
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist", "attrs_inline"]
@@ -54,7 +54,7 @@ mathjax_path = "mathjax/tex-chtml.js"
 mathjax3_config = {"tex": {"tags": "ams"}}
 
 sphinx_gallery_conf = {
-    "examples_dirs": "examples",
+    "examples_dirs": "demos",
     "gallery_dirs": "gallery",
     "filename_pattern": r"/\d\d_",
     "ignore_pattern": r"__init__\.py|conftest\.py",

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The documentation site: docs/ (Markdown, the executed gallery of docs/examples, the reference generated from the
+# The documentation site: docs/ (Markdown, the executed gallery of docs/demos, the reference generated from the
 # code) → docs/_build/html/index.html, warnings as errors.  Open that file in a browser; nothing is fetched online.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -74,7 +74,7 @@ def test_site_builds_with_warnings_as_errors(site):
     html, record = site
     pages = sorted(html.rglob("*.html"))
     print(f"docs build: {record['seconds']} s, {len(pages)} HTML pages in {html}")
-    gallery = sorted((DOCS / "examples").glob("[0-9][0-9]_*.py"))
+    gallery = sorted((DOCS / "demos").glob("[0-9][0-9]_*.py"))
     for example in gallery:
         text = (html / "gallery" / f"{example.stem}.html").read_text()
         assert "sphx-glr-single-img" in text or "sphx-glr-multi-img" in text, f"{example.name} shows no picture"

@@ -1,4 +1,4 @@
-"""The gallery's examples (docs/examples) run, and each one's number agrees with a closed form or an independent run.
+"""The gallery's examples (docs/demos) run, and each one's number agrees with a closed form or an independent run.
 
 Each example is executed as a script in a temporary folder (it writes into ``out/`` there); the check takes
 the example's variables and compares one number with a value computed here from the theory or by another run,
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from conftest import ROOT
 
-EXAMPLES = ROOT / "docs" / "examples"
+DEMOS = ROOT / "docs" / "demos"
 
 
 def archard_identity(g):
@@ -101,7 +101,7 @@ MARKS = {"07_explorer": [pytest.mark.browser]}
 
 
 def test_every_example_has_a_check():
-    assert sorted(CHECKS) == sorted(p.stem for p in EXAMPLES.glob("[0-9][0-9]_*.py"))
+    assert sorted(CHECKS) == sorted(p.stem for p in DEMOS.glob("[0-9][0-9]_*.py"))
 
 
 @pytest.mark.slow
@@ -113,7 +113,7 @@ def test_example(name, tmp_path, monkeypatch):
 
     monkeypatch.chdir(tmp_path)
     try:
-        variables = runpy.run_path(str(EXAMPLES / f"{name}.py"), run_name="__main__")
+        variables = runpy.run_path(str(DEMOS / f"{name}.py"), run_name="__main__")
         value, expected, tolerance = CHECKS[name](variables)
     finally:
         plt.close("all")
