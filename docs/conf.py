@@ -1,6 +1,6 @@
 """Sphinx configuration of ngwear's documentation site (``bash scripts/docs.sh`` → ``docs/_build/html``).
 
-Markdown pages (MyST), an executed gallery of plain Python examples (Sphinx-Gallery), the reference generated
+Markdown pages (MyST), an executed gallery of plain Python demos (Sphinx-Gallery), the reference generated
 from the code (scene keys, CLI, API, result files).  Offline: the theme's fonts and scripts are its own, and
 MathJax is served from the build (npm package ``mathjax``, installed by ``scripts/bootstrap.sh``).
 """

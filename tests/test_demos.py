@@ -1,7 +1,7 @@
-"""The gallery's examples (docs/demos) run, and each one's number agrees with a closed form or an independent run.
+"""The gallery's demos (docs/demos) run, and each one's number agrees with a closed form or an independent run.
 
-Each example is executed as a script in a temporary folder (it writes into ``out/`` there); the check takes
-the example's variables and compares one number with a value computed here from the theory or by another run,
+Each demo is executed as a script in a temporary folder (it writes into ``out/`` there); the check takes
+the demo's variables and compares one number with a value computed here from the theory or by another run,
 never with a stored output.  The docs build runs the same files (``tests/test_docs.py``).
 """
 import runpy
@@ -100,13 +100,13 @@ CHECKS = {
 MARKS = {"07_explorer": [pytest.mark.browser]}
 
 
-def test_every_example_has_a_check():
+def test_every_demo_has_a_check():
     assert sorted(CHECKS) == sorted(p.stem for p in DEMOS.glob("[0-9][0-9]_*.py"))
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", [pytest.param(n, marks=MARKS.get(n, [])) for n in CHECKS])
-def test_example(name, tmp_path, monkeypatch):
+def test_demo(name, tmp_path, monkeypatch):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -118,4 +118,4 @@ def test_example(name, tmp_path, monkeypatch):
     finally:
         plt.close("all")
     assert value == pytest.approx(expected, **tolerance), CHECKS[name].__doc__
-    assert list((tmp_path / "out").rglob("*.png")), "the example draws its pictures"
+    assert list((tmp_path / "out").rglob("*.png")), "the demo draws its pictures"
