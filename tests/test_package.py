@@ -27,7 +27,7 @@ from conftest import ROOT
 
 import ngwear
 from ngwear.model import examples
-from ngwear.numerics.forms import initial_distance
+from ngwear.numerics.points import initial_distance
 
 
 def run(*args, cwd, env=None, timeout=300) -> subprocess.CompletedProcess:

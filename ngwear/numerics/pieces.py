@@ -21,17 +21,11 @@ import scipy.sparse as sp
 
 from ..model.materials import region_laws
 from ..model.scene import Scene
-from .forms import (
-    contact_points,
-    displacement_space,
-    elastic_integrand,
-    initial_distance,
-    load_form,
-    tangent_form,
-)
+from .forms import displacement_space, elastic_integrand, load_form, tangent_form
 from .kink import Kink, kinked
 from .operators import ElasticOperator, UpdatedOperator
 from .plate import PlateCoupling, plate_modes
+from .points import contact_points, initial_distance
 from .stiffness import GradientBlocks, assembled
 
 LOW_RANK = 32

@@ -37,7 +37,7 @@ import numpy as np
 
 from ..model.kinematics import Slip
 from ..model.scene import Scene
-from ..numerics.forms import initial_distance
+from ..numerics.points import initial_distance
 from ..numerics.solver import NewtonRecord
 from .folder import NoSpace, no_space, replacing
 from .history import History
