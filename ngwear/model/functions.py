@@ -39,15 +39,19 @@ def resolve(text: str, key: str) -> Callable:
     return _FUNCTIONS[text]
 
 
-FUNCTION_KEYS = (("contact", "friction"), ("contact", "wear"), ("contact", "stiffness"), ("material", "energy"))
-"""The keys (table, key) that take a Python function; ``material.regions.<region>.energy`` too."""
+FUNCTION_KEYS = (("contact", "friction"), ("contact", "wear"), ("contact", "stiffness"))
+"""The contact keys (table, key) that take a Python function; so do the material constants declared ``function``
+(``material.energy``, ``material.regions.<region>.energy``)."""
 
 
 def tokenised(data: dict) -> None:
     """Replace the functions given for :data:`FUNCTION_KEYS` in raw scene tables by their tokens (in place)."""
+    from .materials import constants
+
     tables = [(data.get(table), name) for table, name in FUNCTION_KEYS]
-    regions = data.get("material", {}).get("regions") if isinstance(data.get("material"), dict) else None
-    tables += [(region, "energy") for region in (regions or {}).values()]
+    material = data.get("material") if isinstance(data.get("material"), dict) else {}
+    regions = material.get("regions") if isinstance(material.get("regions"), dict) else {}
+    tables += [(table, c.name) for table in (material, *regions.values()) for c in constants() if c.function]
     for table, name in tables:
         if isinstance(table, dict) and callable(table.get(name)):
             table[name] = token(table[name])

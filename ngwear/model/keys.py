@@ -10,6 +10,7 @@ grouping of cases and the explorer all read this one declaration (:func:`ngwear.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 from enum import IntEnum
 from typing import Annotated, Any
 
@@ -70,6 +71,36 @@ def key(default: Any, doc: str, *, reuse: Level, shown: str | None = None, allow
     """
     extra = {k: v for k, v in (("shown", shown), ("allowed", allowed)) if v is not None}
     return Field(default, description=doc, json_schema_extra={**extra, "invalidates": reuse.name.lower()}, **limits)
+
+
+@dataclass(frozen=True, eq=False)
+class Constant:
+    """A constant of a law, declared with the law (:mod:`ngwear.model.materials`, :mod:`ngwear.model.compliance`).
+
+    It is a scene key of the law's table (``material.young``, ``contact.exponent``): ``name``, ``type``, ``doc``,
+    ``default`` (None: optional), the :class:`Level` a change invalidates and its limits (pydantic's ``ge``, ``gt``,
+    ``le``; ``shown`` and ``allowed`` as for :func:`key`); ``function``: in Python a function, kept by its token
+    (:mod:`ngwear.model.functions`); and how a summary shows it: ``symbol`` (None: not a number it lists) and
+    ``modulus`` (a stiffness: Pa in an SI scene).
+    """
+
+    name: str
+    type: Any
+    doc: str
+    default: Any = None
+    reuse: Level = Level.STIFFNESS
+    symbol: str | None = None
+    modulus: bool = False
+    shown: str | None = None
+    allowed: str | None = None
+    function: bool = False
+    limits: dict = field(default_factory=dict)
+
+    def declaration(self) -> tuple[Any, Any]:
+        """(annotation, :func:`key`) of the constant's field in its table."""
+        annotation = self.type if self.default is not None else self.type | None
+        return annotation, key(self.default, self.doc, reuse=self.reuse, shown=self.shown, allowed=self.allowed,
+                               **self.limits)
 
 
 def level_of(info) -> Level:

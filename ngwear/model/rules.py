@@ -14,7 +14,7 @@ from .coefficients import bound, describe
 from .compliance import largest_slope
 from .keys import SceneError, range_text
 from .kinds import KINDS, check_features, owners
-from .materials import check_table, law_of
+from .materials import LAWS, check_table
 
 
 def check(scene) -> None:
@@ -112,8 +112,7 @@ def _check_material(scene) -> None:
         for name, table in material.by_region(regions).items()}
     for key, table in tables.items():
         check_table(table, key)
-        if table.kind != "energy":
-            law_of(table, scene.dim, scene.contact.direction or (0.0,) * (scene.dim - 1) + (-1.0,), key)
+        LAWS[table.kind].check(table, scene.dim, scene.contact.direction or (0.0,) * (scene.dim - 1) + (-1.0,), key)
         if table.axis is not None:
             vector(table.axis, f"{key}.axis", scene.dim)
 

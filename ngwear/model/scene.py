@@ -23,8 +23,8 @@ from pydantic import ConfigDict, ValidationError, model_validator
 from . import cad, examples, functions, messages, rules
 from .keys import Level, SceneError, level_of
 from .kinds import KINDS
+from .materials import default_constants
 from .sections import (
-    PARAMETRISATIONS,
     Contact,
     Foundation,
     Geometry,
@@ -231,10 +231,9 @@ def _prepared(data: dict[str, Any]) -> dict[str, Any]:
     _default(data, "contact", "direction", [0.0] * (dim - 1) + [-1.0])
     _default(data, "foundation", "velocity", [1.0] + [0.0] * (dim - 1))
     material = data.get("material", {})
-    others = {k for group in PARAMETRISATIONS for k in group} - {"lame_lambda", "lame_mu", "compaction_modulus"}
-    if isinstance(material, dict) and not others & set(material) and not material.get("regions"):
-        _default(data, "material", "lame_lambda", 1.0)         # the paper's dimensionless λ = η = 1
-        _default(data, "material", "lame_mu", 1.0)
+    if isinstance(material, dict) and not material.get("regions"):
+        for name, value in default_constants(material).items():     # the paper's dimensionless λ = η = 1
+            _default(data, "material", name, value)
     time = data.get("time", {}) if isinstance(data.get("time", {}), dict) else {}
     final = time.get("T", 1.0)
     if isinstance(final, (int, float)) and not isinstance(final, bool) and final > 0:

@@ -10,12 +10,13 @@ from __future__ import annotations
 import math
 from typing import Literal, get_args, get_origin
 
-from pydantic import Field, field_validator
+from pydantic import Field, create_model, field_validator
 
 from . import cad, shapes  # noqa: F401 - they register the part kinds
 from .coefficients import normalised
 from .keys import Flag, Level, Number, SceneError, Section, Table, Vector, Whole, key
 from .kinds import KINDS, ordered
+from .materials import LAWS, constants, groups, lame
 
 KindName = Literal[tuple(kind.name for kind in ordered())]
 Coefficient = float | str | tuple[float, ...]
@@ -103,62 +104,33 @@ class MeshSpec(Section):
                                  ge=0.1, le=1.0)
 
 
-class MaterialLaw(Section):
-    """One material: its ``law`` and constants (σ = F(ε), paper H(F)); see :mod:`ngwear.model.materials`."""
+class MaterialBase(Section):
+    """The keys of one material that do not depend on its law: the ``law``; :data:`MaterialLaw` adds the laws'."""
 
-    law: Literal["linear", "transversely_isotropic", "compaction", "energy"] | None = key(
-        None, "`linear` Hooke σ = 2η ε + λ tr ε I; `transversely_isotropic` (the `*_plane`, `*_axis` keys); "
-        "`compaction` Hooke stiffened in compression, σ += β min(tr ε, 0) I; `energy` σ = ∂ψ/∂ε of a Python "
-        "function ψ(ε) (`material.energy`)", reuse=Level.STIFFNESS, shown="linear")
-    lame_lambda: Number | None = key(None, "Lamé λ (Hooke: σ = 2η ε + λ tr ε I)", reuse=Level.STIFFNESS, shown="1",
-                                     ge=0)
-    lame_mu: Number | None = key(None, "Lamé η", reuse=Level.STIFFNESS, shown="1", gt=0)
-    young: Number | None = key(None, "Young's modulus E (instead of Lamé, with `material.poisson`)",
-                               reuse=Level.STIFFNESS, gt=0)
-    poisson: Number | None = key(None, "Poisson's ratio ν", reuse=Level.STIFFNESS, gt=-1, le=0.499)
-    young_plane: Number | None = key(None, "`transversely_isotropic`: E_p, Young's modulus in the plane ⟂ axis",
-                                     reuse=Level.STIFFNESS, gt=0)
-    young_axis: Number | None = key(None, "`transversely_isotropic`: E_a, Young's modulus along the axis",
-                                    reuse=Level.STIFFNESS, gt=0)
-    poisson_plane: Number | None = key(None, "`transversely_isotropic`: ν_p, of a strain in the plane under stress "
-                                       "in the plane", reuse=Level.STIFFNESS, allowed="|ν_p| < 1")
-    poisson_axis: Number | None = key(None, "`transversely_isotropic`: ν_ap, of a strain in the plane under stress "
-                                      "along the axis", reuse=Level.STIFFNESS,
-                                      allowed="ν_ap² < (1 − ν_p) E_a / (2 E_p)")
-    shear_axis: Number | None = key(None, "`transversely_isotropic`: G_a, the shear modulus of planes containing "
-                                    "the axis", reuse=Level.STIFFNESS, gt=0)
-    axis: Vector | None = key(None, "`transversely_isotropic`: the symmetry axis", reuse=Level.STIFFNESS,
-                              shown="`contact.direction`", allowed="non-zero vector of d numbers")
-    compaction_modulus: Number | None = key(None, "`compaction`: β, the extra bulk stiffness in compression "
-                                            "(σ = 2η ε + λ tr ε I + β min(tr ε, 0) I)", reuse=Level.STIFFNESS, ge=0)
-    energy: str | None = key(None, "`energy` (Python only): a function ψ(ε) of the strain tensor returning an "
-                             "NGSolve expression", reuse=Level.STIFFNESS, shown="—", allowed="a Python function")
+    law: Literal[tuple(LAWS)] | None = key(None, "; ".join(f"`{name}` {law.doc}" for name, law in LAWS.items()),
+                                           reuse=Level.STIFFNESS, shown="linear")
 
     @property
     def kind(self) -> str:
         """The law (``linear`` when none is given)."""
-        return self.law or "linear"
+        return self.law or next(iter(LAWS))
 
     @property
     def lame(self) -> tuple[float, float]:
         """(λ, η) of the isotropic constants; converts (E, ν) when those are given."""
-        if self.young is not None:
-            e, nu = self.young, self.poisson
-            return e * nu / ((1 + nu) * (1 - 2 * nu)), e / (2 * (1 + nu))
-        return self.lame_lambda, self.lame_mu
+        return lame(self)
 
     @property
     def given(self) -> bool:
         """Whether the table gives any constant (or ψ)."""
-        return any(getattr(self, name) is not None for group in PARAMETRISATIONS for name in group)
+        return any(getattr(self, c.name) is not None for c in constants())
 
 
-PARAMETRISATIONS = (("lame_lambda", "lame_mu"), ("young", "poisson"),
-                    ("young_plane", "young_axis", "poisson_plane", "poisson_axis", "shear_axis", "axis"),
-                    ("compaction_modulus",), ("energy",))
-"""The ways to give a material's constants.  A region's table that gives constants of other ways than
-``[material]`` (or another ``law``) replaces ``[material]``'s constants and law."""
-_CONSTANT_KEYS = {k for group in PARAMETRISATIONS for k in group}
+MaterialLaw = create_model("MaterialLaw", __base__=MaterialBase, __module__=__name__,
+                           __doc__="One material: its ``law`` and constants (σ = F(ε), paper H(F)); see "
+                                   ":mod:`ngwear.model.materials`.",
+                           **{c.name: c.declaration() for c in constants()})
+"""One material's table: :class:`MaterialBase` and the constants the laws declare (:mod:`ngwear.model.materials`)."""
 
 
 class Material(MaterialLaw):
@@ -173,11 +145,12 @@ class Material(MaterialLaw):
     def by_region(self, names) -> dict[str, MaterialLaw]:
         """The material of each of the regions ``names``: its own table merged over this default."""
         default = self.model_dump(exclude_none=True, exclude={"regions"})
-        mine = {k for group in PARAMETRISATIONS if set(group) & set(default) for k in group}
+        mine = {k for group in groups() if set(group) & set(default) for k in group}
+        every = {c.name for c in constants()}
         out = {}
         for name in names:
             own = self.regions[name].model_dump(exclude_none=True) if name in self.regions else {}
-            alien = {k for k in own if k in _CONSTANT_KEYS and k not in mine}
+            alien = {k for k in own if k in every and k not in mine}
             replaced = own.get("law", default.get("law")) != default.get("law") or alien
             out[name] = MaterialLaw.model_validate(own if replaced else {**default, **own})
         return out

@@ -1,14 +1,14 @@
-"""The compaction law's kink as sparse algebra: its forces and tangents without a symbolic assembly.
+"""A kinked law's kink as sparse algebra: its forces and tangents without a symbolic assembly.
 
-The compaction law (:class:`ngwear.model.materials.Compaction`) is Hooke's law plus a term in tr ε alone,
-ψ = ψ_lin(ε) + β/2 min(tr ε, 0)².  With D the divergence at the quadrature points x_q of the regions with
-β > 0, (D u)_q = tr ε(u)(x_q), and c_q = β w_q their weights,
+A kinked law (``law.kinked``: the compaction law, :class:`ngwear.model.materials.Compaction`) is a linear law plus a
+term in tr ε alone, ψ = ψ_lin(ε) + β/2 min(tr ε, 0)².  With D the divergence at the quadrature points x_q of the
+regions with β > 0, (D u)_q = tr ε(u)(x_q), and c_q = β w_q their weights,
 
     F(u) = K_lin u + Dᵀ (c ∘ min(D u, 0)),      F'(u) = K_lin + Dᵀ diag(c ∘ [D u ≤ 0]) D,
 
-K_lin the stiffness of the laws' linear parts.  For P1 elements tr ε is constant on an element, so one point per
-element (NGSolve's ``IntegrationRuleSpace`` of order 0) integrates both exactly: the same numbers as the symbolic
-forms, a sparse product instead of an assembly (:func:`kinked` says when it applies).
+K_lin the stiffness of the laws' linear parts (``law.linear_part()``).  For P1 elements tr ε is constant on an
+element, so one point per element (NGSolve's ``IntegrationRuleSpace`` of order 0) integrates both exactly: the same
+numbers as the symbolic forms, a sparse product instead of an assembly (:func:`kinked` says when it applies).
 """
 from __future__ import annotations
 
@@ -16,25 +16,24 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from ..model.materials import Compaction
 from .stiffness import assembled
 
 
 def kinked(fes: ngs.FESpace, laws: dict) -> bool:
-    """Whether the nonlinear laws are all compaction laws on P1 elements (then :class:`Kink` is exact)."""
+    """Whether the nonlinear laws are all kinked laws on P1 elements (then :class:`Kink` is exact)."""
     nonlinear = [law for law in laws.values() if not law.is_linear]
-    return bool(nonlinear) and fes.globalorder == 1 and all(isinstance(law, Compaction) for law in nonlinear)
+    return bool(nonlinear) and fes.globalorder == 1 and all(law.kinked for law in nonlinear)
 
 
 class Kink:
-    """D and c of the compaction regions (see the module): the kink's forces, tangents and branches."""
+    """D and c of the kinked regions (see the module): the kink's forces, tangents and branches."""
 
     def __init__(self, fes: ngs.FESpace, laws: dict):
         mesh = fes.mesh
         points = ngs.comp.IntegrationRuleSpace(mesh, order=0)
         rules = points.GetIntegrationRules()
         u, q = fes.TrialFunction(), points.TestFunction()
-        beta = {region: law.beta for region, law in laws.items() if isinstance(law, Compaction) and law.beta > 0}
+        beta = {region: law.beta for region, law in laws.items() if law.kinked and law.beta > 0}
         divergence = ngs.BilinearForm(trialspace=fes, testspace=points)
         divergence += ngs.div(u) * q * ngs.dx(definedon=mesh.Materials("|".join(beta)), intrules=rules)
         weights = ngs.BilinearForm(points)

@@ -150,7 +150,7 @@ def monotonicity(disc: Discretization) -> float:
 
     A law without a closed form (a Python ψ) counts with its tangent at ε = 0.
     """
-    return min(law.monotonicity if hasattr(law, "monotonicity") else law.tangent_at_zero().monotonicity
+    return min(law.tangent_at_zero().monotonicity if law.estimated else law.monotonicity
                for law in disc.elastic.laws.values())
 
 

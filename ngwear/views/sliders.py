@@ -7,7 +7,8 @@ and keeps the foundation's direction, ``"force"`` the plate force's magnitude an
 counterface's ‖ω‖, each in its starting direction).  Ranges are absolute or relative to the starting scene's
 value, or to one of its :data:`MEASURES` (``relative = "shear"``: η of ``[material]``; ``"thickness"``: the
 part's height above Γ_C).  Which sliders a scene gets depends on its ``geometry.kind`` (the ``[scenes]`` table)
-and, for a slider with a ``law``, on the law of its ``[material]``.
+and, for a slider of a material constant (``material.NAME``), on whether the law of its ``[material]`` takes it
+(:func:`ngwear.model.materials.takes`).
 A new scalar parameter is a new ``[slider.NAME]`` entry with its ``key`` and a name in ``[scenes]``.
 
 A slider whose key is a contact coefficient that the scene gives as a field (an expression in x, y, z or a list of
@@ -28,6 +29,7 @@ import numpy as np
 
 from ..model.functions import is_token
 from ..model.kinds import KINDS
+from ..model.materials import takes
 from ..model.scene import Scene, SceneError
 
 log = logging.getLogger(__name__)
@@ -75,7 +77,8 @@ def sliders_for(scene: Scene) -> tuple[Slider, ...]:
     out = []
     for name in names:
         spec = data["slider"][name]
-        if "law" in spec and scene.material.kind != spec["law"]:
+        key = spec.get("key", "")
+        if key.startswith("material.") and not takes(scene.material.kind, key.removeprefix("material.")):
             continue
         lo, hi, step = spec["range"]
         start = _read(scene, spec.get("key"), spec.get("scale"))
@@ -222,8 +225,8 @@ def scaled_backing(base: Scene, size: float) -> dict:
 
 
 def shear(scene: Scene) -> float:
-    """η of ``[material]`` (0 if it gives no isotropic constants)."""
-    return float(scene.material.lame[1] or 0.0) if scene.material.kind in ("linear", "compaction") else 0.0
+    """η of ``[material]`` (0 if its law takes no isotropic constants)."""
+    return float(scene.material.lame[1] or 0.0) if takes(scene.material.kind, "lame_mu") else 0.0
 
 
 def thickness(scene: Scene) -> float:
