@@ -5,7 +5,7 @@ import pytest
 from energy_minimum import energy_form, minimise
 from netgen.occ import Box, Glue, OCCGeometry, Pnt, Rectangle, X, Y, Z
 
-from ngwear.model.compliance import Compliance
+from ngwear.model.compliance import Linear
 from ngwear.model.materials import Compaction, Isotropic, TransverselyIsotropic
 from ngwear.numerics.forms import contact_ds
 
@@ -45,7 +45,7 @@ def test_compaction_column_on_a_compliant_foundation(dim):
     law = Compaction(LAM, ETA, BETA, dim)
     s = 0.3
     down = (0,) * (dim - 1) + (-1,)
-    form = energy_form(fes, law, tractions={"top": ngs.CF((0,) * (dim - 1) + (-s,))}, compliance=Compliance(L),
+    form = energy_form(fes, law, tractions={"top": ngs.CF((0,) * (dim - 1) + (-s,))}, compliance=Linear(L),
                        direction=down, contact_measure=contact_ds(dim, 1))
     gfu = ngs.GridFunction(fes)
     record = minimise(form, gfu, tol=1e-12)
@@ -60,7 +60,7 @@ def test_compaction_column_on_a_compliant_foundation(dim):
     elastic = Isotropic(LAM + BETA, ETA, dim)                 # the same problem with Hooke(λ + β): the same answer
     check = ngs.GridFunction(fes)
     minimise(energy_form(fes, elastic, tractions={"top": ngs.CF((0,) * (dim - 1) + (-s,))},
-                         compliance=Compliance(L), direction=down), check, tol=1e-12)
+                         compliance=Linear(L), direction=down), check, tol=1e-12)
     assert np.abs(check.vec.FV().NumPy() - gfu.vec.FV().NumPy()).max() < 1e-10 * abs(top)
 
 
@@ -99,7 +99,7 @@ def test_regions_and_anisotropy_of_the_reference_solver():
     s = 0.1
     gfu = ngs.GridFunction(fes)
     record = minimise(energy_form(fes, {"body": soft, "backing": stiff}, tractions={"top": (0, 0, -s)},
-                                  compliance=Compliance(L), direction=(0, 0, -1)), gfu, tol=1e-12)
+                                  compliance=Linear(L), direction=(0, 0, -1)), gfu, tol=1e-12)
     assert record.converged and record.energy < 0
     top = gfu(mesh(0.5, 0.5, H))[2]
     assert top == pytest.approx(-s * (1 / 1.0 + (H - 1) / 100.0 + 1 / L), rel=1e-10)

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from enum import IntEnum
 from typing import Annotated, Any
 
+import numpy as np
 from pydantic import AllowInfNan, BaseModel, BeforeValidator, ConfigDict, Field, Strict
 
 
@@ -50,6 +51,14 @@ Whole = Annotated[int, BeforeValidator(_integral), Strict()]
 Flag = Annotated[bool, Strict()]
 Vector = tuple[Number, ...]
 Table = tuple[tuple[Number, Number], ...]
+
+
+def piecewise_linear(table: Table, t: float) -> float:
+    """Value at t of the piecewise-linear function through a time table ``[(t, f), ...]`` (1 for an empty table)."""
+    if not table:
+        return 1.0
+    ts, fs = zip(*table)
+    return float(np.interp(t, ts, fs))
 
 
 def range_text(lo=None, hi=None, lo_open=False, hi_open=False) -> str:

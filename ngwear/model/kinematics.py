@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .compliance import piecewise_linear
+from .keys import piecewise_linear
 
 RELATIVE_ZERO = 1e-12
 """A tangential speed at most this fraction of the largest one counts as zero (points on the axis)."""

@@ -11,7 +11,7 @@ import math
 from pathlib import Path
 
 from .coefficients import bound, describe
-from .compliance import largest_slope
+from .compliance import COMPLIANCES, largest_slope
 from .keys import SceneError, range_text
 from .kinds import KINDS, check_features, owners
 from .materials import LAWS, check_table
@@ -120,8 +120,11 @@ def _check_material(scene) -> None:
 def _check_contact(scene) -> None:
     c = scene.contact
     vector(c.direction, "contact.direction", scene.dim)
-    if c.law == "linear" and c.exponent != 1:
-        raise SceneError(f"contact.exponent: must be 1 with contact.law = 'linear' (got {c.exponent!r})")
+    for constant in [k for law in COMPLIANCES.values() for k in law.constants if k not in COMPLIANCES[c.law].constants]:
+        value = getattr(c, constant.name)
+        if value != constant.default:       # another law's key
+            raise SceneError(f"contact.{constant.name}: must be {constant.default:g} with contact.law = {c.law!r} "
+                             f"(got {value!r})")
     slope = largest_slope(c)
     if slope is not None and not slope <= BIG:
         raise SceneError(f"contact.stiffness: the layer's largest slope L·e·g^(e−1) must be <= {BIG:g} (got L = "

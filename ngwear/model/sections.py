@@ -14,6 +14,7 @@ from pydantic import Field, create_model, field_validator
 
 from . import cad, shapes  # noqa: F401 - they register the part kinds
 from .coefficients import normalised
+from .compliance import COMPLIANCES
 from .keys import Flag, Level, Number, SceneError, Section, Table, Vector, Whole, key
 from .kinds import KINDS, ordered
 from .materials import LAWS, constants, groups, lame
@@ -156,13 +157,23 @@ class Material(MaterialLaw):
         return out
 
 
-class Contact(Section):
-    """Normal compliance p, soft-layer thickness g, friction μ, wear κ, contact direction ν (a unit vector)."""
+class ContactLaw(Section):
+    """The compliance p of ``[contact]``: its ``law`` and stiffness L; :data:`ContactLawKeys` adds the laws' own keys."""
 
-    law: Literal["linear", "power"] = key("linear", "compliance p: `linear` L r₊, `power` L r₊^e", reuse=Level.NOTHING)
+    law: Literal[tuple(COMPLIANCES)] = key(next(iter(COMPLIANCES)), "compliance p: " + ", ".join(
+        f"`{name}` {law.doc}" for name, law in COMPLIANCES.items()), reuse=Level.NOTHING)
     stiffness: Coefficient = key(10.0, "L, a number or a field over Γ_C (as `contact.friction`)", reuse=Level.NOTHING,
                                  allowed="> 0 at every contact point")
-    exponent: Number = key(1.0, "e (power law only)", reuse=Level.NOTHING, ge=1, le=10)
+
+
+ContactLawKeys = create_model("ContactLawKeys", __base__=ContactLaw, __module__=__name__,
+                              **{c.name: c.declaration() for law in COMPLIANCES.values() for c in law.constants})
+"""The compliance's keys: :class:`ContactLaw` and those the laws declare (:mod:`ngwear.model.compliance`)."""
+
+
+class Contact(ContactLawKeys):
+    """Normal compliance p, soft-layer thickness g, friction μ, wear κ, contact direction ν (a unit vector)."""
+
     gap: Number = key(0.2, "g, thickness of the soft layer", reuse=Level.NOTHING, gt=0)
     friction: Coefficient = key(0.0, "μ: a number, or a field over Γ_C: an expression in x, y, z with + − * / **, "
                                 "sqrt, exp, log, sin, cos, atan2, hypot, abs, min, max, pi and where(condition, a, b) "

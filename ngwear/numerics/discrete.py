@@ -17,9 +17,9 @@ import ngsolve as ngs
 import numpy as np
 
 from ..model.coefficients import Coefficients
-from ..model.compliance import compliance_from, piecewise_linear
+from ..model.compliance import compliance_from
 from ..model.geometry import build_mesh
-from ..model.keys import Level, SceneError
+from ..model.keys import Level, SceneError, piecewise_linear
 from ..model.kinematics import Slip
 from ..model.materials import region_laws, young_along
 from ..model.rules import BIG

@@ -31,7 +31,7 @@ def worn(law: Compliance, a: np.ndarray, c: np.ndarray, z: np.ndarray) -> np.nda
     if not np.any(c):
         return a
     r0 = z - a
-    if law.exponent == 1.0:
+    if law.is_linear:
         return a + c * law.stiffness * np.maximum(r0, 0.0) / (1 + c * law.stiffness)
     lo, hi = a.copy(), np.maximum(z, a)
     w = a + c * law(r0) / (1 + c * law.derivative(r0))  # one Newton step from W = a
@@ -61,7 +61,7 @@ class WearIntegrator:
         law, a, c = self.law, self.a, self.c
         if not c.any():
             return PointLaw(lambda z: law(z - a), lambda z: law.derivative(z - a))
-        if law.exponent == 1.0:  # closed form p = L (z − a)₊ / (1 + c L), free of cancellation in z − W
+        if law.is_linear:  # closed form p = L (z − a)₊ / (1 + c L), free of cancellation in z − W
             scale = law.stiffness / (1 + c * law.stiffness)
             return PointLaw(lambda z: scale * np.maximum(z - a, 0.0), lambda z: np.where(z >= a, scale, 0.0))
 

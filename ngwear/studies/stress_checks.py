@@ -10,7 +10,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..model.compliance import piecewise_linear
+from ..model.keys import piecewise_linear
 from ..results.invariants import TOL
 
 
