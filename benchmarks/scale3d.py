@@ -69,6 +69,7 @@ def run_ngwear(kind: str, maxh: float, mode: str, remesh: bool, order: int = 1) 
     import ngwear
     from ngwear.model.geometry import build_mesh, cache_dir, mesh_key
     from ngwear.numerics.discrete import Discretization
+    from ngwear.numerics.problem import Problem
 
     scene = scene_of(kind, maxh, order)
     cached = (cache_dir() / "meshes" / f"{mesh_key(scene)}.vol").is_file()
@@ -76,8 +77,8 @@ def run_ngwear(kind: str, maxh: float, mode: str, remesh: bool, order: int = 1) 
     mesh = build_mesh(scene, use_cache=not remesh)
     t1 = C.perf()
     products = []
-    respond = Discretization.normal_response
-    Discretization.normal_response = lambda self, *a: (products.append(1), respond(self, *a))[1]
+    respond = Problem.normal_response
+    Problem.normal_response = lambda self, *a: (products.append(1), respond(self, *a))[1]
     disc = Discretization(scene, mesh, contact_solve=mode)
     t2 = C.perf()
     disc.elastic.stiffness  # noqa: B018 - timed stages, in dependency order

@@ -209,7 +209,7 @@ def _uniqueness(result, stop, progress: bool) -> tuple[str, str] | None:
     (:func:`ngwear.studies.theory.uniqueness`), shown as a stage on the progress bar.
     """
     disc = result.discretization
-    if not result.completed or stop.is_set() or disc is None or not disc.coefficients.friction.any():
+    if not result.completed or stop.is_set() or disc is None or not disc.contact.coefficients.friction.any():
         return None
     from scipy.sparse.linalg import ArpackNoConvergence
 

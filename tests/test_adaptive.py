@@ -117,7 +117,7 @@ def test_explicit_steps_stay_below_the_stability_limit(paper):
     scene = paper.replace(**{"time.adaptive": True, "time.tolerance": 0.2, "time.max_step": 1.0,
                              "wear.integrator": "explicit"})
     result = ngwear.simulate(scene, progress=False)
-    alpha = result.discretization.largest_alpha()
+    alpha = result.discretization.contact.largest_alpha()
     assert np.diff(result.times).max() * alpha * largest_slope(scene.contact) <= 1 + 1e-12
     assert result.wear.max() <= scene.contact.gap * (1 + 1e-12)
 

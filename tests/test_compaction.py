@@ -235,7 +235,7 @@ def test_full_residual_has_its_linearisation_as_derivative_across_the_kinks():
     disc.set_nodal(full.w, 0.01 * x)
 
     def friction(scale):
-        for gf, component in zip(full.friction, disc.friction_directions(0.0).T):
+        for gf, component in zip(full.friction, disc.contact.friction_directions(0.0).T):
             disc.set_nodal(gf, scale * component)
 
     friction(1.0)

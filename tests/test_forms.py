@@ -37,10 +37,10 @@ def taylor_remainders(disc, scene, rng, epsilons):
     """
     cf = contact_form(disc.fes, scene, compliance_from(scene.contact), disc.elastic.laws)
     u, w = state_away_from_kink(disc, rng)
-    coefficients = disc.with_scene(scene)       # μ and L of ``scene`` (a change that rebuilds nothing)
+    contact = disc.with_scene(scene).contact       # μ and L of ``scene`` (a change that rebuilds nothing)
     disc.set_nodal(cf.w, w)
-    disc.set_nodal(cf.stiffness, coefficients.coefficients.stiffness)
-    for gf, component in zip(cf.friction, coefficients.friction_directions(0.0).T):
+    disc.set_nodal(cf.stiffness, contact.coefficients.stiffness)
+    for gf, component in zip(cf.friction, contact.friction_directions(0.0).T):
         disc.set_nodal(gf, component)
     delta = u.vec.CreateVector()
     delta.FV().NumPy()[:] = rng.standard_normal(disc.fes.ndof) * disc.body.free
@@ -95,16 +95,16 @@ def test_linearisation_of_the_linear_law_is_exact(disc, friction):
 def test_contact_form_is_nodal(disc):
     """Apply of the contact form alone equals Pᵀ f_c with f_i = m_i p_i (ν + μ n*)."""
     rng = np.random.default_rng(2)
-    cf = contact_form(disc.fes, disc.scene, disc.law, None)
+    cf = contact_form(disc.fes, disc.scene, disc.contact.law, None)
     u, w = state_away_from_kink(disc, rng)
     disc.set_nodal(cf.w, w)
-    disc.set_nodal(cf.stiffness, disc.coefficients.stiffness)
-    for gf, component in zip(cf.friction, disc.friction_directions(0.0).T):
+    disc.set_nodal(cf.stiffness, disc.contact.coefficients.stiffness)
+    for gf, component in zip(cf.friction, disc.contact.friction_directions(0.0).T):
         disc.set_nodal(gf, component)
     res = u.vec.CreateVector()
     cf.form.Apply(u.vec, res)
-    pressure = disc.law(disc.condensation.N @ u.vec.FV().NumPy() - disc.condensation.d0 - w)
-    expected = disc.points.P.T @ disc.contact_forces(pressure, np.zeros_like(pressure), 0.0).ravel()
+    pressure = disc.contact.law(disc.condensation.N @ u.vec.FV().NumPy() - disc.condensation.d0 - w)
+    expected = disc.points.P.T @ disc.contact.forces(pressure, np.zeros_like(pressure), 0.0).ravel()
     assert np.allclose(res.FV().NumPy(), expected, atol=1e-13)
 
 

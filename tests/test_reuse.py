@@ -258,7 +258,7 @@ def test_zero_friction_matrix_is_symmetric(paper_scene):
     disc = Discretization(paper_scene.replace(**{"mesh.maxh": 0.2}))
     H = disc.condensation.normal_compliance
     assert np.allclose(H, H.T, atol=1e-14 * np.abs(H).max())
-    frictional = H + disc.condensation.friction_compliance(disc.n_star(0.0))
+    frictional = H + disc.condensation.friction_compliance(disc.contact.n_star(0.0))
     assert not np.allclose(frictional, frictional.T, atol=1e-6 * np.abs(H).max())
 
 

@@ -52,7 +52,7 @@ def test_archard_identity_with_per_point_alpha(box, integrator):
     scene = spun(box, 1.0, **{"wear.integrator": integrator, "foundation.center": [0.2, 0.1, 0.0]})
     result = ngwear.simulate(scene, progress=False)
     assert result.completed
-    alpha = np.array([result.discretization.alpha(t) for t in result.times])
+    alpha = np.array([result.discretization.contact.alpha(t) for t in result.times])
     assert alpha.min() < 0.2 * alpha.max()                # the slip really varies over Γ_C
     th_old, th_new = {"explicit": (1, 0), "implicit": (0, 1), "trapezoidal": (0.5, 0.5)}[integrator]
     rate = alpha * result.pressure
@@ -69,7 +69,7 @@ def test_points_on_the_axis_neither_rub_nor_wear(box):
     assert len(corner) == 1 and result.pressure[-1, corner[0]] > 0
     assert result.wear[:, corner[0]].max() == 0.0
     disc = result.discretization
-    assert disc.alpha(0.5)[corner[0]] == 0 and not disc.n_star(0.5)[corner[0]].any()
+    assert disc.contact.alpha(0.5)[corner[0]] == 0 and not disc.contact.n_star(0.5)[corner[0]].any()
     others = np.delete(np.arange(len(result.weights)), corner)
     assert (result.wear[-1, others][result.pressure[-1, others] > 0] > 0).all()
 
@@ -94,7 +94,7 @@ def test_speed_reversal_flips_the_friction_direction(box):
     result = ngwear.simulate(scene, progress=False)
     assert result.completed
     disc = result.discretization
-    assert np.array_equal(disc.n_star(0.9), -disc.n_star(0.2))
+    assert np.array_equal(disc.contact.n_star(0.9), -disc.contact.n_star(0.2))
     assert np.sign(result.torque[2]) == -np.sign(result.torque[-1]) != 0
 
 

@@ -1,12 +1,12 @@
-"""The discrete problem of a scene: its pieces (:mod:`ngwear.numerics.pieces`) and what it reads at solve time.
+"""The discrete problem of a scene: its pieces (:mod:`ngwear.numerics.pieces`) and their reuse across scenes.
 
 :class:`Discretization` holds a :class:`~ngwear.numerics.pieces.Body` (mesh, space, contact points), an
 :class:`~ngwear.numerics.pieces.Elastic` (stiffness, factorisation), a
-:class:`~ngwear.numerics.pieces.Condensation` (contact direction, compliance, plate) and
-:class:`~ngwear.numerics.pieces.Loads`, one of each and what a scene reads at solve time (the compliance law, the
-foundation's slip v*).  :meth:`Discretization.with_scene` keeps every piece a scene change leaves valid, as
-the keys declare (:meth:`~ngwear.model.scene.Scene.changed_from`): friction, wear, gap, motion and time
-never invalidate anything.
+:class:`~ngwear.numerics.pieces.Condensation` (contact direction, compliance, plate),
+:class:`~ngwear.numerics.pieces.Loads` and a :class:`~ngwear.numerics.contact.Contact` (what the contact points read
+at each step: load factor, slip, coefficients, compliance law), one of each.  :meth:`Discretization.with_scene` keeps
+every piece a scene change leaves valid, as the keys declare (:meth:`~ngwear.model.scene.Scene.changed_from`):
+friction, wear, gap, motion and time never invalidate anything.
 """
 from __future__ import annotations
 
@@ -19,12 +19,11 @@ import numpy as np
 from ..model.coefficients import Coefficients
 from ..model.compliance import compliance_from
 from ..model.geometry import build_mesh
-from ..model.keys import Level, SceneError, piecewise_linear
-from ..model.kinematics import Slip
+from ..model.keys import Level
 from ..model.materials import region_laws, young_along
-from ..model.rules import BIG
 from ..model.scene import Scene
-from .bulk import Anderson, Remainder, change
+from .bulk import Remainder, fixed_point
+from .contact import Contact
 from .forms import contact_form
 from .operators import DENSE_LIMIT, SOFT_LIMIT
 from .pieces import Body, Condensation, Elastic, Loads
@@ -53,7 +52,7 @@ class Reuse:
 
 
 class Discretization:
-    """The pieces of a scene's discrete problem (built lazily, kept across steps and runs) and its solve-time data.
+    """The pieces of a scene's discrete problem: built lazily, kept across steps and runs, reused across scenes.
 
     ``contact_solve`` chooses how the contact problem is condensed: ``dense`` (the rows ν·G of the point
     compliance, then dense Newton algebra), ``krylov`` (matrix-free: every product with the compliance is
@@ -85,10 +84,8 @@ class Discretization:
         ν, N, d₀, the contact compliance and the plate's coupling.
     loads : Loads
         The load vector and its response.
-    law : Compliance
-        The compliance p of the scene.
-    slip : Slip
-        The foundation's velocity at the contact points.
+    contact : Contact
+        What the contact points read at each step: load factor, slip v*, α, μ n*, the compliance p.
     """
 
     def __init__(self, scene: Scene, mesh: ngs.Mesh | None = None, contact_solve: str = "auto"):
@@ -105,23 +102,7 @@ class Discretization:
         self.elastic = elastic or Elastic(scene, body, schur=self._dense(scene, body))
         self.condensation = condensation or Condensation(scene, body, self.elastic)
         self.loads = loads or Loads(scene, body, self.elastic, self.condensation)
-        self.coefficients = Coefficients.of(scene.contact, body.points.coords)
-        self.law = compliance_from(scene.contact, self.coefficients.stiffness)
-        self.slip = Slip(scene.foundation, body.points.coords, self.condensation.nu)
-        self._check_motion()
-
-    def _check_motion(self) -> None:
-        """Friction and wear need the foundation to slide; the fastest wear rate stays finite (the fields' values)."""
-        sliding = self.slip.speed.any()
-        for name, values in (("friction", self.coefficients.friction), ("wear", self.coefficients.wear)):
-            if values.any() and not sliding:
-                raise SceneError(f"foundation.velocity: must slide along Γ_C (a part tangential to contact.direction, "
-                                 f"or foundation.angular_velocity about an axis along it) when contact.{name} > 0 "
-                                 "somewhere")
-        rate = self.largest_rate() * self.scene.time.T
-        if not rate <= BIG:
-            raise SceneError(f"contact.wear: κ‖v*‖·L·T = {rate:.3g} must be <= {BIG:g} at every contact point (the "
-                             "wear of a run this fast overflows)")
+        self.contact = Contact(scene, body.points, self.condensation.nu)
 
     def reuse(self, scene: Scene) -> Reuse:
         """What a discretization of ``scene`` keeps of this one (see :class:`Reuse`; ``str()`` for a status line).
@@ -210,54 +191,6 @@ class Discretization:
         size = len(body.contact_dofs)
         return not (size > DENSE_LIMIT or (size > SOFT_LIMIT and layer_ratio(scene, body) < 1.0))
 
-    def normal_response(self, normal: np.ndarray, directed: np.ndarray, directions: np.ndarray) -> np.ndarray:
-        """ν·u(x_i) under the point forces f_j = normal_j ν + directed_j b_j: H normal + A directed, matrix-free.
-
-        One back-substitution, u = K⁻¹ Pᵀ f; with b_j = ν + μ n*_j it is the product with A = H + μ F.
-        """
-        nu = self.condensation.nu
-        forces = normal[:, None] * nu[None, :] + directed[:, None] * directions
-        return self.condensation.N @ self.elastic.operator.solve(self.points.P.T @ forces.ravel())
-
-    # ---- time-dependent data -----------------------------------------------------------
-    def load_factor(self, t: float) -> float:
-        return piecewise_linear(self.scene.loads.time_table, t)
-
-    def velocity(self, t: float) -> np.ndarray:
-        """v*(x_i, t) at the contact points, shape (n, d)."""
-        return self.slip.velocity(t)
-
-    def largest_alpha(self) -> float:
-        """Largest α = κ ‖v*‖ over the contact points and the speed table's nodes (s_v is piecewise linear)."""
-        return float((self.coefficients.wear * self.slip.speed).max(initial=0.0)) * self._largest_factor()
-
-    def largest_rate(self) -> float:
-        """Largest α_i L_p,i over the contact points and time: the wear update's stiffness (its stability limit)."""
-        slopes = self.law.slope(self.scene.contact.gap)
-        with np.errstate(over="ignore"):
-            return float((self.coefficients.wear * self.slip.speed * slopes).max(initial=0.0)) * self._largest_factor()
-
-    def _largest_factor(self) -> float:
-        return max((abs(f) for _, f in self.scene.foundation.speed_table), default=1.0)
-
-    def alpha(self, t: float) -> np.ndarray:
-        """α_i(t) = κ_i ‖v*(x_i, t)‖ (0 where the foundation does not slide)."""
-        return self.coefficients.wear * self.slip.speeds(t)
-
-    def friction_directions(self, t: float) -> np.ndarray:
-        """μ_i n*_i(t), shape (n, d): the friction force per unit pressure at the contact points."""
-        return self.coefficients.friction[:, None] * self.slip.n_star(t)
-
-    def n_star(self, t: float) -> np.ndarray:
-        """n*_i(t) = −v*_τ/‖v*_τ‖ at the contact points, shape (n, d) (0 where the foundation does not slide)."""
-        return self.slip.n_star(t)
-
-    def contact_forces(self, pressure, reaction, t: float) -> np.ndarray:
-        """Point forces on the foundation side, f_i = m_i (p_i (ν + μ_i n*_i) + λ_i ν), shape (n, d)."""
-        m, nu = self.points.weights, self.condensation.nu
-        b = nu[None, :] + self.friction_directions(t)
-        return m[:, None] * (pressure[:, None] * b + reaction[:, None] * nu[None, :])
-
     def recover(self, forces: np.ndarray, t: float, plate: np.ndarray, nonlinear: bool = True) -> np.ndarray:
         """Displacement DOF vector under the point forces f_c: u = s_F(t) K⁻¹ f + D δ − K⁻¹ Pᵀ f_c.
 
@@ -265,27 +198,25 @@ class Discretization:
         nonlinear material the fixed point u = that − K⁻¹ n(u) (:mod:`ngwear.numerics.bulk`), solved to the
         Newton tolerance.
         """
-        u = self.load_factor(t) * self.loads.u_load - self.elastic.operator.solve(self.points.P.T @ forces.ravel())
+        solve = self.elastic.operator.solve
+        u = self.contact.load_factor(t) * self.loads.u_load - solve(self.points.P.T @ forces.ravel())
         coupling = self.condensation.plate
         u = u if coupling is None else u + coupling.response @ plate
         if not nonlinear or self.elastic.linear:
             return u
-        remainder = Remainder(self.elastic)
-        mixing, v, tolerance = Anderson(), u, self.scene.solver.tolerance
-        for _ in range(BULK_RECOVERY):
-            image = u - self.elastic.operator.solve(remainder(v))
-            if change(v, image) <= tolerance:
-                return image
-            v = mixing(v, image)
-        raise ArithmeticError(f"the displacement of the nonlinear material did not converge in {BULK_RECOVERY} "
-                              "iterations")
+        remainder, tolerance = Remainder(self.elastic), self.scene.solver.tolerance
+        recovered, gap = fixed_point(lambda v: u - solve(remainder(v)), u, tolerance, BULK_RECOVERY)
+        if not gap <= tolerance:
+            raise ArithmeticError(f"the displacement of the nonlinear material did not converge in {BULK_RECOVERY} "
+                                  "iterations")
+        return recovered
 
     @cached_property
     def full_form(self):
         """Elastic + contact terms as one NGSolve form (for the full-system reference path)."""
-        cf = contact_form(self.fes, self.scene, self.law, self.elastic.laws)
+        cf = contact_form(self.fes, self.scene, self.contact.law, self.elastic.laws)
         self.set_nodal(cf.d0, self.condensation.d0)
-        self.set_nodal(cf.stiffness, self.coefficients.stiffness)
+        self.set_nodal(cf.stiffness, self.contact.coefficients.stiffness)
         return cf
 
 

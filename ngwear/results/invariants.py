@@ -82,9 +82,9 @@ class Checker:
     """The invariants of a run's rows on its discretization, vectorised: O(rows · n)."""
 
     def __init__(self, scene, disc):
-        self.disc, self.law, self.g = disc, disc.law, scene.contact.gap
+        self.disc, self.law, self.g = disc, disc.contact.law, scene.contact.gap
         self.theta = INTEGRATORS[scene.wear.integrator]
-        self.bounded = wear_bounded(scene, disc.largest_rate())
+        self.bounded = wear_bounded(scene, disc.contact.largest_rate())
         self.allowed = allowances(scene)
         self.inverse_c = disc.condensation.compliance_estimate * disc.points.weights   # 1/c_i = h_i m_i ≤ H_ii m_i
         self.s_load = 0.0 if scene.solver.method == "full" else float(np.abs(disc.loads.s_load).max(initial=0.0))
@@ -93,7 +93,7 @@ class Checker:
 
     def scale(self, times: np.ndarray) -> np.ndarray:
         """S_j, the length scale of Newton's merit at t_j."""
-        factors = np.abs([self.disc.load_factor(t) for t in times])
+        factors = np.abs([self.disc.contact.load_factor(t) for t in times])
         return np.maximum(factors * self.s_load, self.g)
 
     def violations(self, times, w, s, p, lam, before: Row | None = None, halves: bool = True) -> dict[str, float]:
@@ -113,7 +113,7 @@ class Checker:
         if halves:
             out["gap"] = _excess((z - g) / scale, roundoff)
             out["reaction_sign"] = _excess(-lam * self.inverse_c / scale, roundoff)
-        rate = np.array([self.disc.alpha(t) for t in times]) * p
+        rate = np.array([self.disc.contact.alpha(t) for t in times]) * p
         if before is not None:
             times, w, rate = np.r_[before.t, times], np.vstack([before.w, w]), np.vstack([before.rate, rate])
         if len(times) > 1:
@@ -178,7 +178,7 @@ class StepCheck:
         if len(result.times):
             peak = np.maximum(result.normal_displacement - checker.d0, 0).max(axis=0)
             t = result.times[-1]
-            self.last = Row(t, result.wear[-1], checker.disc.alpha(t) * result.pressure[-1], peak)
+            self.last = Row(t, result.wear[-1], checker.disc.contact.alpha(t) * result.pressure[-1], peak)
 
     def __call__(self, t: float, w, s, p, lam) -> tuple[str, float] | None:
         """The worst broken invariant of the step ending at t (None: all hold, and the step becomes the last)."""
@@ -187,7 +187,7 @@ class StepCheck:
                                                    self.last, halves=False))
         if broken is None:
             peak = np.maximum(s - checker.disc.condensation.d0, 0)
-            self.last = Row(t, w, checker.disc.alpha(t) * p,
+            self.last = Row(t, w, checker.disc.contact.alpha(t) * p,
                             peak if self.last is None else np.maximum(self.last.peak, peak))
         return broken
 

@@ -120,7 +120,7 @@ class Result:
         The public arrays are views of the completed rows (:mod:`ngwear.results.history`); NoSpace when the
         folder has no room for them.
         """
-        shapes, coefficients = row_shapes(scene, disc), disc.coefficients
+        shapes, coefficients = row_shapes(scene, disc), disc.contact.coefficients
         result = cls(scene, disc.points.coords, disc.points.weights,
                      *(np.zeros((0, *shapes[name])) for name in ARRAYS), coefficients.friction, coefficients.wear,
                      coefficients.stiffness, discretization=disc)

@@ -29,6 +29,7 @@ import numpy as np
 from ..model.coefficients import bound, describe
 from ..model.scene import Scene, SceneError
 from ..numerics.discrete import Discretization
+from ..numerics.problem import Problem
 from ..numerics.solver import ConvergenceError
 from ..numerics.wear import WearIntegrator, diverging, explicit_stability
 from ..results.checkpoint import Checkpoint, Saver
@@ -37,7 +38,7 @@ from ..results.invariants import StepCheck
 from ..results.result import Result
 from .clock import Clock
 from .progress import bar
-from .stepper import Stepper
+from .stepper import Step, Stepper
 
 log = logging.getLogger(__name__)
 
@@ -99,24 +100,24 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
             disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene))
         else:
             disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
-        refusal = diverging(scene, disc.largest_rate())
+        refusal = diverging(scene, disc.contact.largest_rate())
         if refusal:
             stages.close()
             raise SceneError(refusal)
         result = Result.empty(scene, disc, checkpoint)
-        warning = None if scene.time.adaptive else explicit_stability(scene, disc.largest_rate())
+        warning = None if scene.time.adaptive else explicit_stability(scene, disc.contact.largest_rate())
         if warning:
             log.warning("%s", warning)
             result.warnings.append(warning)
     stages.prepare(disc)
-    clock = Clock(scene, disc.largest_rate(), result.rejected)
+    clock = Clock(scene, disc.contact.largest_rate(), result.rejected)
     if resume is not None:
         clock.step, result.continuation = saved.step, (saved.x, saved.lam, saved.step)
-        clock.replay(result.times, [disc.alpha(t) * p for t, p in zip(result.times, result.pressure)])
-    stepper = Stepper(disc, StepCheck(result))
+        clock.replay(result.times, [disc.contact.alpha(t) * p for t, p in zip(result.times, result.pressure)])
+    stepper = Stepper(Problem(disc), StepCheck(result))
     if resume is None:
         x, lam = stepper.unknowns(), np.zeros(disc.points.n)
-    integrator = WearIntegrator(scene.wear.integrator, disc.law, disc.points.n)
+    integrator = WearIntegrator(scene.wear.integrator, disc.contact.law, disc.points.n)
     saver = Saver(checkpoint, scene.output.checkpoint_seconds)
     if resume is not None and result.history.is_in(resume):
         saver.rows = len(result.times)          # what the checkpoint read keeps
@@ -177,13 +178,13 @@ class _Attempt:
 
 def _solve(stepper, integrator, t: float, t_prev: float | None, x, lam) -> _Attempt:
     """Solve the step ending at t with the prepared wear law; ConvergenceError or ArithmeticError on failure."""
-    disc, law = stepper.disc, integrator.point_law()
-    x, lam, record = stepper.solve(t, t_prev, law, x, lam, integrator)
-    s, delta = stepper.normal(x), stepper.plate(x)
-    pressure = law.pressure(s - disc.condensation.d0)
+    step, problem = Step(t, t_prev, integrator), stepper.problem
+    x, lam, record = stepper.solve(step, x, lam)
+    s, delta = problem.normal(x), problem.plate(x)
+    pressure = step.law.pressure(s - problem.d0)
     if not all(np.all(np.isfinite(a)) for a in (s, lam, pressure, delta)):
         raise ArithmeticError(record)
-    return _Attempt(x, lam, s, delta, pressure, integrator.wear_at(s - disc.condensation.d0), record)
+    return _Attempt(x, lam, s, delta, pressure, integrator.wear_at(s - problem.d0), record)
 
 
 def _record(result: Result, stepper, t: float, attempt: _Attempt) -> bool:
@@ -195,9 +196,8 @@ def _record(result: Result, stepper, t: float, attempt: _Attempt) -> bool:
                     f"(allowed {stepper.check.checker.allowed[name]:.0e}; see ngwear.results.invariants); "
                     f"try wear.integrator = 'implicit' or more time.steps", attempt.record)
         return False
-    disc = stepper.disc
     result.append(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam,
-                  disc.contact_forces(attempt.pressure, attempt.lam, t), attempt.delta, attempt.record)
+                  stepper.problem.contact.forces(attempt.pressure, attempt.lam, t), attempt.delta, attempt.record)
     displacement = stepper.displacement(attempt.x)
     if displacement is not None:          # a nonlinear body's field is kept for the frames and the last step
         result.keep_field(displacement)
@@ -224,13 +224,13 @@ def _first(stepper, integrator, result: Result, x, lam):
 
 def _next(stepper, integrator, clock: Clock, result: Result, x, lam):
     """The step after the last recorded one, redone smaller while the clock rejects it; (x, λ) or None."""
-    disc, j = stepper.disc, result.steps
+    contact, j = stepper.problem.contact, result.steps
     t, w, p = result.times[j], result.wear[j], result.pressure[j]
     times = list(result.times[max(j - 1, 0):j + 1])
-    rates = [disc.alpha(tt) * pp for tt, pp in zip(times, result.pressure[max(j - 1, 0):j + 1])]
+    rates = [contact.alpha(tt) * pp for tt, pp in zip(times, result.pressure[max(j - 1, 0):j + 1])]
     while True:
         t_next = clock.next_time(j, t)
-        integrator.prepare(w, p, disc.alpha(t), disc.alpha(t_next), t_next - t)
+        integrator.prepare(w, p, contact.alpha(t), contact.alpha(t_next), t_next - t)
         try:
             attempt = _solve(stepper, integrator, t_next, t, x, lam)
         except (ConvergenceError, ArithmeticError) as err:
@@ -238,7 +238,7 @@ def _next(stepper, integrator, clock: Clock, result: Result, x, lam):
                 continue
             _failed(result, stepper.scene, j + 1, t_next, err)
             return None
-        if clock.judge([*times, t_next], [*rates, disc.alpha(t_next) * attempt.pressure]):
+        if clock.judge([*times, t_next], [*rates, contact.alpha(t_next) * attempt.pressure]):
             return (attempt.x, attempt.lam) if _record(result, stepper, t_next, attempt) else None
 
 

@@ -1,21 +1,21 @@
-"""One time step's solve: the condensed contact problem (or the full system), its cut-backs, and the bulk iteration.
+"""One time step's solve: the contact problem (condensed or full), its cut-backs, and a nonlinear body's bulk iteration.
 
-:class:`Stepper` builds the step's system from the discretization: dense (:class:`CondensedSystem`, the
-Newton matrices kept while μ n* keeps its direction), matrix-free (:class:`KrylovSystem` with the products
-remembered for the run) or the full-system reference (:class:`FullSystem`).  For a body with a nonlinear law
-(:mod:`ngwear.numerics.bulk`) each step iterates u = G(u): the contact problem with the load f − n(u), the
-bulk recovered with one back-substitution, Anderson-mixed, warm-started from the previous step's u.
+:class:`Stepper` solves a :class:`Step` on a :class:`~ngwear.numerics.problem.Problem` (the step's unknowns and its
+Newton system, dense, matrix-free or the full-system reference).  For a body with a nonlinear law
+(:mod:`ngwear.numerics.bulk`) each step iterates u = G(u): the contact problem with the load f − n(u), the bulk
+recovered with one back-substitution, Anderson-mixed (:func:`~ngwear.numerics.bulk.fixed_point`), warm-started from
+the previous step's u.
 """
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..numerics.bulk import Anderson, Remainder, change
-from ..numerics.discrete import Discretization
-from ..numerics.recycle import ComplianceMemory, Recycler
-from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, KrylovSystem, PlateRows, semismooth_newton
+from ..numerics.bulk import fixed_point
+from ..numerics.problem import Problem
+from ..numerics.solver import ConvergenceError, NewtonRecord, PointLaw, semismooth_newton
 from ..numerics.wear import WearIntegrator
 from ..results.invariants import StepCheck
 
@@ -27,8 +27,33 @@ CHORD = 2
 """Images with the operator a step starts with (the tangent the last step left) before Newton takes over."""
 NEWTON = 12
 """Most Newton iterations (a factorised tangent each) before the step falls back on K₀ alone."""
-RUNAWAY = 10.0
-"""Iterates whose step |G(u) − u| exceeds the best one's this many times: the mixing restarts from the best."""
+
+
+@dataclass
+class Step:
+    """The step to solve: it ends at ``t``, the last one at ``t_prev`` (None at step 0).
+
+    Its wear law, prepared in ``integrator``, is folded into the compliance: ``law``, the nodal law p_j the solver sees.
+    """
+
+    t: float
+    t_prev: float | None
+    integrator: WearIntegrator
+    law: PointLaw = field(init=False)
+
+    def __post_init__(self):
+        self.law = self.integrator.point_law()
+
+
+@dataclass
+class Bulk:
+    """A nonlinear body's step so far: the contact solution (x, λ) and record of the last image, and the counts."""
+
+    x: np.ndarray
+    lam: np.ndarray
+    record: NewtonRecord | None = None
+    newton: int = 0         # Newton iterations of the contact solves
+    images: int = 0         # images G(u) evaluated
 
 
 class Stepper:
@@ -41,39 +66,21 @@ class Stepper:
 
     CUTBACKS = (2, 4, 8)
 
-    def __init__(self, disc: Discretization, check: StepCheck):
-        self.disc, self.scene, self.check = disc, disc.scene, check
-        self._matrices: dict = {}
-        self._factors: dict = {}
-        nonlinear = not disc.elastic.linear and not self._full     # the full path linearises the laws itself
-        self.base = disc                                            # K₀: the laws' tangent at ε = 0
-        self.remainder = Remainder(disc.elastic) if nonlinear else None
+    def __init__(self, problem: Problem, check: StepCheck):
+        self.problem, self.scene, self.check = problem, problem.scene, check
+        self.base = problem                                         # K₀: the laws' tangent at ε = 0
+        nonlinear = not problem.linear and not problem.full        # the full path linearises the laws itself
+        self.remainder = problem.remainder() if nonlinear else None
         self.history: list = []                                     # (t, u) of the last two steps: the warm start
-        self._shift = None                                          # N K⁻¹ n(u), Dᵀ n(u) of the current iterate
-        self._kept: dict = {}                                       # K₀'s Newton matrices while a tangent is used
         self.tangents = 0                                           # tangents taken so far (factorised or updated)
         self._columns: dict = {}                                    # K₀⁻¹Dᵀ of the kink points, for this run
 
-    @property
-    def _full(self) -> bool:
-        return self.scene.solver.method == "full"
-
     def unknowns(self) -> np.ndarray:
-        """The unknowns at rest: s at the contact points (condensed) or the free DOFs (full), then δ."""
-        disc = self.disc
-        size = disc.condensation.full_basis.shape[1] if self._full else disc.points.n + disc.condensation.plate_modes_count
-        return np.zeros(size)
+        """The unknowns at rest (see :meth:`Problem.unknowns`)."""
+        return self.problem.unknowns()
 
-    def normal(self, x):
-        """The normal displacements s = ν·u at the contact points."""
-        return self.disc.condensation.N @ (self.disc.condensation.full_basis @ x) if self._full else x[:self.disc.points.n]
-
-    def plate(self, x):
-        """δ, the plate's displacement (and tilts)."""
-        return x[len(x) - self.disc.condensation.plate_modes_count:]
-
-    def solve(self, t, t_prev, law, x, lam, integrator):
-        """(x, λ, NewtonRecord) of the step ending at t; ConvergenceError when it cannot be solved.
+    def solve(self, step: Step, x, lam):
+        """(x, λ, NewtonRecord) of the step; ConvergenceError when it cannot be solved.
 
         A nonlinear material: the fixed point u = G(u) of :mod:`ngwear.numerics.bulk`, from the last two steps' u
         extrapolated to t.  First at most :data:`CHORD` Anderson-mixed images with the operator the last step
@@ -87,114 +94,88 @@ class Stepper:
         the rest of :data:`BULK_ITERATIONS`.
         """
         if self.remainder is None:
-            return self._contact(t, t_prev, law, x, lam, integrator)
-        state, tolerance = {"x": x, "lam": lam, "newton": 0, "count": 0}, self.scene.solver.tolerance
-        u, gap = self._predicted(t), np.inf
+            return self._contact(step, x, lam)
+        bulk, tolerance = Bulk(x, lam), self.scene.solver.tolerance
+        u, gap = self._predicted(step.t), np.inf
         for newton in range(NEWTON + 1):
-            flips = self.disc.elastic.flips(u)
+            flips = self.problem.flips(u)
             if (flips is None and newton > 0) or flips:
-                shared = self.disc.elastic.root is self.base.elastic      # K₀ may serve other runs: a cache of this run
-                self._use(self.disc.tangent(u, self._columns if shared else None))
+                shared = self.problem.root is self.base.root    # K₀ may serve other runs: a cache of this run
+                self._use(self.problem.tangent(u, self._columns if shared else None))
                 self.tangents += 1
             most = 1 if flips is None and newton > 0 else CHORD
-            u, gap = self._iterate(u, t, t_prev, law, integrator, state, tolerance, most)
-            if gap <= tolerance or gap == np.inf or state["count"] >= BULK_ITERATIONS:
+            u, gap = self._iterate(u, step, bulk, most)
+            if gap <= tolerance or gap == np.inf or bulk.images >= BULK_ITERATIONS:
                 break
         if gap > tolerance:
             self._use(self.base)
-            u, gap = self._iterate(u, t, t_prev, law, integrator, state, tolerance, BULK_ITERATIONS)
-        record = state["record"]
-        record.bulk, record.iterations, record.tangents = state["count"], state["newton"], self.tangents
+            u, gap = self._iterate(u, step, bulk, BULK_ITERATIONS)
+        record = bulk.record
+        record.bulk, record.iterations, record.tangents = bulk.images, bulk.newton, self.tangents
         if gap > tolerance:
             raise ConvergenceError(f"the bulk iteration of the nonlinear material did not converge in "
-                                   f"{state['count']} iterations (change {gap:.1e})", record)
-        self.history = [(t, u), *self.history[:1]]
-        return state["x"], state["lam"], record
+                                   f"{bulk.images} iterations (change {gap:.1e})", record)
+        self.history = [(step.t, u), *self.history[:1]]
+        return bulk.x, bulk.lam, record
 
     def displacement(self, x) -> np.ndarray | None:
         """The displacement of the step just solved when the body is nonlinear (None for a linear one: recovered)."""
         if self.remainder is not None:
             return self.history[0][1]
-        return self.disc.condensation.full_basis @ x if self._full and not self.disc.elastic.linear else None
+        return self.problem.displacement(x) if self.problem.full and not self.problem.linear else None
 
     def _predicted(self, t: float) -> np.ndarray:
         """The displacement at t extrapolated linearly from the last two steps (the last step's when there is one)."""
         if len(self.history) < 2:
-            return self.history[0][1] if self.history else np.zeros(self.disc.fes.ndof)
+            return self.history[0][1] if self.history else np.zeros(self.problem.disc.fes.ndof)
         (t1, u1), (t0, u0) = self.history
         return u1 + (t - t1) / (t1 - t0) * (u1 - u0) if t1 > t0 else u1
 
-    def _iterate(self, u, t, t_prev, law, integrator, state, tolerance, most: int) -> tuple[np.ndarray, float]:
-        """(The best image, its change) of at most ``most`` Anderson-mixed images from u with the current K.
+    def _iterate(self, u, step: Step, bulk: Bulk, most: int) -> tuple[np.ndarray, float]:
+        """(The best image, its change) of at most ``most`` images from u with the current K (and the step's rest)."""
+        return fixed_point(lambda v: self._safe_image(v, step, bulk), u, self.scene.solver.tolerance,
+                           min(most, BULK_ITERATIONS - bulk.images))
 
-        It stops when the change meets the tolerance or the step's iterations are spent; when the step
-        |G(u) − u| grows to :data:`RUNAWAY` times the best, or the best has not halved in as many images as the
-        mixing remembers (a stalled history), the mixing starts afresh from the best image.
-        """
-        mixing, best, since = Anderson(), (np.inf, np.inf, u), 0     # best: (|G(u) − u|, its change, G(u))
-        for _ in range(min(most, BULK_ITERATIONS - state["count"])):
-            image = self._safe_image(u, t, t_prev, law, integrator, state)
-            step = np.inf if image is None else float(np.abs(image - u).max(initial=0.0))
-            since = 0 if step < 0.5 * best[0] else since + 1
-            if step < best[0]:
-                best = step, change(u, image), image
-            if best[1] <= tolerance or best[0] == np.inf:
-                break
-            if step > RUNAWAY * best[0] or since > mixing.memory:
-                mixing, u, since = Anderson(), best[2], 0
-            else:
-                u = mixing(u, image)
-        return best[2], best[1]
-
-    def _safe_image(self, u, t, t_prev, law, integrator, state) -> np.ndarray | None:
+    def _safe_image(self, u, step: Step, bulk: Bulk) -> np.ndarray | None:
         """G(u), or None when the contact problem of this iterate fails or its image is not finite."""
         try:
-            image = self._image(u, t, t_prev, law, integrator, state)
+            image = self._image(u, step, bulk)
         except (ConvergenceError, ArithmeticError):
             return None
         finally:
-            state["count"] += 1
+            bulk.images += 1
         return image if np.isfinite(image).all() else None
 
-    def _image(self, u, t, t_prev, law, integrator, state) -> np.ndarray:
-        """G(u): the contact problem under f − n(u), then u = K⁻¹(f − n(u) − Pᵀ f_c) + D δ (``state``: x, λ, record)."""
-        disc, cond = self.disc, self.disc.condensation
-        n = self.remainder(u)
-        response = disc.elastic.operator.solve(n)
-        self._shift = cond.N @ response, np.zeros(0) if cond.plate is None else cond.plate.response.T @ n
-        state["x"], state["lam"], state["record"] = self._contact(t, t_prev, law, state["x"], state["lam"], integrator)
-        state["newton"] += state["record"].iterations
-        forces = disc.contact_forces(law.pressure(self.normal(state["x"]) - cond.d0), state["lam"], t)
-        return disc.recover(forces, t, self.plate(state["x"]), nonlinear=False) - response
+    def _image(self, u, step: Step, bulk: Bulk) -> np.ndarray:
+        """G(u): the contact problem under f − n(u), then u = K⁻¹(f − n(u) − Pᵀ f_c) + D δ."""
+        problem = self.problem
+        response = problem.shift(self.remainder(u))
+        bulk.x, bulk.lam, bulk.record = self._contact(step, bulk.x, bulk.lam)
+        bulk.newton += bulk.record.iterations
+        forces = problem.contact.forces(step.law.pressure(problem.normal(bulk.x) - problem.d0), bulk.lam, step.t)
+        return problem.recover(forces, step.t, problem.plate(bulk.x)) - response
 
-    def _use(self, disc: Discretization) -> None:
-        """Solve on with the operator K of ``disc`` (its factorisation, condensation and loads, built when new)."""
-        if disc is self.disc:
-            return
-        for _, build in disc.stages():
-            build()
-        if self.disc is self.base:      # K₀ is kept for the fall-back; a tangent replaced is dropped (its factor freed)
-            self._kept[id(self.disc)] = self.disc, self._matrices, self._factors
-        self.disc = disc
-        _, self._matrices, self._factors = self._kept.pop(id(disc), (disc, {}, {}))
-        self.remainder = Remainder(disc.elastic)
+    def _use(self, problem: Problem) -> None:
+        """Solve on with the operator K of ``problem`` (K₀'s, kept for the fall-back, or a tangent's, dropped after)."""
+        if problem is not self.problem:
+            self.problem, self.remainder = problem, problem.remainder()
 
-    def _contact(self, t, t_prev, law, x, lam, integrator):
+    def _contact(self, step: Step, x, lam):
         """The contact problem of the step (with the bulk's current load shift), cut back when Newton fails."""
-        target = self.disc.load_factor(t)
+        load_factor = self.problem.contact.load_factor
+        target = load_factor(step.t)
         try:
-            return self._newton(t, target, law, x, lam, integrator)
+            return self._newton(step, target, x, lam)
         except ConvergenceError as first:
-            start = 0.0 if t_prev is None else self.disc.load_factor(t_prev)
-            if t_prev is None:
+            start = 0.0 if step.t_prev is None else load_factor(step.t_prev)
+            if step.t_prev is None:
                 x, lam = np.zeros_like(x), np.zeros_like(lam)
             for tried, m in enumerate(self.CUTBACKS, start=1):
                 try:
                     xs, ls = x, lam
                     for theta in np.arange(1, m + 1) / m:
-                        xs, ls, record = self._newton(t, start + theta * (target - start), law, xs, ls,
-                                                      integrator)
-                    log.info("t = %.4g: converged after cutting the load step into %d", t, m)
+                        xs, ls, record = self._newton(step, start + theta * (target - start), xs, ls)
+                    log.info("t = %.4g: converged after cutting the load step into %d", step.t, m)
                     record.cutbacks = tried
                     return xs, ls, record
                 except ConvergenceError:
@@ -202,73 +183,7 @@ class Stepper:
             first.record.cutbacks = len(self.CUTBACKS)
             raise first
 
-    def _newton(self, t, load_factor, law, x, lam, integrator):
+    def _newton(self, step: Step, load_factor: float, x, lam):
         sc = self.scene.solver
-        system = self._system(t, load_factor, law, integrator)
+        system = self.problem.system(step.t, load_factor, step.law, step.integrator)
         return semismooth_newton(system, x, lam, sc.tolerance, sc.max_iterations)
-
-    def _system(self, t, load_factor, law, integrator):
-        disc, cond = self.disc, self.disc.condensation
-        if self._full:
-            return _full_system(disc, t, load_factor, integrator)
-        friction = disc.friction_directions(t)                              # μ_i n*_i
-        if disc.matrix_free:
-            key = ("krylov", (cond.nu[None, :] + friction).tobytes())        # A's force directions ν + μ n*
-            if key not in self._matrices:
-                self._matrices = {key: _recycler(disc, friction)}
-            directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + friction)
-            s_load, plate = self._loads(directed, load_factor)
-            return KrylovSystem(self._matrices[key], cond.compliance_estimate, disc.points.weights, s_load, cond.d0,
-                                self.scene.contact.gap, law, self.scene.solver.tolerance, plate)
-        key = friction.tobytes()
-        if key not in self._matrices:
-            H = cond.normal_compliance
-            A = H + cond.friction_compliance(friction) if friction.any() else H
-            directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + friction)
-            self._matrices = {key: (A, directed)}
-            self._factors = {}
-        A, directed = self._matrices[key]
-        s_load, plate = self._loads(directed, load_factor)
-        return CondensedSystem(cond.normal_compliance, A, disc.points.weights, s_load, cond.d0,
-                               self.scene.contact.gap, law, self._factors, plate)
-
-    def _loads(self, directed, load_factor: float):
-        """The normal displacements under the loads, s_F N K⁻¹ f, and the plate's rows, less the bulk's shift."""
-        disc = self.disc
-        s_load = load_factor * disc.loads.s_load
-        plate = _plate_rows(disc, directed, load_factor)
-        if self._shift is not None:
-            s_load = s_load - self._shift[0]
-            if plate is not None:
-                plate = PlateRows(plate.normal, plate.directed, plate.stiffness, plate.load - self._shift[1])
-        return s_load, plate
-
-
-def _recycler(disc: Discretization, friction) -> Recycler:
-    """The products with A = H + F(μ n*) (this μ n*) and H remembered for the run, and the Newton basis built on them."""
-    directions = disc.condensation.nu[None, :] + friction
-    respond = lambda directed, normal: disc.normal_response(normal, directed, directions)  # noqa: E731
-    return Recycler(ComplianceMemory(respond, disc.points.n))
-
-
-def _plate_rows(disc: Discretization, directed, load_factor: float) -> PlateRows | None:
-    """The plate's rows of a step (None without a plate), ``directed`` = b_i·Φ_i for this step's force directions."""
-    plate = disc.condensation.plate
-    return None if plate is None else PlateRows(plate.normal, directed, plate.stiffness,
-                                                load_factor * disc.loads.plate_load)
-
-
-def _full_system(disc: Discretization, t: float, load_factor: float, integrator: WearIntegrator) -> FullSystem:
-    """The reference system: NGSolve form with w, μ, n* of this step (explicit wear: w = a, see the scene's rules)."""
-    cf, cond = disc.full_form, disc.condensation
-    disc.set_nodal(cf.w, integrator.a)
-    for gf, component in zip(cf.friction, disc.friction_directions(t).T):
-        disc.set_nodal(gf, component)
-    load = cond.full_basis.T @ disc.loads.load
-    load[len(load) - cond.plate_modes_count:] += disc.loads.plate_force
-    floating = cond.plate_modes_count and not disc.scene.geometry.dirichlet
-    return FullSystem(cf, cond.full_basis, load_factor * load, cond.N, disc.points.weights, cond.d0,
-                      disc.scene.contact.gap, disc.elastic.stiffness, integrator.point_law(),
-                      cond.rigid_translation if floating else None)
-
-

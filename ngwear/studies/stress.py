@@ -147,7 +147,7 @@ def clear_stop_message(status: str) -> list[str]:
 
 def smallness_ratio(result) -> float | None:
     """c₀² L_p μ / m_F of the paper's (H_S) on the run's mesh (> 1: past the bound), if available."""
-    if result is None or result.discretization is None or not result.discretization.coefficients.friction.any():
+    if result is None or result.discretization is None or not result.discretization.contact.coefficients.friction.any():
         return None
     from .theory import smallness
     check = smallness(result.discretization)
@@ -171,7 +171,7 @@ def run_scene(spec: StressScene, *, keep_result: bool = False) -> StressRow:
             scene = spec.scene()
             row.of, row.gap, row.kaL = scene.time.steps, scene.contact.gap, k_alpha_slope(scene)
             result = simulate(scene, progress=False)
-            row.kaL = k_alpha_slope(scene, result.discretization.largest_rate())
+            row.kaL = k_alpha_slope(scene, result.discretization.contact.largest_rate())
     except SceneError as err:
         row.outcome, row.message = "rejected", str(err)
     except Exception as err:  # noqa: BLE001 — a crash is exactly what the matrix looks for

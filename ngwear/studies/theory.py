@@ -156,5 +156,5 @@ def monotonicity(disc: Discretization) -> float:
 
 def _largest_slope_and_friction(disc: Discretization) -> tuple[float, float]:
     """max_i L_p,i and max_i μ_i over the contact points (their product bounds max_i μ_i L_p,i of a field)."""
-    slopes = np.broadcast_to(disc.law.slope(disc.scene.contact.gap), (disc.points.n,))
-    return float(slopes.max(initial=0.0)), float(disc.coefficients.friction.max(initial=0.0))
+    slopes = np.broadcast_to(disc.contact.law.slope(disc.scene.contact.gap), (disc.points.n,))
+    return float(slopes.max(initial=0.0)), float(disc.contact.coefficients.friction.max(initial=0.0))

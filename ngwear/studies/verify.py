@@ -190,7 +190,7 @@ def markdown(rows: list[dict], size: str) -> str:
 
 def alpha_slope(scene: Scene) -> float:
     """α L_p: the largest wear rate κ‖v*‖ over the contact points and the speed table, times the largest slope of p."""
-    return Discretization(scene).largest_rate()
+    return Discretization(scene).contact.largest_rate()
 
 
 def stability_steps(scene: Scene, targets=(0.5, 1.0, 1.5, 2.5, 5.0)) -> list[int]:

@@ -127,7 +127,7 @@ class PictureData:
 
         Its radii and angles cover the contact points' with a margin; ``level`` is its surface ν·x.
         """
-        scene, slip = self.result.scene, self.result.discretization.slip
+        scene, slip = self.result.scene, self.result.discretization.contact.slip
         nu = np.asarray(scene.contact.direction)
         if self.dim != 3 or not slip.rotating or abs(abs(slip.axis @ nu) - 1) > 1e-9:
             return None
@@ -184,7 +184,7 @@ class PictureData:
 
     def motion(self, step: int) -> tuple[StraightArrow | ArcArrow, np.ndarray, str] | None:
         """Arrow, label position and label of the foundation's motion at a step (None when it is at rest)."""
-        slip, t = self.result.discretization.slip, self.result.times[step]
+        slip, t = self.result.discretization.contact.slip, self.result.times[step]
         factor = slip.factor(t)
         if factor == 0 or not (slip.rotating or np.any(self.result.scene.foundation.velocity)):
             return None

@@ -26,6 +26,6 @@ def write_pictures(result, out_dir) -> list[Path]:
         paths.append(render.save_frame(result, -1, out / "regions.png", field="region"))
     if part_plots.varying(result):
         paths.append(part_plots.coefficient_maps(result, out / "coefficients.png"))
-    if result.discretization.slip.rotating:
+    if result.discretization.contact.slip.rotating:
         paths.append(part_plots.pressure_radius(result, out / "pressure_radius.png"))
     return paths

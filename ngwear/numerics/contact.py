@@ -1,0 +1,112 @@
+"""What the contact points read at each step: the load factor, the foundation's slip and the contact laws there.
+
+    s_F(t) (``loads.time_table``),   v*_i(t),   n*_i(t),   α_i(t) = κ_i ‖v*_i(t)‖,   μ_i n*_i(t),
+    f_i = m_i (p_i (ν + μ_i n*_i) + λ_i ν)   (the contact forces),
+
+with the coefficients μ_i, κ_i and the compliance's L_i at the contact points
+(:class:`~ngwear.model.coefficients.Coefficients`) and the slip of :mod:`ngwear.model.kinematics`.  Every key it
+reads invalidates nothing (:class:`~ngwear.model.keys.Level` ``NOTHING``): a :class:`Contact` is made anew for each
+scene of a :class:`~ngwear.numerics.discrete.Discretization`, on the kept contact points and ν.
+
+A coefficient is read per step through :meth:`Contact.coefficients_at`, the one place where a coefficient that
+depends on the state of the points (temperature, pressure, sliding speed: the next issues) would be evaluated; today
+each is a field of x, evaluated once.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..model.coefficients import Coefficients
+from ..model.compliance import compliance_from
+from ..model.keys import SceneError, piecewise_linear
+from ..model.kinematics import Slip
+from ..model.rules import BIG
+
+
+class Contact:
+    """The contact's data at the points: coefficients, compliance p, slip v*, and their values at each step t.
+
+    Parameters
+    ----------
+    scene : Scene
+    points : ContactPoints
+        x_i and m_i (:mod:`ngwear.numerics.points`).
+    nu : ndarray
+        The contact direction ν.
+
+    Raises
+    ------
+    SceneError
+        Friction or wear where the foundation does not slide, or a wear rate κ‖v*‖·L·T that overflows.
+
+    Attributes
+    ----------
+    coefficients : Coefficients
+        μ_i, κ_i and L_i, fields of x (:meth:`coefficients_at` reads them per step).
+    law : Compliance
+        The compliance p with L = L_i.
+    slip : Slip
+        The foundation's velocity at the points.
+    """
+
+    def __init__(self, scene, points, nu: np.ndarray):
+        self.scene, self.weights, self.nu = scene, points.weights, nu
+        self.coefficients = Coefficients.of(scene.contact, points.coords)
+        self.law = compliance_from(scene.contact, self.coefficients.stiffness)
+        self.slip = Slip(scene.foundation, points.coords, nu)
+        self._check_motion()
+
+    def _check_motion(self) -> None:
+        """Friction and wear need the foundation to slide; the fastest wear rate stays finite (the fields' values)."""
+        sliding = self.slip.speed.any()
+        for name, values in (("friction", self.coefficients.friction), ("wear", self.coefficients.wear)):
+            if values.any() and not sliding:
+                raise SceneError(f"foundation.velocity: must slide along Γ_C (a part tangential to contact.direction, "
+                                 f"or foundation.angular_velocity about an axis along it) when contact.{name} > 0 "
+                                 "somewhere")
+        rate = self.largest_rate() * self.scene.time.T
+        if not rate <= BIG:
+            raise SceneError(f"contact.wear: κ‖v*‖·L·T = {rate:.3g} must be <= {BIG:g} at every contact point (the "
+                             "wear of a run this fast overflows)")
+
+    def coefficients_at(self, t: float) -> Coefficients:
+        """μ_i, κ_i, L_i for the step at t: the fields of x, whatever t (a coefficient of the state goes here)."""
+        return self.coefficients
+
+    def load_factor(self, t: float) -> float:
+        """s_F(t), the factor of the loads (``loads.time_table``)."""
+        return piecewise_linear(self.scene.loads.time_table, t)
+
+    def velocity(self, t: float) -> np.ndarray:
+        """v*(x_i, t) at the contact points, shape (n, d)."""
+        return self.slip.velocity(t)
+
+    def n_star(self, t: float) -> np.ndarray:
+        """n*_i(t) = −v*_τ/‖v*_τ‖ at the contact points, shape (n, d) (0 where the foundation does not slide)."""
+        return self.slip.n_star(t)
+
+    def alpha(self, t: float) -> np.ndarray:
+        """α_i(t) = κ_i ‖v*(x_i, t)‖ (0 where the foundation does not slide)."""
+        return self.coefficients_at(t).wear * self.slip.speeds(t)
+
+    def friction_directions(self, t: float) -> np.ndarray:
+        """μ_i n*_i(t), shape (n, d): the friction force per unit pressure at the contact points."""
+        return self.coefficients_at(t).friction[:, None] * self.slip.n_star(t)
+
+    def forces(self, pressure, reaction, t: float) -> np.ndarray:
+        """Point forces on the foundation side, f_i = m_i (p_i (ν + μ_i n*_i) + λ_i ν), shape (n, d)."""
+        b = self.nu[None, :] + self.friction_directions(t)
+        return self.weights[:, None] * (pressure[:, None] * b + reaction[:, None] * self.nu[None, :])
+
+    def largest_alpha(self) -> float:
+        """Largest α = κ ‖v*‖ over the contact points and the speed table's nodes (s_v is piecewise linear)."""
+        return float((self.coefficients.wear * self.slip.speed).max(initial=0.0)) * self._largest_factor()
+
+    def largest_rate(self) -> float:
+        """Largest α_i L_p,i over the contact points and time: the wear update's stiffness (its stability limit)."""
+        slopes = self.law.slope(self.scene.contact.gap)
+        with np.errstate(over="ignore"):
+            return float((self.coefficients.wear * self.slip.speed * slopes).max(initial=0.0)) * self._largest_factor()
+
+    def _largest_factor(self) -> float:
+        return max((abs(f) for _, f in self.scene.foundation.speed_table), default=1.0)

@@ -1,0 +1,163 @@
+"""One step's problem on a discretization, as the step solver sees it: its unknowns and its Newton system.
+
+The unknowns x are the normal displacements s_i at the contact points and the plate's δ (condensed), or the free
+DOFs and δ (the full-system reference).  :meth:`Problem.system` builds a step's system from the discretization's
+pieces: dense (:class:`~ngwear.numerics.solver.CondensedSystem`, the Newton matrices kept while μ n* keeps its
+direction), matrix-free (:class:`~ngwear.numerics.solver.KrylovSystem`, the products remembered for the run) or the
+full system (:class:`~ngwear.numerics.solver.FullSystem`).  For a nonlinear body (:mod:`ngwear.numerics.bulk`) a
+step's contact problem is solved under the load f − n(u): :meth:`Problem.shift` takes n(u) and moves the loads'
+normal displacements and the plate's load by N K⁻¹ n(u) and Dᵀ n(u).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .bulk import Remainder
+from .recycle import ComplianceMemory, Recycler
+from .solver import CondensedSystem, FullSystem, KrylovSystem, PlateRows
+from .wear import WearIntegrator
+
+
+class Problem:
+    """The step problem of a :class:`~ngwear.numerics.discrete.Discretization` (its K: K₀ or a tangent).
+
+    Attributes
+    ----------
+    contact : Contact
+        What the contact points read at each step (load factor, μ n*, α, the forces).
+    full : bool
+        Whether this is the full-system reference path (``solver.method = "full"``).
+    n, d0 : int, ndarray
+        The number of contact points and their initial distance d₀.
+    """
+
+    def __init__(self, disc):
+        self.disc, self.scene, self.contact = disc, disc.scene, disc.contact
+        self.elastic, self.condensation, self.loads = disc.elastic, disc.condensation, disc.loads
+        self.full = self.scene.solver.method == "full"
+        self.n, self.d0 = disc.points.n, self.condensation.d0
+        self.matrices: dict = {}                # the Newton matrices of the last μ n* (dense: with their LU factors)
+        self.factors: dict = {}
+        self.shifted: tuple | None = None       # N K⁻¹ n(u), Dᵀ n(u) of the bulk's current iterate
+
+    @property
+    def linear(self) -> bool:
+        """Whether the body is linear (a step is one contact solve)."""
+        return self.elastic.linear
+
+    @property
+    def root(self):
+        """The factorised stiffness whose factorisation K's operator is (a tangent may update another's)."""
+        return self.elastic.root
+
+    def flips(self, u: np.ndarray) -> int | None:
+        """The kink's points whose branch at u is not K's (see :meth:`~ngwear.numerics.pieces.Elastic.flips`)."""
+        return self.elastic.flips(u)
+
+    def tangent(self, u: np.ndarray, columns: dict | None) -> Problem:
+        """The problem with K the laws' tangent at u (its pieces built: factorisation, condensation, loads)."""
+        disc = self.disc.tangent(u, columns)
+        for _, build in disc.stages():
+            build()
+        return Problem(disc)
+
+    def remainder(self) -> Remainder:
+        """n(u) = F(u) − K u with this problem's K."""
+        return Remainder(self.elastic)
+
+    def unknowns(self) -> np.ndarray:
+        """The unknowns at rest: s at the contact points (condensed) or the free DOFs (full), then δ."""
+        cond = self.condensation
+        return np.zeros(cond.full_basis.shape[1] if self.full else self.n + cond.plate_modes_count)
+
+    def normal(self, x: np.ndarray) -> np.ndarray:
+        """The normal displacements s = ν·u at the contact points."""
+        return self.condensation.N @ (self.condensation.full_basis @ x) if self.full else x[:self.n]
+
+    def plate(self, x: np.ndarray) -> np.ndarray:
+        """δ, the plate's displacement (and tilts)."""
+        return x[len(x) - self.condensation.plate_modes_count:]
+
+    def displacement(self, x: np.ndarray) -> np.ndarray:
+        """The displacement DOF vector of the full path's unknowns, u = T x."""
+        return self.condensation.full_basis @ x
+
+    def shift(self, n: np.ndarray) -> np.ndarray:
+        """Solve the next contact problems under the load f − n: keep N K⁻¹ n and Dᵀ n; returns K⁻¹ n."""
+        response, plate = self.elastic.operator.solve(n), self.condensation.plate
+        self.shifted = self.condensation.N @ response, np.zeros(0) if plate is None else plate.response.T @ n
+        return response
+
+    def recover(self, forces: np.ndarray, t: float, plate: np.ndarray) -> np.ndarray:
+        """The displacement s_F(t) K⁻¹ f + D δ − K⁻¹ Pᵀ f_c: one back-substitution (what the bulk's image adds to)."""
+        return self.disc.recover(forces, t, plate, nonlinear=False)
+
+    def normal_response(self, normal: np.ndarray, directed: np.ndarray, directions: np.ndarray) -> np.ndarray:
+        """ν·u(x_i) under the point forces f_j = normal_j ν + directed_j b_j: H normal + A directed, matrix-free.
+
+        One back-substitution, u = K⁻¹ Pᵀ f; with b_j = ν + μ n*_j it is the product with A = H + μ F.
+        """
+        nu = self.condensation.nu
+        forces = normal[:, None] * nu[None, :] + directed[:, None] * directions
+        return self.condensation.N @ self.elastic.operator.solve(self.disc.points.P.T @ forces.ravel())
+
+    def system(self, t: float, load_factor: float, law, integrator: WearIntegrator):
+        """The Newton system of the step at t under the loads' factor ``load_factor`` with the nodal law ``law``."""
+        disc, cond = self.disc, self.condensation
+        if self.full:
+            return self._full_system(t, load_factor, integrator)
+        friction = self.contact.friction_directions(t)                      # μ_i n*_i
+        if disc.matrix_free:
+            key = ("krylov", (cond.nu[None, :] + friction).tobytes())        # A's force directions ν + μ n*
+            if key not in self.matrices:
+                self.matrices = {key: self._recycler(friction)}
+            directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + friction)
+            s_load, plate = self._loads(directed, load_factor)
+            return KrylovSystem(self.matrices[key], cond.compliance_estimate, disc.points.weights, s_load, cond.d0,
+                                self.scene.contact.gap, law, self.scene.solver.tolerance, plate)
+        key = friction.tobytes()
+        if key not in self.matrices:
+            H = cond.normal_compliance
+            A = H + cond.friction_compliance(friction) if friction.any() else H
+            directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + friction)
+            self.matrices = {key: (A, directed)}
+            self.factors = {}
+        A, directed = self.matrices[key]
+        s_load, plate = self._loads(directed, load_factor)
+        return CondensedSystem(cond.normal_compliance, A, disc.points.weights, s_load, cond.d0,
+                               self.scene.contact.gap, law, self.factors, plate)
+
+    def _loads(self, directed, load_factor: float):
+        """The normal displacements under the loads, s_F N K⁻¹ f, and the plate's rows, less the bulk's shift."""
+        s_load = load_factor * self.loads.s_load
+        plate = self._plate_rows(directed, load_factor)
+        if self.shifted is not None:
+            s_load = s_load - self.shifted[0]
+            if plate is not None:
+                plate = PlateRows(plate.normal, plate.directed, plate.stiffness, plate.load - self.shifted[1])
+        return s_load, plate
+
+    def _recycler(self, friction) -> Recycler:
+        """The products with A = H + F(μ n*) (this μ n*) and H remembered for the run, and the Newton basis on them."""
+        directions = self.condensation.nu[None, :] + friction
+        respond = lambda directed, normal: self.normal_response(normal, directed, directions)  # noqa: E731
+        return Recycler(ComplianceMemory(respond, self.n))
+
+    def _plate_rows(self, directed, load_factor: float) -> PlateRows | None:
+        """The plate's rows of a step (None without a plate), ``directed`` = b_i·Φ_i for this step's force directions."""
+        plate = self.condensation.plate
+        return None if plate is None else PlateRows(plate.normal, directed, plate.stiffness,
+                                                    load_factor * self.loads.plate_load)
+
+    def _full_system(self, t: float, load_factor: float, integrator: WearIntegrator) -> FullSystem:
+        """The reference system: NGSolve form with w, μ, n* of this step (explicit wear: w = a, see the scene's rules)."""
+        disc, cf, cond = self.disc, self.disc.full_form, self.condensation
+        disc.set_nodal(cf.w, integrator.a)
+        for gf, component in zip(cf.friction, self.contact.friction_directions(t).T):
+            disc.set_nodal(gf, component)
+        load = cond.full_basis.T @ self.loads.load
+        load[len(load) - cond.plate_modes_count:] += self.loads.plate_force
+        floating = cond.plate_modes_count and not self.scene.geometry.dirichlet
+        return FullSystem(cf, cond.full_basis, load_factor * load, cond.N, disc.points.weights, cond.d0,
+                          self.scene.contact.gap, self.elastic.stiffness, integrator.point_law(),
+                          cond.rigid_translation if floating else None)
