@@ -9,7 +9,7 @@ Linear fit  t(S) = a + b (S + 1)  on the medians (relative least squares), and t
 d log t / d log S (1 = linear; S = 10 → 100 also changes k, hence Newton iterations per step):
 b is the marginal cost of one more step, compared
 with one back-substitution with the elastic factorisation (``disc.elastic.operator.solve(rhs)``, SuperLU)
-and with NGSolve's sparsecholesky back-substitution (``inv * f``).  ``Result.append`` (the per-step
+and with NGSolve's sparsecholesky back-substitution (``inv * f``).  ``Recording.append`` (the per-step
 bookkeeping; O(S²) in total while it re-concatenated the arrays, as at commit 9a56360) is timed on
 its own (S appends of arrays of the run's shapes) and extrapolated quadratically to 10 000 steps.
 Targets (issue 3): b ≤ one back-substitution; t(S) linear in S.
@@ -28,7 +28,7 @@ import numpy as np
 import ngwear
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.solver import NewtonRecord
-from ngwear.results.result import Result
+from ngwear.results.recording import Recording, StepRecord
 
 STEP_COUNTS = (10, 100, 1000)
 THREADS = (1, 2)
@@ -62,13 +62,14 @@ def backsubstitutions(disc, scene, mesh) -> dict:
 
 
 def append_cost(disc, scene, steps: int) -> float:
-    """Seconds of ``steps + 1`` Result.append calls with arrays of this run's shapes."""
+    """Seconds of ``steps + 1`` Recording.append calls with arrays of this run's shapes."""
     n, d = disc.points.n, scene.dim
-    res = Result.empty(scene.replace(**{"time.steps": steps}), disc)
+    recording = Recording.start(scene.replace(**{"time.steps": steps}), disc)
     z, f, rec = np.zeros(n), np.zeros((n, d)), NewtonRecord()
     t = C.perf()
     for j in range(steps + 1):
-        res.append(j * 1e-3, z, z, z, z, f, rec)
+        recording.append(StepRecord({"times": j * 1e-3, "wear": z, "normal_displacement": z, "pressure": z,
+                                     "reaction": z, "forces": f, "plate_displacement": np.zeros(0)}, rec))
     return C.perf() - t
 
 

@@ -14,6 +14,7 @@ from conftest import PAPER
 
 import ngwear
 from ngwear.model.compliance import largest_slope
+from ngwear.results.recording import Recording
 
 
 @pytest.fixture(scope="module")
@@ -139,15 +140,15 @@ def test_min_step_above_the_stability_limit_is_refused(paper):
 def test_stopped_adaptive_run_resumes_bit_identical(paper, tmp_path, monkeypatch):
     scene = paper.replace(**{"time.adaptive": True, "wear.integrator": "trapezoidal", "time.tolerance": 1e-4})
     full = ngwear.simulate(scene, progress=False)
-    stop, original, count = threading.Event(), ngwear.Result.append, []
+    stop, original, count = threading.Event(), Recording.append, []
 
-    def counting(result, *args):
-        original(result, *args)
+    def counting(recording, step):
+        original(recording, step)
         count.append(1)
         if len(count) == 11:
             stop.set()
 
-    monkeypatch.setattr(ngwear.Result, "append", counting)
+    monkeypatch.setattr(Recording, "append", counting)
     part = ngwear.simulate(scene, progress=False, checkpoint=tmp_path, stop=stop)
     monkeypatch.undo()
     assert part.status == "interrupted" and part.steps == 10

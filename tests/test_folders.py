@@ -21,6 +21,7 @@ from test_cli import ngwear
 import ngwear as ng
 from ngwear.results.folder import LOCK, FolderError, NoSpace, hold
 from ngwear.results.history import History
+from ngwear.results.recording import Recording
 
 
 def small(**changes):
@@ -123,15 +124,15 @@ def test_a_new_run_in_a_folder_checkpoints_its_own_mesh(tmp_path, monkeypatch):
     """A run on another mesh into an old run's folder, stopped before it saves its result, resumes on its own mesh."""
     ng.simulate(small(), progress=False, checkpoint=tmp_path)
     other = small(**{"mesh.maxh": 0.25, "output.checkpoint_seconds": 0.0})
-    stop, calls, append = threading.Event(), [], ng.Result.append
+    stop, calls, append = threading.Event(), [], Recording.append
 
-    def counting(result, *args):
-        append(result, *args)
+    def counting(recording, step):
+        append(recording, step)
         calls.append(1)
         if len(calls) == 11:
             stop.set()
 
-    monkeypatch.setattr(ng.Result, "append", counting)
+    monkeypatch.setattr(Recording, "append", counting)
     part = ng.simulate(other, progress=False, checkpoint=tmp_path, stop=stop)
     monkeypatch.undo()
     assert part.status == "interrupted" and part.steps == 10

@@ -20,6 +20,7 @@ from conftest import PAPER
 
 import ngwear
 from ngwear.results.checkpoint import CHECKPOINT
+from ngwear.results.recording import Recording
 
 SETTINGS = ["mesh.maxh=0.2", "time.steps=20000", "output.checkpoint_seconds=0.02"]
 KEYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces", "newton_iterations",
@@ -107,15 +108,15 @@ def test_stop_event_and_resume_in_python(tmp_path, monkeypatch):
     full = ngwear.simulate(scene, progress=False)
     stop = threading.Event()
     calls = []
-    original = ngwear.Result.append
+    original = Recording.append
 
-    def counting(result, *args):
-        original(result, *args)
+    def counting(recording, step):
+        original(recording, step)
         calls.append(1)
         if len(calls) == 17:
             stop.set()
 
-    monkeypatch.setattr(ngwear.Result, "append", counting)
+    monkeypatch.setattr(Recording, "append", counting)
     part = ngwear.simulate(scene, progress=False, checkpoint=tmp_path, stop=stop)
     monkeypatch.undo()
     assert part.status == "interrupted" and part.steps == 16 and not part.completed

@@ -74,7 +74,7 @@ def test_never_after_an_interrupt(strip):
     assert cli._uniqueness(result, stop, progress=False)[1].startswith("(H_S) c_K² L_p μ")
     stop.set()
     assert cli._uniqueness(result, stop, progress=False) is None
-    result.interrupt()
+    result.recording.interrupt()
     assert cli._uniqueness(result, threading.Event(), progress=False) is None
 
 

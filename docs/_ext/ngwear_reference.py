@@ -4,8 +4,9 @@
   :func:`ngwear.model.messages.reference_table` (the declarations) whose key is in SECTION (``name`` for the
   top-level keys ``name`` and ``units``), with the level a change of the key invalidates (its declared ``invalidates``).
 * ``{result-keys} FILE`` — the keys of ``result.npz``, ``summary.json`` or ``checkpoint.npz`` with their
-  meaning.  The keys are those of files really written by a small run at build time; a key the code writes
-  that :data:`MEANING` does not explain, or one it explains that the code no longer writes, fails the build.
+  meaning (the per-step fields': their declarations, :mod:`ngwear.results.step_fields`).  The keys are those of
+  files really written by a small run at build time; a key the code writes that :data:`MEANING` does not explain,
+  or one it explains that the code no longer writes, fails the build.
 """
 from __future__ import annotations
 
@@ -20,27 +21,11 @@ from docutils.statemachine import StringList
 from sphinx.errors import ExtensionError
 from sphinx.util.docutils import SphinxDirective
 
-SHAPES = {"N": "completed steps + 1", "n": "contact points", "d": "dimension", "r": "plate unknowns"}
+from ngwear.results.step_fields import STEP_FIELDS
 
 MEANING = {
     "result.npz": {
-        "times": ("(N,)", "t_j of each completed step (not uniform with `time.adaptive`)"),
-        "wear": ("(N, n)", "w at the contact points"),
-        "normal_displacement": ("(N, n)", "u_ν = u·ν at the contact points"),
-        "pressure": ("(N, n)", "p(u_ν − d₀ − w), the compliance's traction"),
-        "reaction": ("(N, n)", "λ ≥ 0, the multiplier of u_ν − d₀ ≤ g (the rigid reaction)"),
-        "forces": ("(N, n, d)", "the contact forces on the body at the points (what recovers u)"),
-        "plate_displacement": ("(N, r)", "δ of a rigid plate: its translation along ν, then its tilts (r = 0: none)"),
-        "normal_force": ("(N,)", "Σ m_i (p_i + λ_i): the force the foundation carries"),
-        "torque": ("(N,)", "Σ m_i μ p_i ((x_i − c) × n*_i)·e: friction moment about the counterface's axis "
-                           "(negative: braking)"),
-        "tangential_force": ("(N, d)", "F_t = Σ m_i μ p_i n*_i: the friction force on the foundation (against its "
-                                       "slip)"),
-        "friction_force": ("(N,)", "|F_t|, the friction force's magnitude"),
-        "apparent_friction": ("(N,)", "|F_t| / normal force, the apparent friction coefficient (0 where the normal "
-                                      "force is 0; μ where every point slides one way and none is at the bound)"),
-        "contact_area": ("(N,)", "Σ m_i over the points with p_i + λ_i > 0"),
-        "wear_volume": ("(N,)", "Σ m_i w_i: the worn volume (an area in 2D)"),
+        **{f.name: (f.shown, f.doc) for f in STEP_FIELDS},      # the per-step fields, as declared
         "contact_points": ("(n, d)", "x_i, the contact points"),
         "friction_coefficient": ("(n,)", "μ_i at the contact points (`contact.friction`, a number or a field)"),
         "wear_coefficient": ("(n,)", "κ_i at the contact points (`contact.wear`)"),

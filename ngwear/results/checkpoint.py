@@ -25,7 +25,8 @@ from ..model.scene import Scene, SceneError
 from .folder import FolderError, no_space, replacing
 from .history import History, remove_others
 from .mesh_file import checked_mesh, keep_mesh
-from .result import Result, from_arrays, row_shapes
+from .recording import Recording
+from .result import ARRAYS, Result, from_arrays, row_shapes
 
 CHECKPOINT = "checkpoint.npz"
 FREE = ("time.T", "time.steps")
@@ -34,13 +35,13 @@ KEYS = ("scene", "x", "lam", "step", "contact_points", "weights", "newton_iterat
 
 
 def write_checkpoint(folder, result: Result) -> Path:
-    """Write (or replace) the checkpoint of ``result`` (its ``continuation``) in ``folder``; the mesh too, once.
+    """Write (or replace) the checkpoint of ``result`` (its recording's ``continuation``) in ``folder``; the mesh, once.
 
     Rows kept elsewhere (in memory: the explorer's runs) are copied into a new history folder of ``folder``;
     the history folders of earlier runs there go once this checkpoint names another.
     """
-    x, lam, step = result.continuation
-    folder, history, rows = Path(folder), result.history, len(result.times)
+    x, lam, step = result.recording.continuation
+    folder, history, rows = Path(folder), result.recording.history, len(result.times)
     if not history.is_in(folder):
         history = history.moved(folder, rows)
     mesh = keep_mesh(result, folder)
@@ -83,7 +84,7 @@ def _scene(data: dict, path: Path) -> Scene:
 
 
 class Checkpoint:
-    """A checkpoint read back: its scene, the result on the folder's mesh, the warm start and the next step.
+    """A checkpoint read back: its scene, the result and its recording on the folder's mesh, the warm start, the step.
 
     Each file is checked before it is used (see :class:`FolderError`): the checkpoint's keys, that the
     folder's ``mesh.vol`` is the checkpoint's (SHA-256) and that the rows' files hold the counted rows.
@@ -100,12 +101,15 @@ class Checkpoint:
         _check_counts(folder / CHECKPOINT, data, disc)
         if "history" in data:
             sums = json.loads(str(data["checksums"])) if "checksums" in data else None
-            history = History.reopen(folder / str(data["history"]), row_shapes(self.scene, disc), int(data["rows"]),
-                                     sums)
-            self.result = from_arrays(self.scene, data, disc, history)
+            rows = int(data["rows"])
+            history = History.reopen(folder / str(data["history"]), row_shapes(self.scene, disc), rows, sums)
         else:                                       # written before the rows had their own files: they are here
-            self.result = from_arrays(self.scene, data, disc)
-            self.result.keep_in(folder)
+            history = History({name: np.array(data[name]) for name in ARRAYS})
+            rows = len(history.buffers["times"])
+        self.result = from_arrays(self.scene, data, disc, {name: history.buffers[name][:rows] for name in ARRAYS})
+        self.recording = Recording(self.result, history)
+        if "history" not in data:
+            self.recording.keep_in(folder)
         self.result.mesh_digest = str(data["mesh_sha256"]) if "mesh_sha256" in data else None
         self.x, self.lam, self.step = np.array(data["x"]), np.array(data["lam"]), float(data["step"])
         self.result.status = "completed"
@@ -160,10 +164,10 @@ class Saver:
     A checkpoint that finds the disk full is not written (the last one stays) and ends the run (``full``).
     """
 
-    def __init__(self, folder, seconds: float):
+    def __init__(self, folder, seconds: float, rows: int = 0):
         self.folder, self.seconds, self.last = folder, seconds, time.perf_counter()
         self.full: OSError | None = None
-        self.rows = 0                       # the steps the last checkpoint written keeps
+        self.rows = rows                    # the steps the last checkpoint written (or read, resuming) keeps
 
     def maybe(self, result: Result) -> bool:
         """Checkpoint if it is time; whether the run may go on."""
@@ -172,7 +176,7 @@ class Saver:
         return self.full is None
 
     def write(self, result: Result) -> None:
-        if self.folder is not None and result.continuation is not None:
+        if self.folder is not None and result.recording.continuation is not None:
             try:
                 write_checkpoint(self.folder, result)
             except OSError as err:

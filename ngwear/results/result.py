@@ -17,7 +17,8 @@ reads off a part, one value per step, with m_i the nodal weights of the contact 
 * ``wear_volume``  Σ m_i w_i, the worn volume (area in 2D).
 
 The contact coefficients at the points, shape (n_c,): ``friction_coefficient`` μ_i, ``wear_coefficient`` κ_i and
-``contact_stiffness`` L_i (numbers or fields of the scene, as evaluated there).
+``contact_stiffness`` L_i (numbers or fields of the scene, as evaluated there).  The per-step fields are declared in
+:mod:`ngwear.results.step_fields`; a run records its rows through a :class:`~ngwear.results.recording.Recording`.
 
 Full displacement fields are kept for the frames (``stored_steps``): the steps nearest to the
 output times (``output.every`` apart from t = 0, or ``output.times``) and the last step, so that the
@@ -39,15 +40,17 @@ from ..model.kinematics import Slip
 from ..model.scene import Scene
 from ..numerics.points import initial_distance
 from ..numerics.solver import NewtonRecord
-from .folder import NoSpace, no_space, replacing
-from .history import History
+from .folder import replacing
 from .material_summary import region_materials
 from .mesh_file import keep_mesh, saved_discretization
 from .records import records_from_arrays, records_to_arrays
+from .step_fields import DERIVED, RECORDED
 from .units import units
 
-ARRAYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces", "plate_displacement")
-PART = ("normal_force", "torque", "friction_force", "apparent_friction", "contact_area", "wear_volume")
+ARRAYS = tuple(f.name for f in RECORDED)
+"""The rows a run records (:data:`~ngwear.results.step_fields.RECORDED`)."""
+PART = tuple(f.name for f in DERIVED if not f.shape)
+"""What the summary reports of a part at the last step: the derived per-step numbers."""
 COEFFICIENTS = ("friction_coefficient", "wear_coefficient", "contact_stiffness")
 
 
@@ -86,18 +89,17 @@ class Result:
         Seconds of the whole run (meshing and factorising included) and of its time loop.
     discretization : Discretization or None
         The mesh and factorisation it ran on (``displacement`` and pictures need it).
+    rows : dict of ndarray
+        The recorded per-step arrays by name (``times``, ``wear``, …: also attributes).
+    recording : Recording or None
+        How the run recorded itself (its rows' storage and its warm start: a checkpoint needs them); None when read
+        from files.
     """
 
     scene: Scene
     contact_points: np.ndarray
     weights: np.ndarray
-    times: np.ndarray
-    wear: np.ndarray
-    normal_displacement: np.ndarray
-    pressure: np.ndarray
-    reaction: np.ndarray
-    forces: np.ndarray
-    plate_displacement: np.ndarray
+    rows: dict[str, np.ndarray] = field(repr=False)
     friction_coefficient: np.ndarray = field(default=None, repr=False)
     wear_coefficient: np.ndarray = field(default=None, repr=False)
     contact_stiffness: np.ndarray = field(default=None, repr=False)
@@ -109,77 +111,8 @@ class Result:
     rejected: int = 0
     fields: dict[int, np.ndarray] = field(default_factory=dict)
     discretization: object = field(default=None, repr=False)
-    continuation: tuple | None = field(default=None, repr=False)   # (x, λ, next step): to go on from the last step
-    history: History | None = field(default=None, repr=False)   # the rows behind the arrays
+    recording: object = field(default=None, repr=False)          # the run's Recording: its rows, to go on from
     mesh_digest: str | None = field(default=None, repr=False)   # SHA-256 of the mesh.vol written for it
-
-    @classmethod
-    def empty(cls, scene: Scene, disc, folder=None) -> Result:
-        """A result with room for the scene's steps, in memory or (``folder``) in mapped files there.
-
-        The public arrays are views of the completed rows (:mod:`ngwear.results.history`); NoSpace when the
-        folder has no room for them.
-        """
-        shapes, coefficients = row_shapes(scene, disc), disc.contact.coefficients
-        result = cls(scene, disc.points.coords, disc.points.weights,
-                     *(np.zeros((0, *shapes[name])) for name in ARRAYS), coefficients.friction, coefficients.wear,
-                     coefficients.stiffness, discretization=disc)
-        try:
-            result.history = History.empty(shapes, scene.time.steps + 1, folder)
-        except OSError as err:
-            if not no_space(err):
-                raise
-            size = (scene.time.steps + 1) * sum(8 * int(np.prod(shape, dtype=int)) for shape in shapes.values())
-            raise NoSpace(f"no space left on device in {folder} for the rows of {scene.time.steps + 1} steps "
-                          f"({size / 1e6:.4g} MB); nothing was computed") from None
-        return result
-
-    def append(self, t, w, s, p, lam, forces, delta, record: NewtonRecord) -> None:
-        """Record step j = number of steps so far (the rows double when full: adaptive runs)."""
-        j = len(self.times)
-        for name, value in zip(ARRAYS, (t, w, s, p, lam, forces, delta)):
-            setattr(self, name, self.history.put(name, j, value))
-        self.newton.append(record)
-
-    def keep_field(self, u: np.ndarray) -> None:
-        """Keep the displacement u of the step just recorded (a nonlinear body's: recovering it needs an iteration).
-
-        The previous step's goes unless it may be a frame (an output time within half a step of it).
-        """
-        j = self.steps
-        previous = j - 1
-        if previous in self.fields and not self._frame_candidate(previous):
-            del self.fields[previous]
-        self.fields[j] = u.copy()
-
-    def _frame_candidate(self, j: int) -> bool:
-        out, t = self.scene.output, self.times[j]
-        half = 0.5 * max(t - self.times[j - 1] if j else 0.0, self.times[j + 1] - t if j + 1 < len(self.times) else 0.0)
-        wanted = np.asarray(out.times) if out.times is not None else np.arange(0.0, self.scene.time.T + out.every / 2,
-                                                                             out.every)
-        return bool(np.any(np.abs(wanted - t) <= half * (1 + 1e-9)))
-
-    def keep_in(self, folder) -> None:
-        """Move the rows into mapped files of a new history folder in ``folder`` (to checkpoint there)."""
-        rows = len(self.times)
-        self.history = self.history.moved(folder, rows)
-        for name in ARRAYS:
-            setattr(self, name, self.history.buffers[name][:rows])
-
-    def fail(self, message: str, record: NewtonRecord) -> None:
-        self.status = message
-        self.newton.append(record)
-
-    def settle(self) -> None:
-        """After an interrupt inside :meth:`append`: the arrays and records cut to the steps all of them hold."""
-        rows = min(len(getattr(self, name)) for name in ARRAYS)
-        for name in ARRAYS:
-            setattr(self, name, getattr(self, name)[:rows])
-        del self.newton[rows:]
-
-    def interrupt(self) -> None:
-        """Mark the run as stopped on request (Ctrl-C, SIGTERM): every completed step is kept."""
-        self.status = "interrupted"
 
     @property
     def completed(self) -> bool:
@@ -189,6 +122,10 @@ class Result:
     def steps(self) -> int:
         """Index of the last completed step."""
         return len(self.times) - 1
+
+    def step_index(self, step: int) -> int:
+        """The index of ``step`` as a list's (−1: the last step); IndexError for a step the run does not have."""
+        return range(self.steps + 1)[step]
 
     @property
     def compression(self) -> np.ndarray:
@@ -254,7 +191,7 @@ class Result:
 
     def displacement(self, step: int) -> np.ndarray:
         """DOF vector of u at a step, recovered with one back-substitution and cached."""
-        step = range(self.steps + 1)[step]
+        step = self.step_index(step)
         if step not in self.fields:
             if self.discretization is None:
                 raise KeyError(f"step {step} was not stored; stored steps: {sorted(self.fields)}")
@@ -327,7 +264,7 @@ class Result:
         steps = self.stored_steps
         fields = np.array([self.displacement(s) for s in steps]) if self.discretization else np.zeros((0, 0))
         mesh = {"mesh_sha256": np.array(keep_mesh(self, out))} if self.discretization is not None else {}
-        arrays = {**self.arrays(), **{name: getattr(self, name) for name in (*PART, "tangential_force")},
+        arrays = {**self.arrays(), **{f.name: getattr(self, f.name) for f in DERIVED},
                   "field_steps": np.array(steps, dtype=int), "fields": fields, **mesh}
         if self.scene.units:
             arrays["units"] = np.array(json.dumps(units(self.scene, arrays), ensure_ascii=False))
@@ -377,22 +314,22 @@ def load_result(directory) -> Result:
 
 def row_shapes(scene: Scene, disc) -> dict[str, tuple]:
     """The shape of one step's row of each of :data:`ARRAYS`."""
-    n = disc.points.n
-    shapes = {"times": (), "forces": (n, scene.dim), "plate_displacement": (disc.condensation.plate_modes_count,)}
-    return {name: shapes.get(name, (n,)) for name in ARRAYS}
+    sizes = {"n": disc.points.n, "d": scene.dim, "r": disc.condensation.plate_modes_count}
+    return {f.name: f.size(sizes) for f in RECORDED}
 
 
-def from_arrays(scene: Scene, data, disc, history: History | None = None) -> Result:
-    """The result that :meth:`Result.arrays` wrote (or :meth:`Result.header` and ``history``'s rows), on ``disc``."""
-    if history is None:
-        history = History({name: np.array(data[name]) for name in ARRAYS})
-    count = len(history.buffers["times"]) if history.folder is None else int(data["rows"])
-    rows = (history.buffers[name][:count] for name in ARRAYS)
+def from_arrays(scene: Scene, data, disc, rows: dict[str, np.ndarray] | None = None) -> Result:
+    """The result that :meth:`Result.arrays` wrote (or :meth:`Result.header` and the ``rows``), on ``disc``."""
+    rows = {name: np.array(data[name]) for name in ARRAYS} if rows is None else rows
     n = len(data["weights"])
     coefficients = (np.array(data[name]) if name in data else np.full(n, float(getattr(scene.contact, key)))
                     for name, key in zip(COEFFICIENTS, ("friction", "wear", "stiffness")))   # before fields: numbers
-    return Result(scene, data["contact_points"], data["weights"], *rows, *coefficients, newton=records_from_arrays(data),
+    return Result(scene, data["contact_points"], data["weights"], rows, *coefficients, newton=records_from_arrays(data),
                   status=str(data["status"]), wall_time=float(data["wall_time"]),
                   solve_time=float(data["solve_time"]) if "solve_time" in data else 0.0,
                   warnings=[str(w) for w in data["warnings"]], rejected=int(data["rejected"]),
-                  discretization=disc, history=history)
+                  discretization=disc)
+
+
+for _field in RECORDED:     # result.times, result.wear, …: the recorded rows, as declared
+    setattr(Result, _field.name, property(lambda self, name=_field.name: self.rows[name], doc=_field.doc))

@@ -8,16 +8,16 @@ m² and m, worn volumes Σ m_i w_i m³ and m².  :func:`units` maps the name of 
 """
 from __future__ import annotations
 
+from .step_fields import STEP_FIELDS
+
 QUANTITIES = {"length": ("m", "m"), "time": ("s", "s"), "pressure": ("Pa", "Pa"), "force": ("N", "N/m"),
               "torque": ("N·m", "N·m/m"), "area": ("m²", "m"), "volume": ("m³", "m²"), "line load": ("N/m", "N/m")}
 """Each quantity's unit in 3D and in 2D (per unit thickness)."""
 
-NAMES = {"times": "time", "wear": "length", "normal_displacement": "length", "pressure": "pressure",
-         "reaction": "pressure", "forces": "force", "plate_displacement": "length", "normal_force": "force",
-         "torque": "torque", "contact_area": "area", "wear_volume": "volume", "tangential_force": "force",
-         "friction_force": "force", "contact_points": "length", "weights": "area", "fields": "length",
-         "max_wear": "length", "max_penetration": "length", "gap": "length"}
-"""The quantity of each number a run writes (the others are counts, fractions, ratios or wall-clock seconds)."""
+NAMES = {**{f.name: f.quantity for f in STEP_FIELDS if f.quantity}, "contact_points": "length", "weights": "area",
+         "fields": "length", "max_wear": "length", "max_penetration": "length", "gap": "length"}
+"""The quantity of each number a run writes: its per-step fields' (:mod:`ngwear.results.step_fields`) and the others
+with a unit (the rest are counts, fractions, ratios or wall-clock seconds)."""
 
 
 def unit(scene, quantity: str) -> str | None:

@@ -34,7 +34,8 @@ GROWTH, SHRINK, SAFETY = 4.0, 0.2, 0.9
 class Clock:
     """Where the next step ends, and whether the step just solved is accurate enough (adaptive)."""
 
-    def __init__(self, scene, largest_rate: float, rejected: int = 0):
+    def __init__(self, scene, largest_rate: float, rejected: int = 0, step: float | None = None):
+        """``rejected`` and ``step`` (the next step) of a run that resumes; None: the scene's first step."""
         t = scene.time
         self.T, self.uniform, self.adaptive = t.T, t.T / t.steps, t.adaptive
         self.steps = t.steps
@@ -48,7 +49,7 @@ class Clock:
         if self.ceiling < self.floor:
             raise SceneError(f"time.min_step: {self.floor:g} is above the {scene.wear.integrator} update's stability "
                              f"limit {limit:.3g}; use wear.integrator = 'implicit' or a smaller time.min_step")
-        self.step = float(np.clip(self.uniform, self.floor, self.ceiling))
+        self.step = float(np.clip(self.uniform, self.floor, self.ceiling)) if step is None else step
         self.order = 2 if scene.wear.integrator == "trapezoidal" else 1
         self.budget = t.tolerance * scene.contact.gap
         self.per_time = self.budget / t.T

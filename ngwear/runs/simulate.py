@@ -35,6 +35,7 @@ from ..numerics.wear import WearIntegrator, diverging, explicit_stability
 from ..results.checkpoint import Checkpoint, Saver
 from ..results.folder import NoSpace, hold, no_space
 from ..results.invariants import StepCheck
+from ..results.recording import Recording, StepRecord
 from ..results.result import Result
 from .clock import Clock
 from .progress import bar
@@ -87,68 +88,47 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
 
 
 def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Result:
-    start = time.perf_counter()
+    began = time.perf_counter()
     stages = Stages(scene.name if scene is not None else "resume", progress)
-    if resume is not None:
-        saved = stages.run("reading the checkpoint and its mesh", lambda: Checkpoint(resume, scene))
-        scene, result, disc = saved.scene, saved.result, saved.result.discretization
-        x, lam, checkpoint = saved.x, saved.lam, checkpoint if checkpoint is not None else resume
-        if not result.history.is_in(checkpoint):
-            result.keep_in(checkpoint)              # the run goes on in another folder: the first stays as it was
-    else:
-        if discretization is None:
-            disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene))
-        else:
-            disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
-        refusal = diverging(scene, disc.contact.largest_rate())
-        if refusal:
-            stages.close()
-            raise SceneError(refusal)
-        result = Result.empty(scene, disc, checkpoint)
-        warning = None if scene.time.adaptive else explicit_stability(scene, disc.contact.largest_rate())
-        if warning:
-            log.warning("%s", warning)
-            result.warnings.append(warning)
+    start = (_start(scene, discretization, checkpoint, stages) if resume is None
+             else _resume(scene, resume, checkpoint, stages))
+    scene, disc, recording = start.scene, start.disc, start.recording
+    result = recording.result
     stages.prepare(disc)
-    clock = Clock(scene, disc.contact.largest_rate(), result.rejected)
-    if resume is not None:
-        clock.step, result.continuation = saved.step, (saved.x, saved.lam, saved.step)
-        clock.replay(result.times, [disc.contact.alpha(t) * p for t, p in zip(result.times, result.pressure)])
+    clock = Clock(scene, disc.contact.largest_rate(), result.rejected, start.step)
+    clock.replay(result.times, [disc.contact.alpha(t) * p for t, p in zip(result.times, result.pressure)])
     stepper = Stepper(Problem(disc), StepCheck(result))
-    if resume is None:
-        x, lam = stepper.unknowns(), np.zeros(disc.points.n)
     integrator = WearIntegrator(scene.wear.integrator, disc.contact.law, disc.points.n)
-    saver = Saver(checkpoint, scene.output.checkpoint_seconds)
-    if resume is not None and result.history.is_in(resume):
-        saver.rows = len(result.times)          # what the checkpoint read keeps
+    saver = Saver(start.checkpoint, scene.output.checkpoint_seconds, rows=start.kept)
     steps_bar = _progress(scene, result) if progress else None
     before, solving = result.wall_time, time.perf_counter()
+    x, lam = start.x, start.lam
     try:
         if result.steps < 0:
-            x, lam = _first(stepper, integrator, result, x, lam)
-            result.continuation = (x, lam, clock.next_step)
+            x, lam = _first(stepper, integrator, recording, x, lam)
+            recording.continuation = (x, lam, clock.next_step)
         while result.completed and not clock.done(result.steps, result.times[-1]):
             if stop is not None and stop.is_set():
-                result.interrupt()
+                recording.interrupt()
                 break
-            attempt = _next(stepper, integrator, clock, result, x, lam)
+            attempt = _next(stepper, integrator, clock, recording, x, lam)
             if attempt is None:
                 break
             x, lam = attempt
-            result.continuation = (x, lam, clock.next_step)
+            recording.continuation = (x, lam, clock.next_step)
             if steps_bar is not None:
                 steps_bar.update(1 if not scene.time.adaptive else result.times[-1] - result.times[-2])
             if not saver.maybe(result):
                 break
     except KeyboardInterrupt:
-        result.settle()
-        result.interrupt()
+        recording.settle()
+        recording.interrupt()
     except OSError as err:                      # the rows found no room to grow
         if not no_space(err):
             raise
-        result.settle()
+        recording.settle()
         saver.full = err
-    result.wall_time, result.rejected = before + time.perf_counter() - start, clock.rejected
+    result.wall_time, result.rejected = before + time.perf_counter() - began, clock.rejected
     result.solve_time += time.perf_counter() - solving
     if clock.unmet:
         result.warnings.append(f"time.tolerance: steps at time.min_step = {scene.time.min_step:g} missed the "
@@ -161,6 +141,54 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
     if result.status != "completed":
         log.warning("%s: %s", scene.name, result.status)
     return result
+
+
+@dataclass
+class _Start:
+    """Where a run starts, new or resumed: one state the time loop goes on from.
+
+    Its scene, discretization and recording, the solver's warm start (x, λ), the output folder it checkpoints into,
+    and for a resumed run the adaptive clock's next step and the rows the checkpoint read keeps (``kept``; 0 when the
+    run goes on in another folder).
+    """
+
+    scene: Scene
+    disc: Discretization
+    recording: Recording
+    x: np.ndarray
+    lam: np.ndarray
+    checkpoint: object
+    step: float | None = None
+    kept: int = 0
+
+
+def _start(scene, discretization, checkpoint, stages) -> _Start:
+    """A new run: its discretization (of ``discretization`` where the scene allows), empty rows, the unloaded state."""
+    if discretization is None:
+        disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene))
+    else:
+        disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
+    refusal = diverging(scene, disc.contact.largest_rate())
+    if refusal:
+        stages.close()
+        raise SceneError(refusal)
+    recording = Recording.start(scene, disc, checkpoint)
+    warning = None if scene.time.adaptive else explicit_stability(scene, disc.contact.largest_rate())
+    if warning:
+        log.warning("%s", warning)
+        recording.result.warnings.append(warning)
+    return _Start(scene, disc, recording, Problem(disc).unknowns(), np.zeros(disc.points.n), checkpoint)
+
+
+def _resume(scene, resume, checkpoint, stages) -> _Start:
+    """A run going on from the checkpoint in ``resume`` (into ``checkpoint``, else into ``resume``)."""
+    saved = stages.run("reading the checkpoint and its mesh", lambda: Checkpoint(resume, scene))
+    recording, folder = saved.recording, checkpoint if checkpoint is not None else resume
+    if not recording.history.is_in(folder):
+        recording.keep_in(folder)               # the run goes on in another folder: the first stays as it was
+    recording.continuation = (saved.x, saved.lam, saved.step)
+    kept = len(saved.result.times) if recording.history.is_in(resume) else 0
+    return _Start(saved.scene, saved.result.discretization, recording, saved.x, saved.lam, folder, saved.step, kept)
 
 
 @dataclass
@@ -187,43 +215,46 @@ def _solve(stepper, integrator, t: float, t_prev: float | None, x, lam) -> _Atte
     return _Attempt(x, lam, s, delta, pressure, integrator.wear_at(s - problem.d0), record)
 
 
-def _record(result: Result, stepper, t: float, attempt: _Attempt) -> bool:
+def _record(recording: Recording, stepper, t: float, attempt: _Attempt) -> bool:
     """Record the step if it keeps the invariants; else stop the run there (False)."""
     broken = stepper.check(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam)
     if broken is not None:
         name, value = broken
-        result.fail(f"step {len(result.times)} (t = {t:.4g}): invariant {name} broken by {value:.3g} "
-                    f"(allowed {stepper.check.checker.allowed[name]:.0e}; see ngwear.results.invariants); "
-                    f"try wear.integrator = 'implicit' or more time.steps", attempt.record)
+        recording.fail(f"step {len(recording.result.times)} (t = {t:.4g}): invariant {name} broken by {value:.3g} "
+                       f"(allowed {stepper.check.checker.allowed[name]:.0e}; see ngwear.results.invariants); "
+                       f"try wear.integrator = 'implicit' or more time.steps", attempt.record)
         return False
-    result.append(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam,
-                  stepper.problem.contact.forces(attempt.pressure, attempt.lam, t), attempt.delta, attempt.record)
+    forces = stepper.problem.contact.forces(attempt.pressure, attempt.lam, t)
+    recording.append(StepRecord({"times": t, "wear": attempt.wear, "normal_displacement": attempt.s,
+                                 "pressure": attempt.pressure, "reaction": attempt.lam, "forces": forces,
+                                 "plate_displacement": attempt.delta}, attempt.record))
     displacement = stepper.displacement(attempt.x)
     if displacement is not None:          # a nonlinear body's field is kept for the frames and the last step
-        result.keep_field(displacement)
+        recording.keep_field(displacement)
     return True
 
 
-def _failed(result: Result, scene: Scene, j: int, t: float, err: Exception) -> None:
+def _failed(recording: Recording, scene: Scene, j: int, t: float, err: Exception) -> None:
     if isinstance(err, ArithmeticError):
-        result.fail(f"step {j} (t = {t:.4g}): non-finite solution", err.args[0])
+        recording.fail(f"step {j} (t = {t:.4g}): non-finite solution", err.args[0])
     else:
-        result.fail(f"step {j} (t = {t:.4g}): {err}; {_remedy(scene, err.record)}", err.record)
+        recording.fail(f"step {j} (t = {t:.4g}): {err}; {_remedy(scene, err.record)}", err.record)
 
 
-def _first(stepper, integrator, result: Result, x, lam):
+def _first(stepper, integrator, recording: Recording, x, lam):
     """Step 0: the contact problem at t = 0, before any wear (from the unloaded state)."""
     try:
         attempt = _solve(stepper, integrator, 0.0, None, x, lam)
     except (ConvergenceError, ArithmeticError) as err:
-        _failed(result, stepper.scene, 0, 0.0, err)
+        _failed(recording, stepper.scene, 0, 0.0, err)
         return x, lam
-    _record(result, stepper, 0.0, attempt)
+    _record(recording, stepper, 0.0, attempt)
     return attempt.x, attempt.lam
 
 
-def _next(stepper, integrator, clock: Clock, result: Result, x, lam):
+def _next(stepper, integrator, clock: Clock, recording: Recording, x, lam):
     """The step after the last recorded one, redone smaller while the clock rejects it; (x, λ) or None."""
+    result = recording.result
     contact, j = stepper.problem.contact, result.steps
     t, w, p = result.times[j], result.wear[j], result.pressure[j]
     times = list(result.times[max(j - 1, 0):j + 1])
@@ -236,10 +267,10 @@ def _next(stepper, integrator, clock: Clock, result: Result, x, lam):
         except (ConvergenceError, ArithmeticError) as err:
             if clock.shrink():
                 continue
-            _failed(result, stepper.scene, j + 1, t_next, err)
+            _failed(recording, stepper.scene, j + 1, t_next, err)
             return None
         if clock.judge([*times, t_next], [*rates, contact.alpha(t_next) * attempt.pressure]):
-            return (attempt.x, attempt.lam) if _record(result, stepper, t_next, attempt) else None
+            return (attempt.x, attempt.lam) if _record(recording, stepper, t_next, attempt) else None
 
 
 class Stages:

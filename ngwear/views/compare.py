@@ -27,7 +27,7 @@ class Comparison(Panels):
         """RGB image (height, width, 3) of the panels for ``step`` of ``b`` against ``a``."""
         if not np.array_equal(a.contact_points, b.contact_points):
             raise ValueError("A/B: the pinned run A has other contact points (another mesh); pin again")
-        step = range(b.steps + 1)[step]
+        step = b.step_index(step)
         t = b.times[step]
         step_a = nearest_step(a, t)
         if self._dim != b.scene.dim:

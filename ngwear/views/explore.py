@@ -177,7 +177,7 @@ class Explorer:
     def scrub(self, step: int) -> None:
         """Show ``step`` (negative counts from the end) of the current run."""
         with self._lock:
-            step = range(self.result.steps + 1)[step]
+            step = self.result.step_index(step)
             if step != self.step:
                 self.step = step
                 self._changed()

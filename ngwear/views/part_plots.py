@@ -75,7 +75,7 @@ def contact_maps(result, path, steps=None, fields=("pressure", "wear")) -> Path:
     """Γ_C from above coloured by each of ``fields`` (rows) at ``steps`` (columns; default 4 of the run)."""
     if result.scene.dim != 3:
         raise ValueError("contact maps need a 3D result (in 2D, Γ_C is a line: see plots.wear_profiles)")
-    steps = [s for s, _ in _sampled(result, 4)] if steps is None else [range(result.steps + 1)[s] for s in steps]
+    steps = [s for s, _ in _sampled(result, 4)] if steps is None else [result.step_index(s) for s in steps]
     tri, at_nodes = _triangulation(result)
     aspect = np.clip(np.ptp(tri.x) / max(np.ptp(tri.y), 1e-300), 0.35, 3.0)
     fig = Figure(figsize=((2.6 * aspect + 0.6) * len(steps) + 1, 3.0 * len(fields)), layout="constrained")

@@ -129,7 +129,7 @@ class Dashboard(Panels):
 
     def image(self, result, step: int) -> np.ndarray:
         """RGB image (height, width, 3) of the panels for ``step`` of ``result``."""
-        step = range(result.steps + 1)[step]
+        step = result.step_index(step)
         if self._dim != result.scene.dim:
             self._build(result.scene.dim)
         if self._result is not result:

@@ -112,7 +112,7 @@ class Canvas:
     @on_render_thread
     def frame(self, result, step: int, steps=()) -> np.ndarray:
         """RGB image (height, width, 3) of the body, layer and foundation of ``result`` at ``step``."""
-        step = range(result.steps + 1)[step]
+        step = result.step_index(step)
         picture = self._picture_of(result, [step, *steps])
         if self._plotter is None or self._parts["mesh"] is not picture.mesh:
             self._build(picture)
@@ -248,7 +248,7 @@ def paper_figures(result, out_dir, steps=None, **kw) -> list[Path]:
     The frames are the steps whose VTU files are written (``fields_stepNNN.vtu``, ``output.every``: a quarter
     of the run by default, as the paper's figures at 25, 50, 75 and 100 of 100 steps).
     """
-    steps = picture_steps(result) if steps is None else [range(result.steps + 1)[s] for s in steps]
+    steps = picture_steps(result) if steps is None else [result.step_index(s) for s in steps]
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     paths = []

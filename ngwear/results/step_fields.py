@@ -1,0 +1,69 @@
+"""The per-step result fields, each declared once: its name, its shape per step, its quantity and its meaning.
+
+A run records the rows of :data:`RECORDED` at every step (:mod:`ngwear.results.recording`; in mapped files with an
+output folder, :mod:`ngwear.results.history`) and computes the fields :data:`DERIVED` from them (a
+:class:`~ngwear.results.result.Result` property of the same name).  ``result.npz`` holds both, a checkpoint the
+recorded rows; the units of a scene in SI (:mod:`ngwear.results.units`) and the reference of the result files
+(``docs/reference/files.md``) read this table, and so would a table of every per-step number of a run: the fields
+whose shape per step is ``()``.  A new per-step field is one :class:`StepField` here, and the code that records or
+derives it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+SIZES = {"n": "contact points", "d": "dimension", "r": "plate unknowns"}
+"""The letters of a shape per step: what they count."""
+
+
+@dataclass(frozen=True)
+class StepField:
+    """One per-step result field: an array of shape (N, *shape), N the completed steps + 1.
+
+    ``shape`` is in the letters of :data:`SIZES` (``()`` a number per step, ``("n",)`` one per contact point);
+    ``quantity`` names its unit in an SI scene (a key of :data:`ngwear.results.units.QUANTITIES`; None: a ratio).
+    """
+
+    name: str
+    shape: tuple[str, ...]
+    quantity: str | None
+    doc: str
+
+    def size(self, sizes: dict[str, int]) -> tuple[int, ...]:
+        """The shape of one step's row for the sizes ``{"n": …, "d": …, "r": …}`` of a run."""
+        return tuple(sizes[letter] for letter in self.shape)
+
+    @property
+    def shown(self) -> str:
+        """The array's shape as the reference writes it, e.g. ``(N,)`` or ``(N, n)``."""
+        return "(" + ", ".join(("N", *self.shape)) + (",)" if not self.shape else ")")
+
+
+RECORDED = (
+    StepField("times", (), "time", "t_j of each completed step (not uniform with `time.adaptive`)"),
+    StepField("wear", ("n",), "length", "w at the contact points"),
+    StepField("normal_displacement", ("n",), "length", "u_ν = u·ν at the contact points"),
+    StepField("pressure", ("n",), "pressure", "p(u_ν − d₀ − w), the compliance's traction"),
+    StepField("reaction", ("n",), "pressure", "λ ≥ 0, the multiplier of u_ν − d₀ ≤ g (the rigid reaction)"),
+    StepField("forces", ("n", "d"), "force", "the contact forces on the body at the points (what recovers u)"),
+    StepField("plate_displacement", ("r",), "length", "δ of a rigid plate: its translation along ν, then its tilts "
+                                                      "(r = 0: none)"),
+)
+"""The rows a run records at each step, in the order of ``result.npz``."""
+
+DERIVED = (
+    StepField("normal_force", (), "force", "Σ m_i (p_i + λ_i): the force the foundation carries"),
+    StepField("torque", (), "torque", "Σ m_i μ p_i ((x_i − c) × n*_i)·e: friction moment about the counterface's "
+                                      "axis (negative: braking)"),
+    StepField("friction_force", (), "force", "|F_t|, the friction force's magnitude"),
+    StepField("apparent_friction", (), None, "|F_t| / normal force, the apparent friction coefficient (0 where the "
+                                             "normal force is 0; μ where every point slides one way and none is at "
+                                             "the bound)"),
+    StepField("contact_area", (), "area", "Σ m_i over the points with p_i + λ_i > 0"),
+    StepField("wear_volume", (), "volume", "Σ m_i w_i: the worn volume (an area in 2D)"),
+    StepField("tangential_force", ("d",), "force", "F_t = Σ m_i μ p_i n*_i: the friction force on the foundation "
+                                                   "(against its slip)"),
+)
+"""What an engineer reads off a part, computed from the rows (what the summary reports at the last step)."""
+
+STEP_FIELDS = RECORDED + DERIVED
