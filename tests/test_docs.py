@@ -23,6 +23,7 @@ import pytest
 from browser import Shots, Watch, chromium
 from conftest import ROOT
 
+pytest.importorskip("sphinx", reason="the site needs the docs extra (pip install 'ngwear[docs]')")
 DOCS = ROOT / "docs"
 sys.path.insert(0, str(DOCS / "_ext"))
 import ngwear_reference  # noqa: E402

@@ -2,7 +2,8 @@
 
 Each notebook is executed by nbclient in a copy of the folder layout (``notebooks/`` beside
 ``geometries/``) under a temporary directory, with ``NGWEAR_NOTEBOOK_QUICK=1`` selecting the coarse,
-short run and a kernel spec pointing at this Python (``JUPYTER_PATH``), whatever kernels the user has.
+short run and a kernel spec pointing at this Python (``JUPYTER_PATH``), whatever kernels the user has.  Running a
+notebook takes a kernel and a run: those tests are ``slow``.
 """
 import nbformat
 import pytest
@@ -41,6 +42,7 @@ def outputs(notebook, kind):
             if kind in o.get("data", {})]
 
 
+@pytest.mark.slow
 def test_paper_reproduction_runs(tmp_path, monkeypatch):
     notebook = execute(ROOT / "notebooks" / "paper_reproduction.ipynb", tmp_path, monkeypatch)
     out = tmp_path / "notebooks" / "out"
@@ -50,6 +52,7 @@ def test_paper_reproduction_runs(tmp_path, monkeypatch):
     assert "implicit  k = 0.1" in notebook.cells[-1].outputs[-1]["text"]
 
 
+@pytest.mark.slow
 def test_explorer_notebook_runs(tmp_path, monkeypatch):
     notebook = execute(ROOT / "notebooks" / "explore.ipynb", tmp_path, monkeypatch)
     assert len(outputs(notebook, "application/vnd.jupyter.widget-view+json")) == 1
@@ -59,6 +62,7 @@ def test_explorer_notebook_runs(tmp_path, monkeypatch):
     assert "A/B: B differs from A in speed 1 → 2" in printed
 
 
+@pytest.mark.slow
 def test_convergence_notebook_runs(tmp_path, monkeypatch):
     notebook = execute(ROOT / "notebooks" / "convergence.ipynb", tmp_path, monkeypatch)
     out = tmp_path / "notebooks" / "out"

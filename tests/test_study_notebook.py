@@ -1,9 +1,11 @@
 """notebooks/study.ipynb runs a small study on a local Dask cluster in a real kernel (quick mode)."""
 import pandas as pd
+import pytest
 from conftest import ROOT
 from test_notebooks import execute, outputs
 
 
+@pytest.mark.slow
 def test_study_notebook_runs(tmp_path, monkeypatch):
     notebook = execute(ROOT / "notebooks" / "study.ipynb", tmp_path, monkeypatch)
     out = tmp_path / "notebooks" / "out" / "study"
