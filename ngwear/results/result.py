@@ -68,14 +68,10 @@ class Result:
         x_i (n, d) and the quadrature weights m_i (n,) of Γ_C.
     friction_coefficient, wear_coefficient, contact_stiffness : ndarray
         μ_i, κ_i and L_i at the contact points (n,): the scene's numbers or fields.
-    times : ndarray
-        t_j of the completed steps (N,).
-    wear, normal_displacement, pressure, reaction : ndarray
-        w, u_ν, p and λ at the contact points, (N, n).
-    forces : ndarray
-        The contact forces at the points, (N, n, d).
-    plate_displacement : ndarray
-        δ of a rigid plate, (N, r) (r = 0 without one).
+    times, wear, normal_displacement, pressure, reaction, forces, plate_displacement : ndarray
+        The recorded per-step arrays t_j (N,); w, u_ν, p and λ at the contact points (N, n); the contact forces
+        (N, n, d); δ of a rigid plate (N, r), r = 0 without one (properties, as declared in
+        :mod:`~ngwear.results.step_fields`).
     normal_force, torque, friction_force, apparent_friction, contact_area, wear_volume : ndarray
         Per step (N,): Σ m (p + λ), the friction moment about the counterface's axis, ‖F_t‖, ‖F_t‖ / normal force,
         the area in contact and the worn volume (properties; ``tangential_force`` is F_t itself, (N, d)).
@@ -90,7 +86,7 @@ class Result:
     discretization : Discretization or None
         The mesh and factorisation it ran on (``displacement`` and pictures need it).
     rows : dict of ndarray
-        The recorded per-step arrays by name (``times``, ``wear``, …: also attributes).
+        The recorded per-step arrays by name.
     recording : Recording or None
         How the run recorded itself (its rows' storage and its warm start: a checkpoint needs them); None when read
         from files.
@@ -332,4 +328,5 @@ def from_arrays(scene: Scene, data, disc, rows: dict[str, np.ndarray] | None = N
 
 
 for _field in RECORDED:     # result.times, result.wear, …: the recorded rows, as declared
-    setattr(Result, _field.name, property(lambda self, name=_field.name: self.rows[name], doc=_field.doc))
+    setattr(Result, _field.name, property(lambda self, name=_field.name: self.rows[name],
+                                          doc=f"{_field.doc}, shape {_field.shown}."))
