@@ -35,6 +35,8 @@ def message(err: dict, data: Any, scene_model: type[BaseModel]) -> str:
     if info is None or owner is not None:
         return f"{name}: must be a table (got {got!r})"
     what, rng = _what(info, name, data)
+    if kind == "too_long" and not isinstance(err["loc"][-1], int):      # a table's rows (not a row's numbers)
+        return f"{name}: at most {err['ctx']['max_length']} rows (got {err['ctx']['actual_length']})"
     if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
         return f"{name}: must be {rng} (got {got!r})"
     if kind == "finite_number":

@@ -304,6 +304,9 @@ class Output(Section):
                                            reuse=Level.NOTHING, shown="—", allowed="in [0, T], increasing")
     checkpoint_seconds: Number = key(60.0, "wall time between checkpoints of a run with an output folder "
                                      "(0: none)", reuse=Level.NOTHING, ge=0)
+    max_frames: Whole = key(10_000, "most frames a run may write (each a full field, kept in memory and written as a "
+                            "VTU file): a scene whose `output.every` or `output.times` gives more is refused before "
+                            "the run", reuse=Level.NOTHING, ge=1, le=1_000_000)
 
 
 SECTIONS = {"geometry": Geometry, "mesh": MeshSpec, "material": Material, "contact": Contact,

@@ -78,7 +78,7 @@ def _read(folder) -> dict[str, np.ndarray]:
 def _scene(data: dict, path: Path) -> Scene:
     try:
         return Scene.from_dict(json.loads(str(data["scene"])))
-    except (ValueError, TypeError) as err:
+    except (ValueError, TypeError, RecursionError) as err:
         raise FolderError("resume", f"{path} holds no valid scene ({err})") from None
 
 
