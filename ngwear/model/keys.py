@@ -50,7 +50,8 @@ Flag = Annotated[bool, Strict()]
 Vector = tuple[Number, ...]
 MAX_ROWS = 10_000
 """Most rows of a table (``loads.time_table``, ``foundation.speed_table``): each is looked up at every step."""
-Table = Annotated[tuple[tuple[Number, Number], ...], Field(max_length=MAX_ROWS)]
+Rows = tuple[tuple[Number, Number], ...]
+Table = Annotated[Rows, Field(max_length=MAX_ROWS)]
 
 
 def range_text(lo=None, hi=None, lo_open=False, hi_open=False) -> str:

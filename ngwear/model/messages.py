@@ -11,7 +11,7 @@ from typing import Annotated, Any, Literal, get_args, get_origin
 from pydantic import BaseModel
 from pydantic.fields import FieldInfo
 
-from .keys import SceneError, Table, Vector, range_text
+from .keys import Rows, SceneError, Vector, range_text
 from .kinds import KINDS
 from .sections import declared_keys
 
@@ -175,7 +175,7 @@ def _what(info: FieldInfo, name: str, data: Any) -> tuple[str, str]:
         return "a non-empty string", ""
     if name == "loads.traction":
         return "a table of boundary = [vector]", ""
-    if base == Table:
+    if base == Rows:                                   # a Table: its max_length is the field's metadata
         return "a list of [t, factor] pairs", ""
     if get_origin(base) is tuple:
         if get_args(base)[0] is str:
