@@ -18,6 +18,7 @@ import argparse
 import logging
 import secrets
 import sys
+from contextlib import contextmanager
 from pathlib import Path
 
 from . import __version__
@@ -154,6 +155,7 @@ def _run(args, scene, settings, out: Path) -> int:
     import signal
     import threading
 
+    from .model.meshing import Stopped
     from .results.folder import NoSpace, no_space
     from .runs.simulate import simulate
 
@@ -163,18 +165,21 @@ def _run(args, scene, settings, out: Path) -> int:
         scene = scene.replace(**dict(parse_override(item) for item in settings)) if settings else scene
     stop, received = threading.Event(), []
 
-    def interrupt(number, _frame):      # stop at the next step boundary; a second signal changes nothing
+    def interrupt(number):      # stop at the next step boundary; a second signal changes nothing
         received.append(number)
         stop.set()
 
-    handlers = {sig: signal.signal(sig, interrupt) for sig in (signal.SIGINT, signal.SIGTERM)}
     result = None
     try:
-        result = simulate(scene, progress=not args.quiet, checkpoint=out, resume=args.resume, stop=stop)
-        STAGES.info("%s: writing result.npz and %d VTU frames", result.scene.name, len(result.stored_steps))
-        result.save(out)
-        check = None if args.no_check else _uniqueness(result, stop, progress=not args.quiet)
-        _write(result, out, pictures=not args.no_pictures, check=check)
+        with _on_signals(interrupt):
+            result = simulate(scene, progress=not args.quiet, checkpoint=out, resume=args.resume, stop=stop)
+            STAGES.info("%s: writing result.npz and %d VTU frames", result.scene.name, len(result.stored_steps))
+            result.save(out)
+            check = None if args.no_check else _uniqueness(result, stop, progress=not args.quiet)
+            _write(result, out, pictures=not args.no_pictures and not stop.is_set(), check=check)
+    except Stopped as err:
+        print(f"ngwear: interrupted during the set-up ({err}); nothing was computed", file=sys.stderr)
+        return 128 + received[0]
     except NoSpace as err:
         print(f"ngwear: --out: {err}" + (f": ngwear run --resume {out}" if err.resumable else ""), file=sys.stderr)
         return 1
@@ -185,11 +190,9 @@ def _run(args, scene, settings, out: Path) -> int:
               f"{result.steps + 1} steps: free space, then write them with: ngwear run --resume {out}",
               file=sys.stderr)
         return 1
-    finally:
-        for sig, handler in handlers.items():
-            signal.signal(sig, handler)
     if result.completed and received:
-        print("ngwear: interrupted during the uniqueness check (H_S); the run is complete and written", file=sys.stderr)
+        print("ngwear: interrupted after the run: it is complete and written" + ("" if args.no_pictures else
+              " (the pictures drawn before the signal)"), file=sys.stderr)
         return 128 + received[0]
     if result.status == "interrupted":
         t = result.times[-1] if len(result.times) else 0.0
@@ -370,16 +373,44 @@ def _shown(record: logging.LogRecord) -> bool:
             or (record.levelno >= logging.WARNING and library != "distributed"))
 
 
+@contextmanager
+def _on_signals(handler):
+    """``handler(number)`` on SIGINT and SIGTERM within the block (the handlers before it after).
+
+    Also where SIGINT was ignored: a process started in the background by a script inherits that.
+    """
+    import signal
+
+    before = {sig: signal.signal(sig, lambda number, _frame: handler(number)) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for sig, handler_before in before.items():
+            signal.signal(sig, handler_before)
+
+
 def main(argv: list[str] | None = None) -> int:
+    import signal
+
     args = _parser().parse_args(argv)
     _logging(args.quiet, args.verbose)
     if args.command == "stress":
         from .studies.stress import main as stress_main
         return stress_main([a for a in args.args if a != "--"])
+    received = []
+
+    def interrupted(number):    # outside the work that stops itself (a run, a study): at once
+        received.append(number)
+        raise KeyboardInterrupt
+
     try:
         commands = {"run": run, "verify": verify, "schema": schema, "sweep": sweep, "explore": explore,
                     "examples": examples}
-        return commands[args.command](args)
+        with _on_signals(interrupted):
+            return commands[args.command](args)
+    except KeyboardInterrupt:
+        print("ngwear: interrupted", file=sys.stderr)
+        return 128 + (received[-1] if received else signal.SIGINT)
     except FolderError as err:
         print(f"ngwear: {err.named(FLAGS.get(err.key, err.key))}", file=sys.stderr)
         return 2

@@ -4,14 +4,24 @@ Each case is refused with one line naming the key (exit 2 from the CLI), or runs
 grow with the number it gives.
 """
 import dataclasses
+import os
+import signal
+import subprocess
+import sys
+import time
 import tracemalloc
 
 import numpy as np
+import psutil
 import pytest
 from conftest import PAPER
 
+import ngwear
 from ngwear.cli import main
 from ngwear.model.coefficients import Coefficients
+from ngwear.model.geometry import build_mesh
+from ngwear.model.kinds import KINDS
+from ngwear.model.meshing import estimate
 from ngwear.model.rules import frame_count
 from ngwear.model.scene import SceneError
 
@@ -114,3 +124,57 @@ def test_a_hash_in_an_expression_is_refused_and_line_breaks_are_spaces(paper_sce
         paper_scene.replace(**{"contact.friction": "0.3 # c\n + 5"})
     scene = paper_scene.replace(**{"contact.friction": "0.3\n + 5"})
     assert Coefficients.of(scene.contact, np.array([[1.0, 0.0]])).friction == pytest.approx([5.3])
+
+
+# ---------------------------------------------------------------- meshes
+
+
+@pytest.mark.parametrize("name, sets", [("paper_strip", {}), ("paper_strip", {"mesh.maxh": 0.2, "mesh.contact_maxh": 0.01}),
+                                        ("box3d", {}), ("box3d", {"mesh.maxh": 0.25, "mesh.contact_maxh": 0.06})])
+def test_the_element_estimate_is_within_a_factor_two(name, sets):
+    scene = ngwear.load_scene(name).replace(**sets)
+    shape = KINDS[scene.geometry.kind].build(scene.geometry, scene.mesh)
+    count, _ = estimate(shape, scene.dim, scene.mesh.maxh, scene.mesh.grading)
+    assert 0.5 < count / build_mesh(scene).ne < 2
+
+
+def test_a_mesh_beyond_max_elements_is_refused_before_meshing(paper_scene, tmp_path, capsys):
+    status, line = cli(capsys, "run", PAPER, "--out", tmp_path / "out", "--quiet", "--set", "mesh.maxh=1e-6")
+    assert status == 2
+    assert line == ("ngwear: mesh.maxh: 1e-06 gives about 6.9e+12 elements, more than mesh.max_elements = 2000000 "
+                    "(Netgen's memory and time grow with them); give a larger mesh.maxh, or raise mesh.max_elements")
+    assert not (tmp_path / "out").exists()
+    with pytest.raises(SceneError, match=r"^mesh\.contact_maxh: 0\.0001 gives about 2\.32e\+05 elements, more than "
+                                         r"mesh\.max_elements = 100000 "):
+        build_mesh(paper_scene.replace(**{"mesh.contact_maxh": 1e-4, "mesh.max_elements": 100_000}), use_cache=False)
+
+
+def test_a_signal_ends_a_run_that_meshes_within_seconds(tmp_path):
+    """Netgen meshing 430 000 elements (minutes) in its child: SIGINT kills it, the run ends at once, clean.
+
+    (SIGTERM takes the same way: ``ngwear.cli._on_signals``.)
+    """
+    proc = subprocess.Popen([sys.executable, "-m", "ngwear", "run", str(PAPER), "--out", str(tmp_path / "out"),
+                             "--set", "mesh.maxh=0.004"], stderr=subprocess.PIPE, text=True,
+                            env={**os.environ, "NGWEAR_CACHE": str(tmp_path / "cache")})
+    try:
+        assert "mesh (Netgen" in proc.stderr.readline()
+        deadline = time.monotonic() + 30
+        while not psutil.Process(proc.pid).children() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        children = psutil.Process(proc.pid).children(recursive=True)
+        assert children, "the mesh is made in a child process"
+        time.sleep(0.5)
+        sent = time.monotonic()
+        proc.send_signal(signal.SIGINT)
+        status = proc.wait(timeout=10)
+        took = time.monotonic() - sent
+    finally:
+        proc.kill()
+    assert status == 128 + signal.SIGINT
+    assert took < 5
+    assert proc.stderr.read().strip() == "ngwear: interrupted during the set-up (meshing (Netgen)); nothing was computed"
+    psutil.wait_procs(children, timeout=5)
+    assert not any(child.is_running() for child in children)
+    assert not (tmp_path / "out").exists()
+    assert not list((tmp_path / "cache" / "meshes").glob("*"))

@@ -101,6 +101,9 @@ class MeshSpec(Section):
     grading: Number | None = key(None, "Netgen's grading: how fast elements grow away from fine edges (0.1 "
                                  "resolves the field under a Hertz contact)", reuse=Level.MESH, shown="0.3",
                                  ge=0.1, le=1.0)
+    max_elements: Whole = key(2_000_000, "most elements Netgen may make: a part whose count, estimated from its size, "
+                              "`mesh.maxh` and `mesh.contact_maxh`, is larger is refused before meshing (the default "
+                              "fits a P1 run in 24 GB, see the guide)", reuse=Level.NOTHING, ge=1)
 
 
 class MaterialLaw(Section):

@@ -27,6 +27,8 @@ from pathlib import Path
 import numpy as np
 
 from ..model.coefficients import bound, describe
+from ..model.geometry import build_mesh
+from ..model.meshing import Stopped
 from ..model.scene import Scene, SceneError
 from ..numerics.discrete import Discretization
 from ..numerics.solver import ConvergenceError
@@ -60,7 +62,8 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
         The output folder of an earlier run: go on from its checkpoint, on its mesh.  ``scene`` may
         extend ``time.T``; ``None`` takes the checkpoint's scene.  Checkpoints go on in that folder.
     stop : threading.Event, optional
-        When set, the run stops at the next step boundary with status ``interrupted``.
+        When set, the run stops at the next step boundary with status ``interrupted``; during the set-up, after
+        the stage it is in (a large mesh at once), with :class:`~ngwear.model.meshing.Stopped`.
     progress : bool
         Show the set-up's stages and the steps: a bar in a terminal or notebook, else log lines
         (``ngwear.progress`` at INFO, see :mod:`ngwear.runs.progress`).
@@ -76,6 +79,8 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
         ``checkpoint`` or ``resume`` is in use by another run, or a file of ``resume`` is missing or damaged.
     NoSpace
         The disk filled: the run stopped, its checkpoint keeps the steps that fit (see the message).
+    Stopped
+        ``stop`` was set before the first step (nothing was computed).
     """
     with ExitStack() as held:
         for folder, key in ((checkpoint, "checkpoint"), (resume, "resume")):
@@ -87,7 +92,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
 
 def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Result:
     start = time.perf_counter()
-    stages = Stages(scene.name if scene is not None else "resume", progress)
+    stages = Stages(scene.name if scene is not None else "resume", progress, stop)
     if resume is not None:
         saved = stages.run("reading the checkpoint and its mesh", lambda: Checkpoint(resume, scene))
         scene, result, disc = saved.scene, saved.result, saved.result.discretization
@@ -96,7 +101,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
             result.keep_in(checkpoint)              # the run goes on in another folder: the first stays as it was
     else:
         if discretization is None:
-            disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene))
+            disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene, build_mesh(scene, stop=stop)))
         else:
             disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
         refusal = diverging(scene, disc.largest_rate())
@@ -247,18 +252,27 @@ class Stages:
 
     The set-up before the first step (minutes on large 3D meshes), the CLI's uniqueness check after the last.
 
-    Stages already done (a reused discretization) are skipped; without ``show`` nothing is drawn.
+    Stages already done (a reused discretization) are skipped; without ``show`` nothing is drawn.  A set ``stop``
+    ends the set-up after the stage it is in (meshing at once) with :class:`~ngwear.model.meshing.Stopped`.
     """
 
-    def __init__(self, name: str, show: bool):
-        self.name, self.bar = name, None
+    def __init__(self, name: str, show: bool, stop=None):
+        self.name, self.bar, self.stop = name, None, stop
         if show:
             self.bar = bar(total=None, desc=f"{name}: set-up", leave=False, bar_format="{desc} [{elapsed}]")
 
     def run(self, label: str, build):
         if self.bar is not None:
             self.bar.set_description_str(f"{self.name}: {label}")
-        return build()
+        try:
+            done = build()
+        except Stopped:
+            self.close()
+            raise
+        if self.stop is not None and self.stop.is_set():
+            self.close()
+            raise Stopped(label)
+        return done
 
     def prepare(self, disc: Discretization) -> None:
         """Assemble, factorise and condense what the condensed path needs, then close the bar."""
