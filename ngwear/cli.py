@@ -292,13 +292,32 @@ def schema(args) -> int:
 
 
 def sweep(args) -> int:
+    import shlex
+    import threading
+
     from .studies.sweep import summary_text
     from .studies.sweep import sweep as run_study
 
     overrides = dict(parse_override(item) for item in args.set)
-    table = run_study(args.study, args.scheduler, out=args.out, workers=args.workers, overrides=overrides,
-                      progress=not args.quiet)
+    stop, received = threading.Event(), []
+
+    def interrupt(number):      # stop at the next case boundary
+        received.append(number)
+        stop.set()
+
+    with _on_signals(interrupt):
+        table = run_study(args.study, args.scheduler, out=args.out, workers=args.workers, overrides=overrides,
+                          progress=not args.quiet, stop=stop)
     summary = table.attrs["summary"]
+    if summary["interrupted"]:
+        again = shlex.join(["ngwear", "sweep", args.study, "--out", summary["out"],
+                            *(["--scheduler", args.scheduler] if args.scheduler else []),
+                            *(["--workers", str(args.workers)] if args.workers else []),
+                            *(["--set", *args.set] if args.set else [])])
+        finished = summary["cases"] - summary["interrupted"] - summary["crashed"]
+        print(f"ngwear: interrupted after {finished} of {summary['cases']} cases (kept in {summary['out']}); "
+              f"resume with: {again}", file=sys.stderr)
+        return 128 + received[0]
     shown = table.drop(columns=["warnings", "worker", "case_id"])
     print(shown.to_string(index=False, float_format=lambda v: f"{v:.4g}", max_colwidth=60))
     print(summary_text(summary))

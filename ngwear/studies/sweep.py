@@ -29,7 +29,8 @@ retried by Dask (:data:`RETRIES`); what still fails is ``crashed`` with one line
 it died of SIGSEGV (Segmentation fault)``).  The cases of a worker that dies itself are rescheduled on
 the others (the scheduler's ``allowed-failures``).  A re-run in the same ``out`` skips every case with
 a ``row.json`` (completed, stopped or rejected), so an interrupted study resumes; crashed cases run
-again.
+again.  A set ``stop`` (the CLI's SIGINT and SIGTERM) ends the study at the next case boundary: the cases under
+way are cancelled (their case processes end with their workers), the finished ones kept, the table not written.
 """
 from __future__ import annotations
 
@@ -43,7 +44,7 @@ import uuid
 from collections import OrderedDict
 from contextlib import contextmanager
 from pathlib import Path
-from time import perf_counter
+from time import perf_counter, sleep
 from typing import TYPE_CHECKING, Any
 
 from ..model.keys import Level
@@ -61,6 +62,10 @@ CACHED_GROUPS = 2
 """Discretizations (mesh, factorisation) each worker process keeps, most recently used first."""
 FINISHED = ("completed", "stopped", "rejected")
 """Statuses that a re-run in the same folder keeps instead of running the case again."""
+UNFINISHED = ("crashed", "interrupted")
+"""Statuses of cases that a re-run runs again (``interrupted``: not run, the study was stopped)."""
+POLL = 0.1
+"""Seconds between two looks for finished cases and at the stop event."""
 COLUMNS = ("status", "error", "warnings", "wall_time", "worker", "factorised", "case_id")
 CONNECT_TIMEOUT = 30
 
@@ -69,7 +74,7 @@ if TYPE_CHECKING:  # pandas is imported where a table is made, not with ``import
 
 
 def sweep(study, client=None, *, out=None, workers: int | None = None,
-          overrides: dict[str, Any] | None = None, progress: bool = True) -> pd.DataFrame:
+          overrides: dict[str, Any] | None = None, progress: bool = True, stop=None) -> pd.DataFrame:
     """Run every case of a study on Dask and tabulate it; see the module docstring.
 
     Parameters
@@ -90,13 +95,17 @@ def sweep(study, client=None, *, out=None, workers: int | None = None,
     progress : bool
         Show a progress bar over all cases (and the Dask dashboard's link when it has one); without a terminal,
         log lines (see :mod:`ngwear.runs.progress`).
+    stop : threading.Event, optional
+        When set, the study stops at the next case boundary: the cases under way are cancelled, the finished
+        ones are kept in ``out`` (a re-run skips them) and the others are ``interrupted``.
 
     Returns
     -------
     pandas.DataFrame
         One row per case: its index, the varied keys, the outputs, status, error, warnings, wall time, worker;
         ``attrs["summary"]`` counts the cases by status.  Also written to ``out`` (``results.parquet``,
-        ``results.csv``, ``summary.json``, plots, each case's result folder).
+        ``results.csv``, ``summary.json``, plots, each case's result folder); an interrupted study writes only
+        its finished cases.
 
     Raises
     ------
@@ -119,19 +128,21 @@ def sweep(study, client=None, *, out=None, workers: int | None = None,
     ran = {}
     if todo:
         with _connect(client, workers) as dask_client:
-            ran = _run(dask_client, todo, out, study.name, len(study.cases), progress)
+            ran = _run(dask_client, todo, out, study.name, len(study.cases), progress, stop)
     rows.update(ran)
+    rows.update({c.index: _row(status="interrupted", case_id=c.id) for c in todo if c.index not in ran})
     table = _table(study, rows)
-    _write(out, study, table)
     summary = _summary(study, rows, ran, earlier, perf_counter() - start, out)
-    (out / "summary.json").write_text(json.dumps(summary, indent=2))
+    if not summary["interrupted"]:
+        _write(out, study, table)
+        (out / "summary.json").write_text(json.dumps(summary, indent=2))
     table.attrs["summary"] = summary
     return table
 
 
 def summary_text(summary: dict) -> str:
     """The summary as two lines (what ``ngwear sweep`` prints)."""
-    counts = ", ".join(f"{summary[s]} {s}" for s in (*FINISHED, "crashed") if summary[s])
+    counts = ", ".join(f"{summary[s]} {s}" for s in (*FINISHED, *UNFINISHED) if summary[s])
     return (f"{summary['cases']} cases ({counts}); {summary['skipped']} finished earlier, {summary['run']} run "
             f"on {summary['workers']} workers in {summary['wall_time']:.1f} s\n"
             f"{summary['factorisations']} factorisations for {summary['groups']} mesh/material groups; "
@@ -251,8 +262,8 @@ def _wait(client, workers) -> None:
                          f"within {CONNECT_TIMEOUT} s") from None
 
 
-def _run(client, cases: list[Case], out: Path, name: str, total: int, progress: bool) -> dict[int, dict]:
-    """Submit the cases grouped by mesh and material; save each as it completes; rows by case index."""
+def _run(client, cases: list[Case], out: Path, name: str, total: int, progress: bool, stop) -> dict[int, dict]:
+    """Submit the cases grouped by mesh and material; save each as it completes, until ``stop``; rows by case index."""
     from distributed import as_completed
 
     token = uuid.uuid4().hex[:8]
@@ -268,8 +279,13 @@ def _run(client, cases: list[Case], out: Path, name: str, total: int, progress: 
     if link and progress:
         bar.write(f"Dask dashboard: {link}", file=sys.stderr)
     rows = {}
+    finished = as_completed(futures)
     try:
-        for future in as_completed(futures):
+        while not finished.is_empty() and not (stop is not None and stop.is_set()):
+            if not finished.has_ready():
+                sleep(POLL)
+                continue
+            future = next(finished)
             case = keys[future.key]
             try:
                 row, files = future.result()
@@ -347,7 +363,7 @@ def _summary(study: Study, rows, ran, earlier, wall_time: float, out: Path) -> d
     statuses = [rows[c.index]["status"] for c in study.cases]
     return {
         "study": study.name, "cases": len(study.cases),
-        **{status: statuses.count(status) for status in (*FINISHED, "crashed")},
+        **{status: statuses.count(status) for status in (*FINISHED, *UNFINISHED)},
         "skipped": len(earlier), "run": len(ran),
         "groups": len({c.group for c in study.cases if c.scene is not None}),
         "factorisations": sum(bool(row["factorised"]) for row in ran.values()),
