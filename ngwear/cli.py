@@ -27,7 +27,7 @@ from .results.folder import FolderError
 from .studies.study import StudyError
 from .views.app import DEFAULT_PORT
 
-FLAGS = {"checkpoint": "--out", "resume": "--resume"}
+FLAGS = {"checkpoint": "--out", "resume": "--resume", "out": "--out"}
 """The flag of each Python argument a FolderError may name."""
 STAGES = logging.getLogger("ngwear.progress")
 """Where the stages of a command are told (shown unless --quiet; see :mod:`ngwear.runs.progress`)."""
@@ -50,7 +50,8 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--out", help="output directory (default: out/<scene name>)")
     _overrides(run)
     run.add_argument("--resume", metavar="OUTDIR", help="go on from the checkpoint in OUTDIR (a SCENE or --set "
-                                                         "may extend time.T)")
+                                                         "may extend time.T); with --out, in that folder instead "
+                                                         "(OUTDIR stays as it is)")
     run.add_argument("--no-pictures", action="store_true", help="skip the pictures and plots (PNG)")
     run.add_argument("--no-check", action="store_true", help="skip the uniqueness check (H_S) after the run")
     ver = sub.add_parser("verify", help="convergence study (h and k) and the (H_S) check of a scene", parents=[talk])
@@ -117,26 +118,30 @@ def _scene(args, required: bool = True):
 def verify(args) -> int:
     import json
 
+    from .results.folder import hold, replacing
     from .studies import convergence
     from .studies.verify import StoppedRun
     from .views import plots
 
     scene, _ = _scene(args)
     out = Path(args.out or Path("out") / f"{scene.name}-verify")
-    out.mkdir(parents=True, exist_ok=True)
-    try:
-        report = convergence.run(scene, quick=args.quick)
-    except StoppedRun as err:
-        print(f"ngwear: verify: a run of the study stopped: {err}", file=sys.stderr)
-        return 1
-    if report.h_rows:
-        columns = [c for c in ("V_sum", "W_sum") if all(r[c] > 0 for r in report.h_rows)]   # no wear: V alone
-        plots.convergence({f"P{scene.mesh.order}": report.h_rows}, "h", out / "convergence_h.png", columns=columns)
-    if report.k_rows:
-        plots.convergence(report.k_rows, "k", out / "convergence_k.png", columns=("W_sum",))
-    text = report.markdown()
-    (out / "convergence.md").write_text(text)
-    (out / "convergence.json").write_text(json.dumps(report.to_dict(), indent=1, default=float))
+    with hold(out, "--out"):                        # as a run's: one study at a time writes there
+        try:
+            report = convergence.run(scene, quick=args.quick)
+        except StoppedRun as err:
+            print(f"ngwear: verify: a run of the study stopped: {err}", file=sys.stderr)
+            return 1
+        if report.h_rows:
+            columns = [c for c in ("V_sum", "W_sum") if all(r[c] > 0 for r in report.h_rows)]   # no wear: V alone
+            plots.convergence({f"P{scene.mesh.order}": report.h_rows}, "h", out / "convergence_h.png",
+                              columns=columns)
+        if report.k_rows:
+            plots.convergence(report.k_rows, "k", out / "convergence_k.png", columns=("W_sum",))
+        text = report.markdown()
+        for name, content in (("convergence.md", text),
+                              ("convergence.json", json.dumps(report.to_dict(), indent=1, default=float))):
+            with replacing(out / name) as tmp:
+                tmp.write_text(content)
     print(text)
     print(f"written  {out}/convergence.md, convergence.json")
     return 0
@@ -146,9 +151,14 @@ def run(args) -> int:
     from .results.folder import hold
 
     scene, settings = _scene(args, required=args.resume is None)
-    out = Path(args.resume or args.out or Path("out") / scene.name)
-    with hold(out, "--resume" if args.resume else "--out", create=args.resume is None):   # for the whole run
+    out = Path(args.out or args.resume or Path("out") / scene.name)      # --out with --resume: go on there
+    with hold(out, _written(args), create=args.resume is None or args.out is not None):   # for the whole run
         return _run(args, scene, settings, out)
+
+
+def _written(args) -> str:
+    """The flag of the folder a command writes into: --out, or --resume when it goes on in the resumed folder."""
+    return "--resume" if getattr(args, "resume", None) and not getattr(args, "out", None) else "--out"
 
 
 def _run(args, scene, settings, out: Path) -> int:
@@ -181,12 +191,13 @@ def _run(args, scene, settings, out: Path) -> int:
         print(f"ngwear: interrupted during the set-up ({err}); nothing was computed", file=sys.stderr)
         return 128 + received[0]
     except NoSpace as err:
-        print(f"ngwear: --out: {err}" + (f": ngwear run --resume {out}" if err.resumable else ""), file=sys.stderr)
+        print(f"ngwear: {_written(args)}: {err}" + (f": ngwear run --resume {out}" if err.resumable else ""),
+              file=sys.stderr)
         return 1
     except OSError as err:
         if result is None or not no_space(err):
             raise
-        print(f"ngwear: --out: no space left on device in {out} for the results; the checkpoint keeps all "
+        print(f"ngwear: {_written(args)}: no space left on device in {out} for the results; the checkpoint keeps all "
               f"{result.steps + 1} steps: free space, then write them with: ngwear run --resume {out}",
               file=sys.stderr)
         return 1
@@ -437,7 +448,9 @@ def main(argv: list[str] | None = None) -> int:
         print(f"ngwear: {err}", file=sys.stderr)
         return 2
     except OSError as err:
-        print(f"ngwear: --out: cannot write {err.filename or args.out} ({err.strerror or err})", file=sys.stderr)
+        folder = getattr(args, "out", None) or getattr(args, "resume", None)
+        print(f"ngwear: {_written(args)}: cannot write {err.filename or folder} ({err.strerror or err})",
+              file=sys.stderr)
         return 2
 
 

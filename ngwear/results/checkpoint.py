@@ -14,6 +14,7 @@ folder is checked before a resume uses it (:class:`Checkpoint`); :class:`Saver` 
 from __future__ import annotations
 
 import json
+import re
 import time
 import zipfile
 import zlib
@@ -23,7 +24,7 @@ import numpy as np
 
 from ..model.scene import Scene, SceneError
 from .folder import FolderError, no_space, replacing
-from .history import History, remove_others
+from .history import PREFIX, History, remove_others
 from .mesh_file import checked_mesh, keep_mesh
 from .result import Result, from_arrays, row_shapes
 
@@ -99,6 +100,9 @@ class Checkpoint:
         disc = Discretization(self.scene, checked_mesh(folder, data, self.scene.dim, "resume"))
         _check_counts(folder / CHECKPOINT, data, disc)
         if "history" in data:
+            if not re.fullmatch(rf"{PREFIX}[0-9a-f]{{12}}", str(data["history"])):    # a folder of its own, here
+                raise FolderError("resume", f"{folder / CHECKPOINT} names no history folder of its own "
+                                            f"({str(data['history'])[:80]!r})")
             sums = json.loads(str(data["checksums"])) if "checksums" in data else None
             history = History.reopen(folder / str(data["history"]), row_shapes(self.scene, disc), int(data["rows"]),
                                      sums)

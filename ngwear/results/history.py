@@ -61,16 +61,16 @@ class History:
         the file.
         """
         home = Path(home)
-        if not home.is_dir():
-            raise FolderError("resume", f"{home} is missing (it holds the steps its checkpoint counts)")
+        if not home.is_dir() or home.is_symlink():
+            raise FolderError("resume", f"{home} is missing or a link (it holds the steps its checkpoint counts)")
         history = cls({}, home)
         for name, shape in shapes.items():
             row, path = 8 * int(np.prod(shape, dtype=int)), home / f"{name}.f64"
             if not row:
                 history.buffers[name] = np.zeros((rows, *shape))
                 continue
-            if not path.is_file():
-                raise FolderError("resume", f"{path} is missing (its checkpoint counts {rows} rows)")
+            if not path.is_file() or path.is_symlink():
+                raise FolderError("resume", f"{path} is missing or a link (its checkpoint counts {rows} rows)")
             size = path.stat().st_size
             if size % row or size // row < rows:
                 raise FolderError("resume", f"{path} holds {size / row:.6g} rows of {row} bytes, its checkpoint "
@@ -149,9 +149,15 @@ class History:
 
 
 def _reserve(path: Path, size: int) -> None:
-    """Allocate the first ``size`` bytes of ``path`` on disk (created or extended, never cut): ENOSPC or room."""
-    with open(path, "ab") as file:
-        os.posix_fallocate(file.fileno(), 0, size)
+    """Allocate the first ``size`` bytes of ``path`` on disk (created or extended, never cut): ENOSPC or room.
+
+    A link at ``path`` is refused (ELOOP), not extended.
+    """
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_APPEND | os.O_NOFOLLOW | os.O_CLOEXEC, 0o666)
+    try:
+        os.posix_fallocate(fd, 0, size)
+    finally:
+        os.close(fd)
 
 
 def remove_others(folder, keep: Path) -> None:

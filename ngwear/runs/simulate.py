@@ -8,7 +8,8 @@ fields are recovered (one back-substitution each) only for the steps that are wr
 
 Nothing is lost on an interrupt: a set ``stop`` event (the CLI's SIGINT/SIGTERM) or Ctrl-C ends the
 run at a step boundary with status ``interrupted`` and every completed step; with an output folder
-the run writes checkpoints there (:mod:`ngwear.results.checkpoint`) from which ``resume`` goes on.
+the run writes checkpoints there (:mod:`ngwear.results.checkpoint`) from which ``resume`` goes on, after removing
+the files of an earlier run there (:func:`~ngwear.results.folder.clear`).
 The run holds its folders (:func:`ngwear.results.folder.hold`); when the disk fills it stops at a step
 boundary, writes what fits and raises :class:`~ngwear.results.folder.NoSpace` saying which steps are kept.
 
@@ -34,7 +35,7 @@ from ..numerics.discrete import Discretization
 from ..numerics.solver import ConvergenceError
 from ..numerics.wear import WearIntegrator, diverging, explicit_stability
 from ..results.checkpoint import Checkpoint, Saver
-from ..results.folder import NoSpace, hold, no_space
+from ..results.folder import NoSpace, clear, hold, no_space
 from ..results.invariants import StepCheck
 from ..results.result import Result
 from .clock import Clock
@@ -97,8 +98,10 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
         saved = stages.run("reading the checkpoint and its mesh", lambda: Checkpoint(resume, scene))
         scene, result, disc = saved.scene, saved.result, saved.result.discretization
         x, lam, checkpoint = saved.x, saved.lam, checkpoint if checkpoint is not None else resume
+        if Path(checkpoint).resolve() != Path(resume).resolve():
+            clear(checkpoint)                       # the run goes on in another folder: the first stays as it was
         if not result.history.is_in(checkpoint):
-            result.keep_in(checkpoint)              # the run goes on in another folder: the first stays as it was
+            result.keep_in(checkpoint)
     else:
         if discretization is None:
             disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene, build_mesh(scene, stop=stop)))
@@ -108,6 +111,8 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
         if refusal:
             stages.close()
             raise SceneError(refusal)
+        if checkpoint is not None:
+            clear(checkpoint)                       # an earlier run's files go: a folder never mixes two runs
         result = Result.empty(scene, disc, checkpoint)
         warning = None if scene.time.adaptive else explicit_stability(scene, disc.largest_rate())
         if warning:

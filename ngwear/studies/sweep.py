@@ -36,7 +36,6 @@ from __future__ import annotations
 
 import json
 import logging
-import shutil
 import sys
 import tempfile
 import threading
@@ -49,6 +48,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..model.keys import Level
 from ..model.scene import SceneError
+from ..results.folder import hold, remove, replacing
 from ..runs.progress import bar as progress_bar
 from ..runs.simulate import simulate
 from .child import Child, ChildError
@@ -111,6 +111,8 @@ def sweep(study, client=None, *, out=None, workers: int | None = None,
     ------
     StudyError
         The study or ``workers`` is invalid, or the scheduler cannot be reached (one line naming the field).
+    FolderError
+        ``out`` is in use by another study (held like a run's output folder, see :func:`ngwear.results.folder.hold`).
     """
     if isinstance(study, Study) and overrides:
         raise StudyError("overrides: only for a study file or dict (a Study is already built)")
@@ -122,20 +124,22 @@ def sweep(study, client=None, *, out=None, workers: int | None = None,
     out = Path(out) if out is not None else Path("out") / study.name
     start = perf_counter()
     rows = {c.index: _row(status="rejected", error=c.error, case_id=c.id) for c in study.cases if c.error}
-    earlier = _finished(out, study.cases)
-    rows.update(earlier)
-    todo = [c for c in study.cases if c.index not in rows]
-    ran = {}
-    if todo:
-        with _connect(client, workers) as dask_client:
-            ran = _run(dask_client, todo, out, study.name, len(study.cases), progress, stop)
-    rows.update(ran)
-    rows.update({c.index: _row(status="interrupted", case_id=c.id) for c in todo if c.index not in ran})
-    table = _table(study, rows)
-    summary = _summary(study, rows, ran, earlier, perf_counter() - start, out)
-    if not summary["interrupted"]:
-        _write(out, study, table)
-        (out / "summary.json").write_text(json.dumps(summary, indent=2))
+    with hold(out, "out"):
+        earlier = _finished(out, study.cases)
+        rows.update(earlier)
+        todo = [c for c in study.cases if c.index not in rows]
+        ran = {}
+        if todo:
+            with _connect(client, workers) as dask_client:
+                ran = _run(dask_client, todo, out, study.name, len(study.cases), progress, stop)
+        rows.update(ran)
+        rows.update({c.index: _row(status="interrupted", case_id=c.id) for c in todo if c.index not in ran})
+        table = _table(study, rows)
+        summary = _summary(study, rows, ran, earlier, perf_counter() - start, out)
+        if not summary["interrupted"]:
+            _write(out, study, table)
+            with replacing(out / "summary.json") as tmp:
+                tmp.write_text(json.dumps(summary, indent=2))
     table.attrs["summary"] = summary
     return table
 
@@ -320,14 +324,13 @@ def _save_case(out: Path, case: Case, row: dict, files: dict[str, bytes]) -> dic
     row = dict(row, case_id=case.id)
     if row["status"] in FINISHED:
         folder = out / "cases" / case.id
-        shutil.rmtree(folder, ignore_errors=True)
+        remove(folder)                              # a new folder of its own: nothing planted in it
         folder.mkdir(parents=True)
         for name, data in files.items():
             (folder / name).parent.mkdir(parents=True, exist_ok=True)
             (folder / name).write_bytes(data)
-        tmp = folder / "row.json.tmp"
-        tmp.write_text(json.dumps(row, indent=1))
-        tmp.replace(folder / "row.json")
+        with replacing(folder / "row.json") as tmp:
+            tmp.write_text(json.dumps(row, indent=1))
     return row
 
 
@@ -375,9 +378,10 @@ def _summary(study: Study, rows, ran, earlier, wall_time: float, out: Path) -> d
 def _write(out: Path, study: Study, table: pd.DataFrame) -> None:
     from ..views.sweep_plots import against, heat_map
 
-    out.mkdir(parents=True, exist_ok=True)
-    table.to_parquet(out / "results.parquet", index=False)
-    table.to_csv(out / "results.csv", index=False)
+    with replacing(out / "results.parquet") as tmp:
+        table.to_parquet(tmp, index=False)
+    with replacing(out / "results.csv") as tmp:
+        table.to_csv(tmp, index=False)
     for key in study.varied:
         against(table, key, [k for k in study.varied if k != key], study.outputs, out / "plots" / f"{key}.png")
     if len(study.varied) == 2 and study.grid == study.varied:
