@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..model import plausibility
 from ..model.coefficients import bound, describe
 from ..model.geometry import build_mesh
 from ..model.meshing import Stopped
@@ -103,6 +104,9 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
         if not result.history.is_in(checkpoint):
             result.keep_in(checkpoint)
     else:
+        cautions = plausibility.warnings(scene)     # an SI scene's unlikely moduli, stiffness, wear: said first
+        for caution in cautions:
+            log.warning("%s", caution)
         if discretization is None:
             disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene, build_mesh(scene, stop=stop)))
         else:
@@ -114,6 +118,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
         if checkpoint is not None:
             clear(checkpoint)                       # an earlier run's files go: a folder never mixes two runs
         result = Result.empty(scene, disc, checkpoint)
+        result.warnings.extend(cautions)
         warning = None if scene.time.adaptive else explicit_stability(scene, disc.largest_rate())
         if warning:
             log.warning("%s", warning)
