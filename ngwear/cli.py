@@ -407,10 +407,15 @@ def _shown(record: logging.LogRecord) -> bool:
 def _on_signals(handler):
     """``handler(number)`` on SIGINT and SIGTERM within the block (the handlers before it after).
 
-    Also where SIGINT was ignored: a process started in the background by a script inherits that.
+    Also where SIGINT was ignored: a process started in the background by a script inherits that.  Called from
+    another thread than the main one (which alone may set handlers), it leaves them as they are.
     """
     import signal
+    import threading
 
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
     before = {sig: signal.signal(sig, lambda number, _frame: handler(number)) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield
