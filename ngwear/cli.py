@@ -454,8 +454,8 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except OSError as err:
         folder = getattr(args, "out", None) or getattr(args, "resume", None)
-        print(f"ngwear: {_written(args)}: cannot write {err.filename or folder} ({err.strerror or err})",
-              file=sys.stderr)
+        name = err.filename2 or err.filename or folder          # a rename's target, rather than its temporary file
+        print(f"ngwear: {_written(args)}: cannot write {name} ({err.strerror or err})", file=sys.stderr)
         return 2
 
 
