@@ -2,9 +2,9 @@
 
 Each case meshes a part in a fresh process (no cache) and reports the estimate of
 :func:`ngwear.model.meshing.estimate` beside the elements Netgen made, the meshing time and the peak memory above
-the process's memory before meshing (``ru_maxrss``), per element: the numbers behind ``mesh.max_elements``'s
-default (docs/guide/scenes.md).  Cases are ``scene:key=value,...`` (``strip`` is the paper's strip, ``box`` box3d,
-``pad`` the brake pad).
+the process's memory before meshing (``VmHWM``, reset before it: Linux), per element: the numbers behind the
+default of ``mesh.max_elements`` (docs/guide/scenes.md).  Cases are ``scene:key=value,...`` (``strip`` is the
+paper's strip, ``box`` box3d, ``pad`` the brake pad).
 
     .venv/bin/python benchmarks/mesh_size.py            # ~10 min on the shared 2-core machine
     .venv/bin/python benchmarks/mesh_size.py --quick
@@ -24,7 +24,7 @@ QUICK = ["strip:mesh.maxh=0.02", "box:mesh.maxh=0.06"]
 SCENES = {"strip": "paper_strip", "box": "box3d", "pad": "brake_pad"}
 
 CHILD = """
-import json, resource, sys, time
+import json, sys, time
 import ngwear
 from ngwear.model.kinds import KINDS
 from ngwear.model.meshing import _mesh, estimate
@@ -33,11 +33,14 @@ scene = ngwear.load_scene(name).replace(**sets)
 g, m = scene.geometry, scene.mesh
 shape = KINDS[g.kind].build(g, m)
 count = estimate(shape, g.dim, m.maxh, m.grading)[0]
-before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+def status(key):
+    return next(int(line.split()[1]) for line in open("/proc/self/status") if line.startswith(key))
+open("/proc/self/clear_refs", "w").write("5")       # the peak (VmHWM) from here on
+before = status("VmRSS:")
 start = time.perf_counter()
 mesh = _mesh(shape, g.dim, m.maxh, m.grading)
 seconds = time.perf_counter() - start
-peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before
+peak = status("VmHWM:") - before
 elements = mesh.ne if g.dim == 3 else len(mesh.Elements2D())
 print(json.dumps({"dim": g.dim, "estimate": count, "elements": elements, "seconds": seconds, "peak_mb": peak / 1024}))
 """

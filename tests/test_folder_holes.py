@@ -165,7 +165,7 @@ def test_a_resumed_history_file_that_is_a_link_is_refused(run, tmp_path):
     before = target.read_bytes()
     rows.unlink()
     rows.symlink_to(target)
-    with pytest.raises(FolderError, match=r"wear\.f64 is missing or a link"):
+    with pytest.raises(FolderError, match=r"wear\.f64 is a link, not a file of the run's own"):
         ngwear.simulate(small(**{"time.T": 1.5, "time.steps": 15}), resume=folder, progress=False)
     assert target.read_bytes() == before
 

@@ -61,16 +61,21 @@ class History:
         the file.
         """
         home = Path(home)
-        if not home.is_dir() or home.is_symlink():
-            raise FolderError("resume", f"{home} is missing or a link (it holds the steps its checkpoint counts)")
+        if home.is_symlink():
+            raise FolderError("resume", f"{home} is a link, not a folder of the run's own (refused: it would be written)")
+        if not home.is_dir():
+            raise FolderError("resume", f"{home} is missing (it holds the steps its checkpoint counts)")
         history = cls({}, home)
         for name, shape in shapes.items():
             row, path = 8 * int(np.prod(shape, dtype=int)), home / f"{name}.f64"
             if not row:
                 history.buffers[name] = np.zeros((rows, *shape))
                 continue
-            if not path.is_file() or path.is_symlink():
-                raise FolderError("resume", f"{path} is missing or a link (its checkpoint counts {rows} rows)")
+            if path.is_symlink():
+                raise FolderError("resume", f"{path} is a link, not a file of the run's own (refused: it would be "
+                                            "written)")
+            if not path.is_file():
+                raise FolderError("resume", f"{path} is missing (its checkpoint counts {rows} rows)")
             size = path.stat().st_size
             if size % row or size // row < rows:
                 raise FolderError("resume", f"{path} holds {size / row:.6g} rows of {row} bytes, its checkpoint "
