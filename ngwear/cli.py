@@ -18,6 +18,7 @@ import argparse
 import logging
 import secrets
 import sys
+from contextlib import contextmanager
 from pathlib import Path
 
 from . import __version__
@@ -26,7 +27,7 @@ from .results.folder import FolderError
 from .studies.study import StudyError
 from .views.app import DEFAULT_PORT
 
-FLAGS = {"checkpoint": "--out", "resume": "--resume"}
+FLAGS = {"checkpoint": "--out", "resume": "--resume", "out": "--out"}
 """The flag of each Python argument a FolderError may name."""
 STAGES = logging.getLogger("ngwear.progress")
 """Where the stages of a command are told (shown unless --quiet; see :mod:`ngwear.runs.progress`)."""
@@ -49,7 +50,8 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--out", help="output directory (default: out/<scene name>)")
     _overrides(run)
     run.add_argument("--resume", metavar="OUTDIR", help="go on from the checkpoint in OUTDIR (a SCENE or --set "
-                                                         "may extend time.T)")
+                                                         "may extend time.T); with --out, in that folder instead "
+                                                         "(OUTDIR stays as it is)")
     run.add_argument("--no-pictures", action="store_true", help="skip the pictures and plots (PNG)")
     run.add_argument("--no-check", action="store_true", help="skip the uniqueness check (H_S) after the run")
     ver = sub.add_parser("verify", help="convergence study (h and k) and the (H_S) check of a scene", parents=[talk])
@@ -116,26 +118,30 @@ def _scene(args, required: bool = True):
 def verify(args) -> int:
     import json
 
+    from .results.folder import hold, replacing
     from .studies import convergence
     from .studies.verify import StoppedRun
     from .views import plots
 
     scene, _ = _scene(args)
     out = Path(args.out or Path("out") / f"{scene.name}-verify")
-    out.mkdir(parents=True, exist_ok=True)
-    try:
-        report = convergence.run(scene, quick=args.quick)
-    except StoppedRun as err:
-        print(f"ngwear: verify: a run of the study stopped: {err}", file=sys.stderr)
-        return 1
-    if report.h_rows:
-        columns = [c for c in ("V_sum", "W_sum") if all(r[c] > 0 for r in report.h_rows)]   # no wear: V alone
-        plots.convergence({f"P{scene.mesh.order}": report.h_rows}, "h", out / "convergence_h.png", columns=columns)
-    if report.k_rows:
-        plots.convergence(report.k_rows, "k", out / "convergence_k.png", columns=("W_sum",))
-    text = report.markdown()
-    (out / "convergence.md").write_text(text)
-    (out / "convergence.json").write_text(json.dumps(report.to_dict(), indent=1, default=float))
+    with hold(out, "--out"):                        # as a run's: one study at a time writes there
+        try:
+            report = convergence.run(scene, quick=args.quick)
+        except StoppedRun as err:
+            print(f"ngwear: verify: a run of the study stopped: {err}", file=sys.stderr)
+            return 1
+        if report.h_rows:
+            columns = [c for c in ("V_sum", "W_sum") if all(r[c] > 0 for r in report.h_rows)]   # no wear: V alone
+            plots.convergence({f"P{scene.mesh.order}": report.h_rows}, "h", out / "convergence_h.png",
+                              columns=columns)
+        if report.k_rows:
+            plots.convergence(report.k_rows, "k", out / "convergence_k.png", columns=("W_sum",))
+        text = report.markdown()
+        for name, content in (("convergence.md", text),
+                              ("convergence.json", json.dumps(report.to_dict(), indent=1, default=float))):
+            with replacing(out / name) as tmp:
+                tmp.write_text(content)
     print(text)
     print(f"written  {out}/convergence.md, convergence.json")
     return 0
@@ -145,15 +151,21 @@ def run(args) -> int:
     from .results.folder import hold
 
     scene, settings = _scene(args, required=args.resume is None)
-    out = Path(args.resume or args.out or Path("out") / scene.name)
-    with hold(out, "--resume" if args.resume else "--out", create=args.resume is None):   # for the whole run
+    out = Path(args.out or args.resume or Path("out") / scene.name)      # --out with --resume: go on there
+    with hold(out, _written(args), create=args.resume is None or args.out is not None):   # for the whole run
         return _run(args, scene, settings, out)
+
+
+def _written(args) -> str:
+    """The flag of the folder a command writes into: --out, or --resume when it goes on in the resumed folder."""
+    return "--resume" if getattr(args, "resume", None) and not getattr(args, "out", None) else "--out"
 
 
 def _run(args, scene, settings, out: Path) -> int:
     import signal
     import threading
 
+    from .model.meshing import Stopped
     from .results.folder import NoSpace, no_space
     from .runs.simulate import simulate
 
@@ -163,33 +175,35 @@ def _run(args, scene, settings, out: Path) -> int:
         scene = scene.replace(**dict(parse_override(item) for item in settings)) if settings else scene
     stop, received = threading.Event(), []
 
-    def interrupt(number, _frame):      # stop at the next step boundary; a second signal changes nothing
+    def interrupt(number):      # stop at the next step boundary; a second signal changes nothing
         received.append(number)
         stop.set()
 
-    handlers = {sig: signal.signal(sig, interrupt) for sig in (signal.SIGINT, signal.SIGTERM)}
     result = None
     try:
-        result = simulate(scene, progress=not args.quiet, checkpoint=out, resume=args.resume, stop=stop)
-        STAGES.info("%s: writing result.npz and %d VTU frames", result.scene.name, len(result.stored_steps))
-        result.save(out)
-        check = None if args.no_check else _uniqueness(result, stop, progress=not args.quiet)
-        _write(result, out, pictures=not args.no_pictures, check=check)
+        with _on_signals(interrupt):
+            result = simulate(scene, progress=not args.quiet, checkpoint=out, resume=args.resume, stop=stop)
+            STAGES.info("%s: writing result.npz and %d VTU frames", result.scene.name, len(result.stored_steps))
+            result.save(out)
+            check = None if args.no_check else _uniqueness(result, stop, progress=not args.quiet)
+            _write(result, out, pictures=not args.no_pictures and not stop.is_set(), check=check)
+    except Stopped as err:
+        print(f"ngwear: interrupted during the set-up ({err}); nothing was computed", file=sys.stderr)
+        return 128 + received[0]
     except NoSpace as err:
-        print(f"ngwear: --out: {err}" + (f": ngwear run --resume {out}" if err.resumable else ""), file=sys.stderr)
+        print(f"ngwear: {_written(args)}: {err}" + (f": ngwear run --resume {out}" if err.resumable else ""),
+              file=sys.stderr)
         return 1
     except OSError as err:
         if result is None or not no_space(err):
             raise
-        print(f"ngwear: --out: no space left on device in {out} for the results; the checkpoint keeps all "
+        print(f"ngwear: {_written(args)}: no space left on device in {out} for the results; the checkpoint keeps all "
               f"{result.steps + 1} steps: free space, then write them with: ngwear run --resume {out}",
               file=sys.stderr)
         return 1
-    finally:
-        for sig, handler in handlers.items():
-            signal.signal(sig, handler)
     if result.completed and received:
-        print("ngwear: interrupted during the uniqueness check (H_S); the run is complete and written", file=sys.stderr)
+        print("ngwear: interrupted after the run: it is complete and written" + ("" if args.no_pictures else
+              " (the pictures drawn before the signal)"), file=sys.stderr)
         return 128 + received[0]
     if result.status == "interrupted":
         t = result.times[-1] if len(result.times) else 0.0
@@ -289,13 +303,32 @@ def schema(args) -> int:
 
 
 def sweep(args) -> int:
+    import shlex
+    import threading
+
     from .studies.sweep import summary_text
     from .studies.sweep import sweep as run_study
 
     overrides = dict(parse_override(item) for item in args.set)
-    table = run_study(args.study, args.scheduler, out=args.out, workers=args.workers, overrides=overrides,
-                      progress=not args.quiet)
+    stop, received = threading.Event(), []
+
+    def interrupt(number):      # stop at the next case boundary
+        received.append(number)
+        stop.set()
+
+    with _on_signals(interrupt):
+        table = run_study(args.study, args.scheduler, out=args.out, workers=args.workers, overrides=overrides,
+                          progress=not args.quiet, stop=stop)
     summary = table.attrs["summary"]
+    if summary["interrupted"]:
+        again = shlex.join(["ngwear", "sweep", args.study, "--out", summary["out"],
+                            *(["--scheduler", args.scheduler] if args.scheduler else []),
+                            *(["--workers", str(args.workers)] if args.workers else []),
+                            *(["--set", *args.set] if args.set else [])])
+        finished = summary["cases"] - summary["interrupted"] - summary["crashed"]
+        print(f"ngwear: interrupted after {finished} of {summary['cases']} cases (kept in {summary['out']}); "
+              f"resume with: {again}", file=sys.stderr)
+        return 128 + received[0]
     shown = table.drop(columns=["warnings", "worker", "case_id"])
     print(shown.to_string(index=False, float_format=lambda v: f"{v:.4g}", max_colwidth=60))
     print(summary_text(summary))
@@ -370,16 +403,49 @@ def _shown(record: logging.LogRecord) -> bool:
             or (record.levelno >= logging.WARNING and library != "distributed"))
 
 
+@contextmanager
+def _on_signals(handler):
+    """``handler(number)`` on SIGINT and SIGTERM within the block (the handlers before it after).
+
+    Also where SIGINT was ignored: a process started in the background by a script inherits that.  Called from
+    another thread than the main one (which alone may set handlers), it leaves them as they are.
+    """
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    before = {sig: signal.signal(sig, lambda number, _frame: handler(number)) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for sig, handler_before in before.items():
+            signal.signal(sig, handler_before)
+
+
 def main(argv: list[str] | None = None) -> int:
+    import signal
+
     args = _parser().parse_args(argv)
     _logging(args.quiet, args.verbose)
     if args.command == "stress":
         from .studies.stress import main as stress_main
         return stress_main([a for a in args.args if a != "--"])
+    received = []
+
+    def interrupted(number):    # outside the work that stops itself (a run, a study): at once
+        received.append(number)
+        raise KeyboardInterrupt
+
     try:
         commands = {"run": run, "verify": verify, "schema": schema, "sweep": sweep, "explore": explore,
                     "examples": examples}
-        return commands[args.command](args)
+        with _on_signals(interrupted):
+            return commands[args.command](args)
+    except KeyboardInterrupt:
+        print("ngwear: interrupted", file=sys.stderr)
+        return 128 + (received[-1] if received else signal.SIGINT)
     except FolderError as err:
         print(f"ngwear: {err.named(FLAGS.get(err.key, err.key))}", file=sys.stderr)
         return 2
@@ -387,7 +453,9 @@ def main(argv: list[str] | None = None) -> int:
         print(f"ngwear: {err}", file=sys.stderr)
         return 2
     except OSError as err:
-        print(f"ngwear: --out: cannot write {err.filename or args.out} ({err.strerror or err})", file=sys.stderr)
+        folder = getattr(args, "out", None) or getattr(args, "resume", None)
+        name = err.filename2 or err.filename or folder          # a rename's target, rather than its temporary file
+        print(f"ngwear: {_written(args)}: cannot write {name} ({err.strerror or err})", file=sys.stderr)
         return 2
 
 

@@ -94,3 +94,38 @@ def test_an_allowed_unstable_run_is_not_held_to_the_monotone_bound(paper_scene):
     assert result.completed and not Checker(scene, result.discretization).bounded
     reached = np.maximum.accumulate(np.maximum(result.normal_displacement - result.d0, 0), axis=0)
     assert (result.wear - reached).max() > 0.1 * scene.contact.gap
+
+
+
+@pytest.fixture(scope="module")
+def soft(paper_scene):
+    """The paper's strip made very soft (λ = η = 1e-8): the loads alone would move Γ_C by ~10⁹ g."""
+    scene = small(paper_scene).replace(**{"material.lame_lambda": 1e-8, "material.lame_mu": 1e-8})
+    return ngwear.simulate(scene, progress=False)
+
+
+def test_a_very_soft_body_keeps_the_layer_in_absolute_terms(soft):
+    """A merit relative to the loads' displacements let z pass g by 3.5 % here (and the wear pass g).
+
+    The solver measures the overshoot (z − g)₊ against g: the constraint holds to g·tolerance at every step, and
+    the wear, bounded by the penetration (k·α·L = 0.75), stays below g.
+    """
+    scene, g = soft.scene, soft.scene.contact.gap
+    assert soft.completed, soft.status
+    assert (soft.normal_displacement - soft.d0).max() - g <= scene.solver.tolerance * g
+    assert soft.wear.max() <= g
+    assert (soft.reaction > 0).any(), "the soft body reaches the rigid foundation"
+
+
+def test_the_gap_check_is_absolute(soft):
+    """A row whose z passes g by 10⁻⁶ g breaks ``gap``, however large the loads' displacements S are."""
+    scene, last = soft.scene, slice(-1, None)
+    checker = Checker(scene, soft.discretization)
+    assert checker.scale(soft.times).min() > 1e6 * scene.contact.gap
+    s = soft.normal_displacement[last].copy()
+    rows = soft.times[last], soft.wear[last], s, soft.pressure[last], soft.reaction[last]
+    assert checker.violations(*rows)["gap"] == 0
+    s[0, np.argmax(s[0] - soft.d0)] += 1e-6 * scene.contact.gap
+    values = checker.violations(*rows)
+    assert values["gap"] == pytest.approx(1e-6, rel=1e-3)
+    assert checker.broken(values)[0] == "gap"

@@ -201,10 +201,18 @@ def test_interrupted_study_resumes(tmp_path):
             deadline = time.monotonic() + 120
             while not list(out.glob("cases/*/row.json")) and time.monotonic() < deadline and first.poll() is None:
                 time.sleep(0.05)
+            sent = time.monotonic()
+            first.send_signal(signal.SIGINT)  # to the CLI alone: it stops its local cluster at a case boundary
+            status = first.wait(timeout=60)
+            took = time.monotonic() - sent
         finally:
-            stop([first])  # interrupted: SIGTERM to the CLI and its local cluster
+            stop([first])
     kept = {p.parent.name: json.loads(p.read_text()) for p in out.glob("cases/*/row.json")}
     assert 1 <= len(kept) < 6 and not (out / "results.parquet").exists()
+    assert status == 130 and took < 20
+    assert (tmp_path / "first.log").read_text().splitlines()[-1] == (
+        f"ngwear: interrupted after {len(kept)} of 6 cases (kept in {out}); resume with: ngwear sweep {path} --out "
+        f"{out} --workers 1")
     table = ngwear.sweep(path, out=out, workers=1, progress=False)
     summary = table.attrs["summary"]
     assert (summary["skipped"], summary["run"], summary["completed"]) == (len(kept), 6 - len(kept), 6)

@@ -9,6 +9,9 @@ The grammar is fixed (Python's precedence and associativity, so ``-2**2 = -4`` a
     condition  := number (< | <= | > | >= | == | !=) number (chains as in 0 < x < 1),
                   condition and condition, condition or condition, not condition, (condition)
 
+Line breaks (in a TOML multi-line string) are spaces, as inside Python's parentheses (``0.3``, a line break,
+``+ 5`` is 5.3); ``#`` is refused (Python would silently drop the rest as a comment).
+
 The text is parsed with :func:`ast.parse` (a parser only: nothing is compiled or run) and the tree is checked against
 a whitelist of node types, names and arities, and typed (number or condition), before anything is evaluated; the
 evaluation walks the checked tree with numpy only.  Text longer than :data:`MAX_LENGTH` characters or nested deeper
@@ -87,15 +90,18 @@ class Expression:
         if control is not None:
             shown = "".join(c if c.isprintable() else "?" for c in flat)
             raise SceneError(f"{key}: control character at position {control + 1} in \"{_shown(shown)}\"")
+        if "#" in flat:                                             # Python's comment: the rest would vanish
+            raise SceneError(f"{key}: '#' at position {flat.index('#') + 1} in \"{_shown(flat)}\" (an expression "
+                             "has no comments)")
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("error", SyntaxWarning)      # "1and x" is refused, not read as "1 and x"
                 tree = ast.parse(flat, mode="eval")
         except SyntaxError as err:
-            raise SceneError(f"{key}: invalid syntax at position {err.offset} in \"{_shown(text)}\" ({err.msg})") \
+            raise SceneError(f"{key}: invalid syntax at position {err.offset} in \"{_shown(flat)}\" ({err.msg})") \
                 from None
         except (ValueError, MemoryError, RecursionError) as err:   # the parser's own limits
-            raise SceneError(f"{key}: cannot parse \"{_shown(text)}\" ({err})") from None
+            raise SceneError(f"{key}: cannot parse \"{_shown(flat)}\" ({err})") from None
         _Checker(text, key).run(tree)
         return cls(text, key, tree)
 

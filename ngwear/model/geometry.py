@@ -11,18 +11,19 @@ from __future__ import annotations
 
 import hashlib
 import os
+import threading
 from pathlib import Path
 
 import netgen.meshing
 import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
-from netgen.occ import OCCGeometry
 from scipy.sparse.csgraph import connected_components
 
 from .cad import cache_dir, read_mesh
 from .keys import Level, SceneError
 from .kinds import KINDS
+from .meshing import Stopped, check_size, generate
 
 CACHE_VERSION = 4
 
@@ -49,15 +50,17 @@ def _check_complete(mesh: ngs.Mesh, measure: float) -> None:
                          "raise mesh.grading or mesh.contact_maxh, or change mesh.maxh")
 
 
-def build_mesh(scene, use_cache: bool = True) -> ngs.Mesh:
+def build_mesh(scene, use_cache: bool = True, stop: threading.Event | None = None) -> ngs.Mesh:
     """Mesh the scene's body, reusing the on-disk cache when possible (a mesh file is read as it is).
 
     A new mesh is returned as read back from its file: the file stores the vertices to the last bit
     that reading restores, so a first run, a cached run and a run resumed from its output folder's
     ``mesh.vol`` compute on the same numbers.  A part file's mesh must hang together where it is not held
-    (:func:`_check_held`).
+    (:func:`_check_held`).  Before Netgen runs, the part's elements are estimated and refused beyond
+    ``mesh.max_elements``; a large mesh is made in a child process that a set ``stop`` ends at once
+    (:mod:`ngwear.model.meshing`: :class:`~ngwear.model.meshing.Stopped`).
     """
-    mesh = _build_mesh(scene, use_cache)
+    mesh = _build_mesh(scene, use_cache, stop)
     if scene.geometry.file is not None:
         _check_held(mesh, scene)
     return mesh
@@ -88,33 +91,42 @@ def _check_held(mesh: ngs.Mesh, scene) -> None:
                          "rest)")
 
 
-def _build_mesh(scene, use_cache: bool) -> ngs.Mesh:
-    g, m = scene.geometry, scene.mesh
+def _build_mesh(scene, use_cache: bool, stop: threading.Event | None) -> ngs.Mesh:
+    g = scene.geometry
     kind = KINDS[g.kind]
     if kind.build is None:
         return ngs.Mesh(read_mesh(g.file))
     path = cache_dir() / "meshes" / f"{mesh_key(scene)}.vol"
-    if not (use_cache and path.is_file()):
-        options = {"grading": m.grading} if m.grading is not None else {}
+    if use_cache and path.is_file():
+        return load_mesh(path, g.dim)
+    name = "geometry.file" if g.file is not None else "geometry.size"
+    try:
+        shape = kind.build(g, scene.mesh)
+    except Exception as err:  # noqa: BLE001 - OpenCASCADE raises its own types, with their message
+        raise SceneError(f"{name}: Netgen cannot build or mesh this part ({_reason(err)}); change its size or "
+                         "mesh.maxh") from None
+    check_size(scene, shape)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(f".{os.getpid()}.tmp.vol")
+    try:
         try:
-            shape = kind.build(g, m)
-            ngmesh = OCCGeometry(shape, dim=g.dim).GenerateMesh(maxh=m.maxh, **options)
-        except Exception as err:  # noqa: BLE001 - OpenCASCADE and Netgen raise their own types, with their message
-            name = "geometry.file" if g.file is not None else "geometry.size"
-            reason = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
-            raise SceneError(f"{name}: Netgen cannot build or mesh this part ({reason}); change its size or "
+            generate(scene, shape, tmp, stop)
+        except Stopped:
+            raise
+        except Exception as err:  # noqa: BLE001 - Netgen raises its own types, with their message
+            raise SceneError(f"{name}: Netgen cannot build or mesh this part ({_reason(err)}); change its size or "
                              "mesh.maxh") from None
-        parts = shape.faces if g.dim == 2 else shape.solids
-        _check_complete(ngs.Mesh(ngmesh), sum(part.mass for part in parts))
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".{os.getpid()}.tmp.vol")
-        ngmesh.Save(str(tmp))
-        if not use_cache:
-            mesh = load_mesh(tmp, g.dim)
-            tmp.unlink()
-            return mesh
-        tmp.replace(path)
-    return load_mesh(path, g.dim)
+        mesh = load_mesh(tmp, g.dim)
+        _check_complete(mesh, sum(part.mass for part in (shape.faces if g.dim == 2 else shape.solids)))
+        if use_cache:
+            tmp.replace(path)
+        return mesh
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def _reason(err: Exception) -> str:
+    return str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
 
 
 def load_mesh(path, dim: int) -> ngs.Mesh:

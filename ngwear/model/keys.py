@@ -50,7 +50,10 @@ Number = Annotated[float, Strict(), AllowInfNan(False)]
 Whole = Annotated[int, BeforeValidator(_integral), Strict()]
 Flag = Annotated[bool, Strict()]
 Vector = tuple[Number, ...]
-Table = tuple[tuple[Number, Number], ...]
+MAX_ROWS = 10_000
+"""Most rows of a table (``loads.time_table``, ``foundation.speed_table``): each is looked up at every step."""
+Rows = tuple[tuple[Number, Number], ...]
+Table = Annotated[Rows, Field(max_length=MAX_ROWS)]
 
 
 def piecewise_linear(table: Table, t: float) -> float:

@@ -11,7 +11,7 @@ from typing import Annotated, Any, Literal, get_args, get_origin
 from pydantic import BaseModel
 from pydantic.fields import FieldInfo
 
-from .keys import SceneError, Table, Vector, range_text
+from .keys import Rows, SceneError, Vector, range_text
 from .kinds import KINDS
 from .sections import declared_keys
 
@@ -35,6 +35,8 @@ def message(err: dict, data: Any, scene_model: type[BaseModel]) -> str:
     if info is None or owner is not None:
         return f"{name}: must be a table (got {got!r})"
     what, rng = _what(info, name, data)
+    if kind == "too_long" and not isinstance(err["loc"][-1], int):      # a table's rows (not a row's numbers)
+        return f"{name}: at most {err['ctx']['max_length']} rows (got {err['ctx']['actual_length']})"
     if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
         return f"{name}: must be {rng} (got {got!r})"
     if kind == "finite_number":
@@ -173,7 +175,7 @@ def _what(info: FieldInfo, name: str, data: Any) -> tuple[str, str]:
         return "a non-empty string", ""
     if name == "loads.traction":
         return "a table of boundary = [vector]", ""
-    if base == Table:
+    if base == Rows:                                   # a Table: its max_length is the field's metadata
         return "a list of [t, factor] pairs", ""
     if get_origin(base) is tuple:
         if get_args(base)[0] is str:

@@ -253,3 +253,31 @@ def _check_time(scene) -> None:
             raise SceneError(f"output.times: must be increasing times in [0, time.T] = [0, {t.T}] (got {list(o.times)})")
     elif not 0 < o.every <= t.T:
         raise SceneError(f"output.every: must be a time in (0, time.T] = (0, {t.T}] (got {o.every!r})")
+    frames = frame_count(scene)
+    if frames > o.max_frames:
+        name, given = ("output.times", f"{len(o.times)} times") if o.times is not None else ("output.every", f"{o.every:g}")
+        fewer = "fewer times" if o.times is not None else f"output.every >= {t.T / (o.max_frames - 1 or 1):.3g}"
+        raise SceneError(f"{name}: {given} gives {_count(frames)} frames, more than output.max_frames = {o.max_frames} "
+                         f"(each a full field in memory and a VTU file); give {fewer}, or raise output.max_frames")
+
+
+def frame_count(scene) -> float:
+    """The frames a run writes at most: one per output time up to T and the last step, each a step of the run.
+
+    A uniform run writes at most its steps + 1 (an output time between steps takes the nearest one); an adaptive
+    run ends a step on every output time.  A float: T/every may pass any integer (1e300 / 1e-9).
+    """
+    o, t = scene.output, scene.time
+    if o.times is not None:
+        times = len(o.times) + (o.times[-1] < t.T)
+    else:
+        ratio = t.T / o.every
+        if not math.isfinite(ratio):
+            return math.inf if t.adaptive else t.steps + 1
+        k = math.floor(ratio * (1 + 1e-12))                                 # output times k·every ≤ T: k + 1
+        times = k + 1 + (k < ratio * (1 - 1e-12))                           # and the last step, unless on one
+    return times if t.adaptive else min(times, t.steps + 1)
+
+
+def _count(number: float) -> str:
+    return f"{number:.3g}" if number >= 1e9 else f"{int(number)}"

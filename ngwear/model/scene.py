@@ -21,7 +21,7 @@ from typing import Any
 from pydantic import ConfigDict, ValidationError, model_validator
 
 from . import cad, examples, functions, messages, rules
-from .keys import Level, SceneError, level_of
+from .keys import MAX_ROWS, Level, SceneError, level_of
 from .kinds import KINDS
 from .materials import default_constants
 from .sections import (
@@ -88,6 +88,7 @@ class Scene(TopLevel):
         """Validate a nested dict (as read from TOML) into a Scene."""
         if not isinstance(data, dict):
             raise SceneError("scene: must be a table")
+        _check_nesting(data)
         data = _prepared(data)
         try:
             return cls.model_validate(data)
@@ -160,6 +161,9 @@ def load_scene(path: str | Path) -> Scene:
     """
     path = examples.find(path)
     try:
+        if path.stat().st_size > MAX_FILE:
+            raise SceneError(f"scene file: {path} is {path.stat().st_size / 2**20:.3g} MB, more than a scene file's "
+                             f"{MAX_FILE // 2**20} MB (a table of {MAX_ROWS} rows takes 0.2 MB)")
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as err:
         raise SceneError(f"scene file: cannot read {path} ({err})") from None
@@ -167,6 +171,9 @@ def load_scene(path: str | Path) -> Scene:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise SceneError(f"scene file: {path} is not valid TOML ({err})") from None
+    except RecursionError:
+        raise SceneError(f"scene file: {path} is nested too deeply to read (more than {MAX_NESTING} levels are "
+                         "refused)") from None
     data.setdefault("name", path.stem)
     geometry = data.get("geometry")
     if isinstance(geometry, dict) and isinstance(geometry.get("file"), str):
@@ -195,6 +202,9 @@ def parse_override(text: str) -> tuple[str, Any]:
         value = tomllib.loads(f"v = {raw.strip()}")["v"]
     except tomllib.TOMLDecodeError:
         value = raw.strip()
+    except RecursionError:
+        raise SceneError(f"{name.strip()}: nested too deeply to read (more than {MAX_NESTING} levels are "
+                         "refused)") from None
     return name.strip(), value
 
 
@@ -204,6 +214,25 @@ def json_schema() -> dict[str, Any]:
 
 
 # ---------------------------------------------------------------- before validation
+
+MAX_NESTING = 10
+"""Deepest nesting of tables and lists a scene may have (its deepest key, ``material.regions.NAME.axis``, has 5)."""
+MAX_FILE = 2**20
+"""Largest scene file read (bytes): TOML takes 20 s per million numbers, before any key is checked."""
+
+
+def _check_nesting(data: dict[str, Any]) -> None:
+    """Refuse, naming the key, tables or lists nested deeper than :data:`MAX_NESTING` (walked without recursion)."""
+    stack = [(data, "scene", 0)]
+    while stack:
+        node, name, depth = stack.pop()
+        if depth > MAX_NESTING:
+            raise SceneError(f"{name}: nested deeper than {MAX_NESTING} levels")
+        if isinstance(node, dict):
+            stack.extend((value, str(k) if name == "scene" else f"{name}.{k}", depth + 1) for k, value in node.items()
+                         if isinstance(value, (dict, list, tuple)))
+        elif isinstance(node, (list, tuple)):
+            stack.extend((value, name, depth + 1) for value in node if isinstance(value, (dict, list, tuple)))
 
 
 def _prepared(data: dict[str, Any]) -> dict[str, Any]:

@@ -103,6 +103,9 @@ class MeshSpec(Section):
     grading: Number | None = key(None, "Netgen's grading: how fast elements grow away from fine edges (0.1 "
                                  "resolves the field under a Hertz contact)", reuse=Level.MESH, shown="0.3",
                                  ge=0.1, le=1.0)
+    max_elements: Whole = key(2_000_000, "most elements Netgen may make: a part whose count, estimated from its size, "
+                              "`mesh.maxh` and `mesh.contact_maxh`, is larger is refused before meshing (the default "
+                              "fits a P1 run in 24 GB, see the guide)", reuse=Level.NOTHING, ge=1)
 
 
 class MaterialBase(Section):
@@ -288,6 +291,9 @@ class Output(Section):
                                            reuse=Level.NOTHING, shown="—", allowed="in [0, T], increasing")
     checkpoint_seconds: Number = key(60.0, "wall time between checkpoints of a run with an output folder "
                                      "(0: none)", reuse=Level.NOTHING, ge=0)
+    max_frames: Whole = key(10_000, "most frames a run may write (each a full field, kept in memory and written as a "
+                            "VTU file): a scene whose `output.every` or `output.times` gives more is refused before "
+                            "the run", reuse=Level.NOTHING, ge=1, le=1_000_000)
 
 
 SECTIONS = {"geometry": Geometry, "mesh": MeshSpec, "material": Material, "contact": Contact,

@@ -8,7 +8,8 @@ reactions λ_i of the rigid foundation,
 with the complementarity written as C(x, λ) = λ − max(0, λ + c (s − d₀ − g)) = 0.  The active set
 A = {i : λ_i + c_i (s_i − d₀,i − g) > 0} is fixed at s_i = d₀,i + g and λ_i = 0 off A; the Newton
 matrix K + R'(u) is non-symmetric when μ > 0.  Steps are damped by backtracking on the merit
-max(|R|, |min(λ/c, g + d₀ − s)|).  Two systems implement the same protocol:
+max(|R|, |min(λ/c, g + d₀ − s)|), whose overshoot of the layer (s − d₀ − g)₊ is measured against g itself
+(the constraint holds to g·tolerance however soft the body).  Two systems implement the same protocol:
 
 * :class:`CondensedSystem`: unknown x = s (n contact points); R = s − s_F + A (m∘p) + H (m∘λ) with
   H = ν·G·ν, A_ij = H_ij + μ ν·G_ij·n*_j, G = P K⁻¹ Pᵀ the point compliance (dense, small).  A rigid
@@ -210,8 +211,15 @@ class CondensedSystem:
         return np.concatenate([r_s - plate.normal @ delta, self.rows * r_d])
 
     def merit(self, x, lam):
-        comp = np.minimum(lam / self.c, -self.gap(x))
-        return max(np.abs(self.residual(x, lam)).max(initial=0), np.abs(comp).max(initial=0)) / self.scale
+        """max(|R|, |min(λ/c, −gap)|) / S, and the layer's overshoot max (s − d₀ − g)₊ / g in its own terms.
+
+        S grows with the loads' displacements, which dwarf g on a very soft body: there a gap of S·tol would
+        pass as converged; an active point's s is set to d₀ + g exactly, so the overshoot is driven to g·tol.
+        """
+        gap = self.gap(x)
+        comp = np.minimum(lam / self.c, -gap)
+        return max(np.abs(self.residual(x, lam)).max(initial=0) / self.scale, np.abs(comp).max(initial=0) / self.scale,
+                   gap.max(initial=0) / self.g)
 
     def _factor(self, active, dp):
         """LU of M = [J_{:,I} | H_{:,A} diag(m_A) | −Ψ] with J = I + A diag(m p'), bordered by the plate's rows."""

@@ -14,6 +14,7 @@ folder is checked before a resume uses it (:class:`Checkpoint`); :class:`Saver` 
 from __future__ import annotations
 
 import json
+import re
 import time
 import zipfile
 import zlib
@@ -23,7 +24,7 @@ import numpy as np
 
 from ..model.scene import Scene, SceneError
 from .folder import FolderError, no_space, replacing
-from .history import History, remove_others
+from .history import PREFIX, History, remove_others
 from .mesh_file import checked_mesh, keep_mesh
 from .recording import Recording
 from .result import ARRAYS, Result, from_arrays, row_shapes
@@ -79,7 +80,7 @@ def _read(folder) -> dict[str, np.ndarray]:
 def _scene(data: dict, path: Path) -> Scene:
     try:
         return Scene.from_dict(json.loads(str(data["scene"])))
-    except (ValueError, TypeError) as err:
+    except (ValueError, TypeError, RecursionError) as err:
         raise FolderError("resume", f"{path} holds no valid scene ({err})") from None
 
 
@@ -100,6 +101,9 @@ class Checkpoint:
         disc = Discretization(self.scene, checked_mesh(folder, data, self.scene.dim, "resume"))
         _check_counts(folder / CHECKPOINT, data, disc)
         if "history" in data:
+            if not re.fullmatch(rf"{PREFIX}[0-9a-f]{{12}}", str(data["history"])):    # a folder of its own, here
+                raise FolderError("resume", f"{folder / CHECKPOINT} names no history folder of its own "
+                                            f"({str(data['history'])[:80]!r})")
             sums = json.loads(str(data["checksums"])) if "checksums" in data else None
             rows = int(data["rows"])
             history = History.reopen(folder / str(data["history"]), row_shapes(self.scene, disc), rows, sums)

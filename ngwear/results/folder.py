@@ -11,6 +11,14 @@ it (the CLI holds the folder around ``simulate``, which holds it again) and refu
 
 A full disk ends a run with :class:`NoSpace`, which says what was kept; a damaged or foreign file of a
 folder is a :class:`FolderError` naming it (a run's ``mesh.vol`` is known by its :func:`digest`).
+
+Others may write into a shared folder too, so nothing ngwear writes there follows a link planted at a name it
+uses: the lock is opened with ``O_NOFOLLOW`` and refused unless it is a regular file with one name, and written
+only when it is the user's own; every other file is written under a new name of its own (:func:`replacing`:
+created exclusively, never an existing file) and renamed onto its name, which replaces a link instead of
+writing through it.  Holding a folder removes what runs killed outright left there (:data:`LEFTOVERS`: their
+temporary files and scratch folders), and a new run removes the files of an earlier one (:func:`clear`), so that
+a folder never mixes two runs.
 """
 from __future__ import annotations
 
@@ -18,11 +26,15 @@ import errno
 import fcntl
 import hashlib
 import os
+import re
+import secrets
+import shutil
 import socket
 import threading
 from contextlib import contextmanager
 from functools import lru_cache
 from pathlib import Path
+from stat import S_ISREG
 
 from ..model.scene import SceneError
 
@@ -101,9 +113,20 @@ def hold(folder, key: str, create: bool = True):
 
 
 def _take(folder: Path, key: str):
-    """The open lock file of ``folder``, locked and holding our PID."""
-    file = open(folder / LOCK, "a+")                # not truncated: a refused run reads the holder from it
+    """The open lock file of ``folder``, locked and, when it is the user's own file, holding our PID."""
+    path = folder / LOCK
+    try:                                            # not truncated: a refused run reads the holder from it
+        fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, 0o644)
+    except OSError as err:
+        if err.errno != errno.ELOOP:
+            raise
+        raise FolderError(key, f"{path} is a symbolic link, not a lock of ngwear: remove it") from None
+    file = os.fdopen(fd, "r+")
     try:
+        stat = os.fstat(fd)
+        if not S_ISREG(stat.st_mode) or stat.st_nlink != 1:
+            raise FolderError(key, f"{path} is not a lock of ngwear (a {'link' if stat.st_nlink > 1 else 'special'} "
+                                   "file): remove it")
         fcntl.flock(file, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except BlockingIOError:
         file.seek(0)
@@ -113,12 +136,46 @@ def _take(folder: Path, key: str):
     except BaseException:
         file.close()
         raise
-    file.seek(0)
-    file.truncate()
-    file.write(f"{os.getpid()} {socket.gethostname()}\n")
-    file.flush()
-    os.fsync(file.fileno())                         # on NFS: to the server, where a refused run reads it
+    if stat.st_uid == os.geteuid():                 # another user's lock file is locked, never written
+        file.seek(0)
+        file.truncate()
+        file.write(f"{os.getpid()} {socket.gethostname()}\n")
+        file.flush()
+        os.fsync(file.fileno())                     # on NFS: to the server, where a refused run reads it
+    _remove_leftovers(folder)
     return file
+
+
+LEFTOVERS = re.compile(r"^(\..+\.\d+(\.[0-9a-f]{8})?\.tmp(\.\w+)?|\.fields-\w+)$")
+"""What a run killed outright (SIGKILL) leaves: ``.result.<pid>.tmp.npz`` (and ``.<name>.<pid>.<random>.tmp.<ext>``,
+:func:`replacing`'s), ``.fields-<random>/`` (the frames being written)."""
+OUTPUTS = ("result.npz", "scene.json", "summary.json", "checkpoint.npz", "mesh.vol", "fields.pvd", "fields_step*.vtu",
+           "steps-*", "fig*_step*.png", "wear.png", "pressure.png", "history.png", "contact_maps.png", "regions.png",
+           "coefficients.png", "pressure_radius.png")
+"""The files (and folders) of a run in its output folder (see the reference of the result files)."""
+
+
+def _remove_leftovers(folder: Path) -> None:
+    """Remove the temporary files and folders of dead runs from ``folder`` (held: no live run writes them)."""
+    for entry in os.scandir(folder):
+        if LEFTOVERS.match(entry.name):
+            remove(Path(entry.path))
+
+
+def clear(folder) -> None:
+    """Remove the files of an earlier run from ``folder`` (:data:`OUTPUTS`), before a new run writes there."""
+    folder = Path(folder)
+    for pattern in OUTPUTS:
+        for path in folder.glob(pattern):
+            remove(path)
+
+
+def remove(path: Path) -> None:
+    """Remove a file, or a folder with what it holds; a link is removed itself, never followed."""
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+    else:
+        path.unlink(missing_ok=True)
 
 
 def _holder(words: list[str]) -> str:
@@ -142,9 +199,20 @@ def _digest(path: str, size: int, mtime: int) -> str:
 
 @contextmanager
 def replacing(path):
-    """``with replacing(path) as tmp:`` write ``tmp``; then it replaces ``path`` in one rename (or vanishes)."""
+    """``with replacing(path) as tmp:`` write ``tmp``; then it replaces ``path`` in one rename (or vanishes).
+
+    ``tmp`` (``.<stem>.<pid>.<random>.tmp<suffix>`` beside ``path``) is a new empty file, created exclusively (a
+    name planted in advance is never used), and the rename replaces whatever ``path`` is, a link too, without
+    writing through it.
+    """
     path = Path(path)
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
+    while True:
+        tmp = path.with_name(f".{path.stem}.{os.getpid()}.{secrets.token_hex(4)}.tmp{path.suffix}")
+        try:
+            os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o666))
+            break
+        except FileExistsError:
+            continue
     try:
         yield tmp
     except BaseException:

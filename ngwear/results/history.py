@@ -61,6 +61,8 @@ class History:
         the file.
         """
         home = Path(home)
+        if home.is_symlink():
+            raise FolderError("resume", f"{home} is a link, not a folder of the run's own (refused: it would be written)")
         if not home.is_dir():
             raise FolderError("resume", f"{home} is missing (it holds the steps its checkpoint counts)")
         history = cls({}, home)
@@ -69,6 +71,9 @@ class History:
             if not row:
                 history.buffers[name] = np.zeros((rows, *shape))
                 continue
+            if path.is_symlink():
+                raise FolderError("resume", f"{path} is a link, not a file of the run's own (refused: it would be "
+                                            "written)")
             if not path.is_file():
                 raise FolderError("resume", f"{path} is missing (its checkpoint counts {rows} rows)")
             size = path.stat().st_size
@@ -149,9 +154,15 @@ class History:
 
 
 def _reserve(path: Path, size: int) -> None:
-    """Allocate the first ``size`` bytes of ``path`` on disk (created or extended, never cut): ENOSPC or room."""
-    with open(path, "ab") as file:
-        os.posix_fallocate(file.fileno(), 0, size)
+    """Allocate the first ``size`` bytes of ``path`` on disk (created or extended, never cut): ENOSPC or room.
+
+    A link at ``path`` is refused (ELOOP), not extended.
+    """
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_APPEND | os.O_NOFOLLOW | os.O_CLOEXEC, 0o666)
+    try:
+        os.posix_fallocate(fd, 0, size)
+    finally:
+        os.close(fd)
 
 
 def remove_others(folder, keep: Path) -> None:

@@ -15,7 +15,7 @@ import numpy as np
 from ..numerics.solver import NewtonRecord
 from .folder import NoSpace, no_space
 from .history import History
-from .result import ARRAYS, Result, row_shapes
+from .result import ARRAYS, Result, output_times, row_shapes
 
 
 @dataclass(frozen=True)
@@ -92,8 +92,7 @@ class Recording:
         scene, times = self.result.scene, self.result.times
         out, t = scene.output, times[j]
         half = 0.5 * max(t - times[j - 1] if j else 0.0, times[j + 1] - t if j + 1 < len(times) else 0.0)
-        wanted = np.asarray(out.times) if out.times is not None else np.arange(0.0, scene.time.T + out.every / 2,
-                                                                             out.every)
+        wanted = output_times(out, np.array([t]), scene.time.T)
         return bool(np.any(np.abs(wanted - t) <= half * (1 + 1e-9)))
 
     def keep_in(self, folder) -> None:

@@ -179,10 +179,11 @@ class Result:
         if self.steps < 0:
             return []
         out, end = self.scene.output, self.times[-1]
-        wanted = np.asarray(out.times) if out.times is not None else np.arange(0.0, end + 0.5 * out.every,
-                                                                             out.every)
+        wanted = output_times(out, self.times, end)
         wanted = wanted[wanted <= end * (1 + 1e-12)]
-        nearest = np.abs(self.times[None, :] - wanted[:, None]).argmin(axis=1) if len(wanted) else []
+        right = np.minimum(np.searchsorted(self.times, wanted), self.steps)       # the nearest step, the earlier on a tie
+        left = np.maximum(right - 1, 0)
+        nearest = np.where(np.abs(self.times[left] - wanted) <= np.abs(self.times[right] - wanted), left, right)
         return sorted({int(j) for j in nearest} | {self.steps})
 
     def displacement(self, step: int) -> np.ndarray:
@@ -275,6 +276,18 @@ class Result:
             from .vtk import write_series
             write_series(self, out)
         return out
+
+
+def output_times(out, times: np.ndarray, end: float) -> np.ndarray:
+    """The output times up to ``end`` (and half an ``output.every`` beyond) that can be nearest to one of ``times``.
+
+    ``output.times``, or the multiples k·every next to each of ``times``: the multiples nearest to a step lie on
+    either side of its time, so no list of all T/every of them is made (a non-finite k, T/every > 1e308, drops).
+    """
+    if out.times is not None:
+        return np.asarray(out.times)
+    k = np.unique(np.floor(times / out.every)[:, None] + np.arange(-1, 3))
+    return k[(k >= 0) & (k < np.ceil((end + 0.5 * out.every) / out.every))] * out.every
 
 
 def load_result(directory) -> Result:

@@ -13,8 +13,8 @@ vertices of each element).
 """
 from __future__ import annotations
 
+import os
 import re
-import shutil
 import tempfile
 from pathlib import Path
 
@@ -57,7 +57,7 @@ def write_series(result, directory: Path) -> Path:
         for old in directory.glob("fields*.vtu"):
             old.unlink()
         for new in sorted(Path(scratch).iterdir(), key=lambda f: f.suffix == ".pvd"):   # the index last
-            shutil.move(str(new), directory / new.name)
+            os.replace(new, directory / new.name)       # a link there is replaced, never written through
     return directory / "fields.pvd"
 
 

@@ -8,7 +8,8 @@ fields are recovered (one back-substitution each) only for the steps that are wr
 
 Nothing is lost on an interrupt: a set ``stop`` event (the CLI's SIGINT/SIGTERM) or Ctrl-C ends the
 run at a step boundary with status ``interrupted`` and every completed step; with an output folder
-the run writes checkpoints there (:mod:`ngwear.results.checkpoint`) from which ``resume`` goes on.
+the run writes checkpoints there (:mod:`ngwear.results.checkpoint`) from which ``resume`` goes on, after removing
+the files of an earlier run there (:func:`~ngwear.results.folder.clear`).
 The run holds its folders (:func:`ngwear.results.folder.hold`); when the disk fills it stops at a step
 boundary, writes what fits and raises :class:`~ngwear.results.folder.NoSpace` saying which steps are kept.
 
@@ -26,14 +27,17 @@ from pathlib import Path
 
 import numpy as np
 
+from ..model import plausibility
 from ..model.coefficients import bound, describe
+from ..model.geometry import build_mesh
+from ..model.meshing import Stopped
 from ..model.scene import Scene, SceneError
 from ..numerics.discrete import Discretization
 from ..numerics.problem import Problem
 from ..numerics.solver import ConvergenceError
 from ..numerics.wear import WearIntegrator, diverging, explicit_stability
 from ..results.checkpoint import Checkpoint, Saver
-from ..results.folder import NoSpace, hold, no_space
+from ..results.folder import NoSpace, clear, hold, no_space
 from ..results.invariants import StepCheck
 from ..results.recording import Recording, StepRecord
 from ..results.result import Result
@@ -62,7 +66,8 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
         The output folder of an earlier run: go on from its checkpoint, on its mesh.  ``scene`` may
         extend ``time.T``; ``None`` takes the checkpoint's scene.  Checkpoints go on in that folder.
     stop : threading.Event, optional
-        When set, the run stops at the next step boundary with status ``interrupted``.
+        When set, the run stops at the next step boundary with status ``interrupted``; during the set-up, after
+        the stage it is in (a large mesh at once), with :class:`~ngwear.model.meshing.Stopped`.
     progress : bool
         Show the set-up's stages and the steps: a bar in a terminal or notebook, else log lines
         (``ngwear.progress`` at INFO, see :mod:`ngwear.runs.progress`).
@@ -78,6 +83,8 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
         ``checkpoint`` or ``resume`` is in use by another run, or a file of ``resume`` is missing or damaged.
     NoSpace
         The disk filled: the run stopped, its checkpoint keeps the steps that fit (see the message).
+    Stopped
+        ``stop`` was set before the first step (nothing was computed).
     """
     with ExitStack() as held:
         for folder, key in ((checkpoint, "checkpoint"), (resume, "resume")):
@@ -89,8 +96,8 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
 
 def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Result:
     began = time.perf_counter()
-    stages = Stages(scene.name if scene is not None else "resume", progress)
-    start = (_start(scene, discretization, checkpoint, stages) if resume is None
+    stages = Stages(scene.name if scene is not None else "resume", progress, stop)
+    start = (_start(scene, discretization, checkpoint, stages, stop) if resume is None
              else _resume(scene, resume, checkpoint, stages))
     scene, disc, recording = start.scene, start.disc, start.recording
     result = recording.result
@@ -162,17 +169,23 @@ class _Start:
     kept: int = 0
 
 
-def _start(scene, discretization, checkpoint, stages) -> _Start:
+def _start(scene, discretization, checkpoint, stages, stop) -> _Start:
     """A new run: its discretization (of ``discretization`` where the scene allows), empty rows, the unloaded state."""
+    cautions = plausibility.warnings(scene)         # an SI scene's unlikely moduli, stiffness, wear: said first
+    for caution in cautions:
+        log.warning("%s", caution)
     if discretization is None:
-        disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene))
+        disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene, build_mesh(scene, stop=stop)))
     else:
         disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
     refusal = diverging(scene, disc.contact.largest_rate())
     if refusal:
         stages.close()
         raise SceneError(refusal)
+    if checkpoint is not None:
+        clear(checkpoint)                           # an earlier run's files go: a folder never mixes two runs
     recording = Recording.start(scene, disc, checkpoint)
+    recording.result.warnings.extend(cautions)
     warning = None if scene.time.adaptive else explicit_stability(scene, disc.contact.largest_rate())
     if warning:
         log.warning("%s", warning)
@@ -184,8 +197,10 @@ def _resume(scene, resume, checkpoint, stages) -> _Start:
     """A run going on from the checkpoint in ``resume`` (into ``checkpoint``, else into ``resume``)."""
     saved = stages.run("reading the checkpoint and its mesh", lambda: Checkpoint(resume, scene))
     recording, folder = saved.recording, checkpoint if checkpoint is not None else resume
+    if Path(folder).resolve() != Path(resume).resolve():
+        clear(folder)                           # the run goes on in another folder: the first stays as it was
     if not recording.history.is_in(folder):
-        recording.keep_in(folder)               # the run goes on in another folder: the first stays as it was
+        recording.keep_in(folder)
     recording.continuation = (saved.x, saved.lam, saved.step)
     kept = len(saved.result.times) if recording.history.is_in(resume) else 0
     return _Start(saved.scene, saved.result.discretization, recording, saved.x, saved.lam, folder, saved.step, kept)
@@ -278,18 +293,27 @@ class Stages:
 
     The set-up before the first step (minutes on large 3D meshes), the CLI's uniqueness check after the last.
 
-    Stages already done (a reused discretization) are skipped; without ``show`` nothing is drawn.
+    Stages already done (a reused discretization) are skipped; without ``show`` nothing is drawn.  A set ``stop``
+    ends the set-up after the stage it is in (meshing at once) with :class:`~ngwear.model.meshing.Stopped`.
     """
 
-    def __init__(self, name: str, show: bool):
-        self.name, self.bar = name, None
+    def __init__(self, name: str, show: bool, stop=None):
+        self.name, self.bar, self.stop = name, None, stop
         if show:
             self.bar = bar(total=None, desc=f"{name}: set-up", leave=False, bar_format="{desc} [{elapsed}]")
 
     def run(self, label: str, build):
         if self.bar is not None:
             self.bar.set_description_str(f"{self.name}: {label}")
-        return build()
+        try:
+            done = build()
+        except Stopped:
+            self.close()
+            raise
+        if self.stop is not None and self.stop.is_set():
+            self.close()
+            raise Stopped(label)
+        return done
 
     def prepare(self, disc: Discretization) -> None:
         """Assemble, factorise and condense what the condensed path needs, then close the bar."""

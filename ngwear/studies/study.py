@@ -146,6 +146,8 @@ def load_study(path: str | Path, overrides: dict[str, Any] | None = None) -> Stu
         raise StudyError(f"study file: cannot read {path} ({err.strerror or err})") from None
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as err:
         raise StudyError(f"study file: {path} is not valid TOML ({err})") from None
+    except RecursionError:
+        raise StudyError(f"study file: {path} is nested too deeply to read") from None
     return study_from_dict(data, base_dir=path.parent, name=path.stem, overrides=overrides)
 
 

@@ -29,13 +29,13 @@ retried by Dask (:data:`RETRIES`); what still fails is ``crashed`` with one line
 it died of SIGSEGV (Segmentation fault)``).  The cases of a worker that dies itself are rescheduled on
 the others (the scheduler's ``allowed-failures``).  A re-run in the same ``out`` skips every case with
 a ``row.json`` (completed, stopped or rejected), so an interrupted study resumes; crashed cases run
-again.
+again.  A set ``stop`` (the CLI's SIGINT and SIGTERM) ends the study at the next case boundary: the cases under
+way are cancelled (their case processes end with their workers), the finished ones kept, the table not written.
 """
 from __future__ import annotations
 
 import json
 import logging
-import shutil
 import sys
 import tempfile
 import threading
@@ -43,11 +43,12 @@ import uuid
 from collections import OrderedDict
 from contextlib import contextmanager
 from pathlib import Path
-from time import perf_counter
+from time import perf_counter, sleep
 from typing import TYPE_CHECKING, Any
 
 from ..model.keys import Level
 from ..model.scene import SceneError
+from ..results.folder import hold, remove, replacing
 from ..runs.progress import bar as progress_bar
 from ..runs.simulate import simulate
 from .child import Child, ChildError
@@ -61,6 +62,10 @@ CACHED_GROUPS = 2
 """Discretizations (mesh, factorisation) each worker process keeps, most recently used first."""
 FINISHED = ("completed", "stopped", "rejected")
 """Statuses that a re-run in the same folder keeps instead of running the case again."""
+UNFINISHED = ("crashed", "interrupted")
+"""Statuses of cases that a re-run runs again (``interrupted``: not run, the study was stopped)."""
+POLL = 0.1
+"""Seconds between two looks for finished cases and at the stop event."""
 COLUMNS = ("status", "error", "warnings", "wall_time", "worker", "factorised", "case_id")
 CONNECT_TIMEOUT = 30
 
@@ -69,7 +74,7 @@ if TYPE_CHECKING:  # pandas is imported where a table is made, not with ``import
 
 
 def sweep(study, client=None, *, out=None, workers: int | None = None,
-          overrides: dict[str, Any] | None = None, progress: bool = True) -> pd.DataFrame:
+          overrides: dict[str, Any] | None = None, progress: bool = True, stop=None) -> pd.DataFrame:
     """Run every case of a study on Dask and tabulate it; see the module docstring.
 
     Parameters
@@ -90,18 +95,24 @@ def sweep(study, client=None, *, out=None, workers: int | None = None,
     progress : bool
         Show a progress bar over all cases (and the Dask dashboard's link when it has one); without a terminal,
         log lines (see :mod:`ngwear.runs.progress`).
+    stop : threading.Event, optional
+        When set, the study stops at the next case boundary: the cases under way are cancelled, the finished
+        ones are kept in ``out`` (a re-run skips them) and the others are ``interrupted``.
 
     Returns
     -------
     pandas.DataFrame
         One row per case: its index, the varied keys, the outputs, status, error, warnings, wall time, worker;
         ``attrs["summary"]`` counts the cases by status.  Also written to ``out`` (``results.parquet``,
-        ``results.csv``, ``summary.json``, plots, each case's result folder).
+        ``results.csv``, ``summary.json``, plots, each case's result folder); an interrupted study writes only
+        its finished cases.
 
     Raises
     ------
     StudyError
         The study or ``workers`` is invalid, or the scheduler cannot be reached (one line naming the field).
+    FolderError
+        ``out`` is in use by another study (held like a run's output folder, see :func:`ngwear.results.folder.hold`).
     """
     if isinstance(study, Study) and overrides:
         raise StudyError("overrides: only for a study file or dict (a Study is already built)")
@@ -113,25 +124,29 @@ def sweep(study, client=None, *, out=None, workers: int | None = None,
     out = Path(out) if out is not None else Path("out") / study.name
     start = perf_counter()
     rows = {c.index: _row(status="rejected", error=c.error, case_id=c.id) for c in study.cases if c.error}
-    earlier = _finished(out, study.cases)
-    rows.update(earlier)
-    todo = [c for c in study.cases if c.index not in rows]
-    ran = {}
-    if todo:
-        with _connect(client, workers) as dask_client:
-            ran = _run(dask_client, todo, out, study.name, len(study.cases), progress)
-    rows.update(ran)
-    table = _table(study, rows)
-    _write(out, study, table)
-    summary = _summary(study, rows, ran, earlier, perf_counter() - start, out)
-    (out / "summary.json").write_text(json.dumps(summary, indent=2))
+    with hold(out, "out"):
+        earlier = _finished(out, study.cases)
+        rows.update(earlier)
+        todo = [c for c in study.cases if c.index not in rows]
+        ran = {}
+        if todo:
+            with _connect(client, workers) as dask_client:
+                ran = _run(dask_client, todo, out, study.name, len(study.cases), progress, stop)
+        rows.update(ran)
+        rows.update({c.index: _row(status="interrupted", case_id=c.id) for c in todo if c.index not in ran})
+        table = _table(study, rows)
+        summary = _summary(study, rows, ran, earlier, perf_counter() - start, out)
+        if not summary["interrupted"]:
+            _write(out, study, table)
+            with replacing(out / "summary.json") as tmp:
+                tmp.write_text(json.dumps(summary, indent=2))
     table.attrs["summary"] = summary
     return table
 
 
 def summary_text(summary: dict) -> str:
     """The summary as two lines (what ``ngwear sweep`` prints)."""
-    counts = ", ".join(f"{summary[s]} {s}" for s in (*FINISHED, "crashed") if summary[s])
+    counts = ", ".join(f"{summary[s]} {s}" for s in (*FINISHED, *UNFINISHED) if summary[s])
     return (f"{summary['cases']} cases ({counts}); {summary['skipped']} finished earlier, {summary['run']} run "
             f"on {summary['workers']} workers in {summary['wall_time']:.1f} s\n"
             f"{summary['factorisations']} factorisations for {summary['groups']} mesh/material groups; "
@@ -251,8 +266,8 @@ def _wait(client, workers) -> None:
                          f"within {CONNECT_TIMEOUT} s") from None
 
 
-def _run(client, cases: list[Case], out: Path, name: str, total: int, progress: bool) -> dict[int, dict]:
-    """Submit the cases grouped by mesh and material; save each as it completes; rows by case index."""
+def _run(client, cases: list[Case], out: Path, name: str, total: int, progress: bool, stop) -> dict[int, dict]:
+    """Submit the cases grouped by mesh and material; save each as it completes, until ``stop``; rows by case index."""
     from distributed import as_completed
 
     token = uuid.uuid4().hex[:8]
@@ -268,8 +283,13 @@ def _run(client, cases: list[Case], out: Path, name: str, total: int, progress: 
     if link and progress:
         bar.write(f"Dask dashboard: {link}", file=sys.stderr)
     rows = {}
+    finished = as_completed(futures)
     try:
-        for future in as_completed(futures):
+        while not finished.is_empty() and not (stop is not None and stop.is_set()):
+            if not finished.has_ready():
+                sleep(POLL)
+                continue
+            future = next(finished)
             case = keys[future.key]
             try:
                 row, files = future.result()
@@ -304,14 +324,13 @@ def _save_case(out: Path, case: Case, row: dict, files: dict[str, bytes]) -> dic
     row = dict(row, case_id=case.id)
     if row["status"] in FINISHED:
         folder = out / "cases" / case.id
-        shutil.rmtree(folder, ignore_errors=True)
+        remove(folder)                              # a new folder of its own: nothing planted in it
         folder.mkdir(parents=True)
         for name, data in files.items():
             (folder / name).parent.mkdir(parents=True, exist_ok=True)
             (folder / name).write_bytes(data)
-        tmp = folder / "row.json.tmp"
-        tmp.write_text(json.dumps(row, indent=1))
-        tmp.replace(folder / "row.json")
+        with replacing(folder / "row.json") as tmp:
+            tmp.write_text(json.dumps(row, indent=1))
     return row
 
 
@@ -347,7 +366,7 @@ def _summary(study: Study, rows, ran, earlier, wall_time: float, out: Path) -> d
     statuses = [rows[c.index]["status"] for c in study.cases]
     return {
         "study": study.name, "cases": len(study.cases),
-        **{status: statuses.count(status) for status in (*FINISHED, "crashed")},
+        **{status: statuses.count(status) for status in (*FINISHED, *UNFINISHED)},
         "skipped": len(earlier), "run": len(ran),
         "groups": len({c.group for c in study.cases if c.scene is not None}),
         "factorisations": sum(bool(row["factorised"]) for row in ran.values()),
@@ -359,9 +378,10 @@ def _summary(study: Study, rows, ran, earlier, wall_time: float, out: Path) -> d
 def _write(out: Path, study: Study, table: pd.DataFrame) -> None:
     from ..views.sweep_plots import against, heat_map
 
-    out.mkdir(parents=True, exist_ok=True)
-    table.to_parquet(out / "results.parquet", index=False)
-    table.to_csv(out / "results.csv", index=False)
+    with replacing(out / "results.parquet") as tmp:
+        table.to_parquet(tmp, index=False)
+    with replacing(out / "results.csv") as tmp:
+        table.to_csv(tmp, index=False)
     for key in study.varied:
         against(table, key, [k for k in study.varied if k != key], study.outputs, out / "plots" / f"{key}.png")
     if len(study.varied) == 2 and study.grid == study.varied:

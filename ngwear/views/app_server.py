@@ -21,6 +21,9 @@ three of its handlers for guarded ones and :class:`AppKernelManager` bounds the 
   handed to a page that never connects ends after ``unopened_timeout`` seconds (a page connects
   within seconds of its HTML), one whose page has gone after the culling timeout.
 
+* :class:`TemplateFiles`: Voilà's template files, a path that leaves them refused (404) before Voilà's handler,
+  which failed on it (500, a traceback in the log).
+
 :func:`stop_on_signals`: SIGINT and SIGTERM always stop the server, by force if it does not stop.
 """
 from __future__ import annotations
@@ -43,6 +46,7 @@ from tornado.iostream import StreamBufferFullError
 from traitlets import Float, Integer
 from voila.app import Voila
 from voila.request_info_handler import RequestInfoSocketHandler
+from voila.static_file_handler import TemplateStaticFileHandler
 from voila.tornado.handler import TornadoVoilaHandler
 from voila.tornado.kernel_websocket_handler import VoilaKernelWebsocketHandler
 
@@ -218,12 +222,26 @@ class RequestInfo(_PlainErrors, WebSocketMixin, RequestInfoSocketHandler, Jupyte
         await super().get(*args, **kwargs)
 
 
+class TemplateFiles(TemplateStaticFileHandler):
+    """Voilà's template files, ``/voila/templates/<name>/static/<path>``: a path that leaves them is 404.
+
+    Voilà's handler takes the path apart only after normalising it, so ``..%2f..`` failed inside it (500, with
+    a traceback in the log).
+    """
+
+    def parse_url_path(self, path):
+        parts = path.split("/")
+        if len(parts) < 3 or parts[1] != "static" or any(part in ("", ".", "..") for part in parts):
+            raise web.HTTPError(404)
+        return super().parse_url_path(path)
+
+
 class Server(Voila):
-    """Voilà with the guarded page, kernel websocket and request-info socket."""
+    """Voilà with the guarded page, kernel websocket, request-info socket and template files."""
 
     def init_handlers(self):
         guarded = {TornadoVoilaHandler: Page, VoilaKernelWebsocketHandler: KernelSocket,
-                   RequestInfoSocketHandler: RequestInfo}
+                   RequestInfoSocketHandler: RequestInfo, TemplateStaticFileHandler: TemplateFiles}
         return [(route[0], guarded.get(route[1], route[1]), *route[2:]) for route in super().init_handlers()]
 
 

@@ -37,6 +37,7 @@ from PIL import Image
 from ..model.keys import Level
 from ..model.scene import Scene, SceneError
 from ..numerics.discrete import Reuse
+from ..results.folder import replacing
 from ..runs.simulate import simulate
 from .compare import Comparison, nearest_step
 from .plots import Dashboard
@@ -249,24 +250,27 @@ class Explorer:
         path.parent.mkdir(parents=True, exist_ok=True)
         with self._lock:
             text = tomli_w.dumps(self.scene.to_dict())
-        path.write_text(f"# saved by the ngwear explorer\n{text}", encoding="utf-8")
+        with replacing(path) as tmp:                # never through a link planted at the name
+            tmp.write_text(f"# saved by the ngwear explorer\n{text}", encoding="utf-8")
         return path
 
     def save_picture(self, path) -> Path:
         """Write the picture on show as a PNG."""
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
-        Image.fromarray(self.picture()).save(path)
+        with replacing(path) as tmp:
+            Image.fromarray(self.picture()).save(tmp)
         return path
 
     def save_result(self, directory) -> Path:
         """Write the current run as ``ngwear run`` does: results, checkpoint, VTU/PVD and the pictures."""
         from ..results.checkpoint import write_checkpoint
-        from ..results.folder import hold
+        from ..results.folder import clear, hold
         from .pictures import write_pictures
         with self._lock:
             result = self.result
         with hold(directory, "save into"):          # a FolderError while another run writes there
+            clear(directory)                        # an earlier run's files go: the folder holds this run alone
             out = result.save(directory)
             write_checkpoint(out, result)
             write_pictures(result, out)

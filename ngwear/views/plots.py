@@ -15,6 +15,7 @@ from matplotlib import colormaps
 from matplotlib.figure import Figure
 from matplotlib.ticker import ScalarFormatter
 
+from ..results.folder import replacing
 from ..results.units import label as unit_label
 
 
@@ -84,11 +85,12 @@ def _along(ax, result, values: np.ndarray, **kw) -> None:
     ax.plot(x[order], values[order], **style | kw)
 
 
-def _save(fig: Figure, path) -> Path:
-    """Write the figure as a PNG (Agg canvas), creating the directory."""
+def _save(fig: Figure, path, dpi: int = 120) -> Path:
+    """Write the figure as a PNG (Agg canvas), creating the directory; never through a link planted at its name."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
+    with replacing(path) as tmp:
+        fig.savefig(tmp, dpi=dpi)
     return path
 
 

@@ -29,6 +29,7 @@ from matplotlib.colors import ListedColormap, to_hex
 from PIL import Image
 from vtkmodules.vtkCommonCore import VTK_FONT_FILE
 
+from ..results.folder import replacing
 from ..results.units import label
 from ..results.vtk import frame_name
 from . import video
@@ -238,7 +239,8 @@ def save_frame(result, step: int, path, **kw) -> Path:
     """Write :func:`frame` as a PNG and return its path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    Image.fromarray(frame(result, step, **kw)).save(path)
+    with replacing(path) as tmp:                    # never through a link planted at the name
+        Image.fromarray(frame(result, step, **kw)).save(tmp)
     return path
 
 
@@ -255,7 +257,8 @@ def paper_figures(result, out_dir, steps=None, **kw) -> list[Path]:
     with Canvas(**kw) as canvas:
         for k, step in enumerate(steps, start=1):
             paths.append(out / f"fig{k}_{frame_name(step)}.png")
-            Image.fromarray(canvas.frame(result, step, steps)).save(paths[-1])
+            with replacing(paths[-1]) as tmp:
+                Image.fromarray(canvas.frame(result, step, steps)).save(tmp)
     return paths
 
 

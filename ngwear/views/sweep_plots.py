@@ -13,6 +13,8 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
+from .plots import _save as save
+
 MAX_LINES = 8
 ANNOTATE_CELLS = 36
 
@@ -40,7 +42,7 @@ def against(table: pd.DataFrame, key: str, others: list[str], outputs, path) -> 
     if others and lines != [None]:
         axes[0].legend(fontsize=7)
     fig.suptitle(f"outputs against {key} ({done.sum()} of {len(table)} cases completed)", fontsize=9)
-    return _save(fig, path)
+    return save(fig, path, dpi=110)
 
 
 def heat_map(table: pd.DataFrame, keys, outputs, path) -> Path:
@@ -65,7 +67,7 @@ def heat_map(table: pd.DataFrame, keys, outputs, path) -> Path:
                 light = not np.isnan(v) and image.norm(v) > 0.6  # viridis turns yellow: dark text there
                 ax.text(i, j, "–" if np.isnan(v) else f"{v:.3g}", ha="center", va="center", fontsize=6,
                         color="black" if light else "white")
-    return _save(fig, path)
+    return save(fig, path, dpi=110)
 
 
 def _axis(column: pd.Series) -> tuple[np.ndarray, list[str] | None]:
@@ -93,9 +95,3 @@ def _panels(count: int):
         ax.set_visible(False)
     return fig, axes
 
-
-def _save(fig: Figure, path) -> Path:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    return path

@@ -1,0 +1,124 @@
+"""Netgen's meshing of a part: its size estimated before, and done where a stop ends it within a second.
+
+Estimate (:func:`estimate`).  Netgen makes about c_d Ω / h^d elements of size h = ``mesh.maxh`` in a part of area
+(2D) or volume (3D) Ω: c₂ = 2.3 triangles, c₃ = 5.5 tetrahedra (measured on strips, boxes and pads).  A face (an
+edge in 2D) of measure M refined to h_f < h (``mesh.contact_maxh``) adds a layer in which the size grows away from
+it at the rate γ = ``mesh.grading`` (measured: γ ≈ the grading), over the depth D = min((h − h_f)/γ, Ω/M):
+
+    N ≈ c_d (Ω / h^d + Σ_f M ∫_0^D ((h_f + γ s)^(−d) − h^(−d)) ds).
+
+Against Netgen on the shipped scenes and refined strips and boxes it is within a factor 2 (a pad two elements
+thick, refined: 3 × under).  A scene whose estimate passes ``mesh.max_elements`` is refused before meshing
+(:func:`check_size`), naming ``mesh.maxh`` (or ``mesh.contact_maxh`` when the refined layer makes most of it).
+
+Where (:func:`generate`).  A mesh estimated above :data:`IN_PROCESS` elements is made in a child process that
+builds the part from the same keys (the same mesh as in this process) and writes the mesh file: a set ``stop``
+kills it at once (:class:`Stopped`), as does the end of this process (``PR_SET_PDEATHSIG``); it ignores SIGINT
+(this process decides).  Netgen does not stop in this process: its volume mesher ignores its own terminate flag
+for tens of seconds.  Smaller meshes, a few seconds of Netgen, are made here.
+"""
+from __future__ import annotations
+
+import os
+import pickle
+import signal
+import subprocess
+import sys
+import threading
+from pathlib import Path
+
+from netgen.occ import OCCGeometry
+
+from .keys import SceneError
+from .kinds import KINDS
+
+DENSITY = {2: 2.3, 3: 5.5}
+"""c_d: Netgen's elements per h^d of area (2D) or volume (3D) at mesh size h."""
+IN_PROCESS = 10_000
+"""Largest estimated mesh made in this process (~2 s of Netgen here); larger ones in a child that a stop kills."""
+POLL = 0.05
+"""Seconds between two looks at the child and at the stop event."""
+
+
+class Stopped(RuntimeError):
+    """A run stopped by its ``stop`` event before its first step; the message names the stage."""
+
+
+def estimate(shape, dim: int, maxh: float, grading: float | None) -> tuple[float, float]:
+    """(All elements, those of the refined layers) Netgen makes of ``shape`` (see the module docstring)."""
+    gamma, density = grading if grading is not None else 0.3, DENSITY[dim]
+    omega = sum(part.mass for part in (shape.solids if dim == 3 else shape.faces))
+    refined = [(f.mass, f.maxh) for f in (shape.faces if dim == 3 else shape.edges) if f.maxh < maxh]
+    layers = 0.0
+    for measure, h in refined:
+        depth = min((maxh - h) / gamma, omega / measure)
+        top = h + gamma * depth
+        layers += measure * ((h ** (1 - dim) - top ** (1 - dim)) / (gamma * (dim - 1)) - depth / maxh ** dim)
+    return density * (omega / maxh ** dim + layers), density * layers
+
+
+def check_size(scene, shape) -> None:
+    """Refuse, before meshing, a part whose estimated elements pass ``mesh.max_elements``."""
+    m = scene.mesh
+    count, layers = estimate(shape, scene.dim, m.maxh, m.grading)
+    if count > m.max_elements:
+        name, value = ("mesh.contact_maxh", m.contact_maxh) if layers > count / 2 else ("mesh.maxh", m.maxh)
+        raise SceneError(f"{name}: {value:g} gives about {count:.3g} elements, more than mesh.max_elements = "
+                         f"{m.max_elements} (Netgen's memory and time grow with them); give a larger {name}, or "
+                         "raise mesh.max_elements")
+
+
+def generate(scene, shape, path: Path, stop: threading.Event | None = None) -> None:
+    """Mesh ``shape`` (built from ``scene``) and write it to ``path``: here, or in a child when it is large.
+
+    Raises :class:`Stopped` when ``stop`` is set while a child meshes (the child is killed, ``path`` not written),
+    and what Netgen raises (in a child: a RuntimeError with its last line).
+    """
+    g, m = scene.geometry, scene.mesh
+    if estimate(shape, g.dim, m.maxh, m.grading)[0] <= IN_PROCESS:
+        _mesh(shape, g.dim, m.maxh, m.grading).Save(str(path))
+        return
+    child = subprocess.Popen([sys.executable, "-c", f"from {__name__} import _child; _child()"],
+                             stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    try:
+        child.stdin.write(pickle.dumps((g, m, str(path))))
+        child.stdin.close()
+        while True:
+            try:
+                child.wait(POLL)
+                break
+            except subprocess.TimeoutExpired:
+                if stop is not None and stop.is_set():
+                    raise Stopped("meshing (Netgen)") from None
+        if child.returncode:
+            if child.returncode < 0:
+                raise RuntimeError(f"Netgen died of {signal.Signals(-child.returncode).name} in its child process")
+            raise RuntimeError((child.stderr.read().decode(errors="replace").strip().splitlines() or ["no reason"])[-1])
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.wait()
+        child.stderr.close()
+
+
+def _mesh(shape, dim: int, maxh: float, grading: float | None):
+    return OCCGeometry(shape, dim=dim).GenerateMesh(maxh=maxh, **({"grading": grading} if grading is not None else {}))
+
+
+def _child() -> None:
+    """The child of :func:`generate`: read (geometry, mesh, path), build the part, mesh it, write the mesh file."""
+    from . import cad, shapes  # noqa: F401 - they register the kinds
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform == "linux":                     # die with the parent, however it ends
+        import ctypes
+        ctypes.CDLL(None).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+    geometry, mesh, path = pickle.loads(sys.stdin.buffer.read())
+    if os.getppid() == 1:                           # the parent ended before the line above
+        sys.exit(1)
+    try:
+        shape = KINDS[geometry.kind].build(geometry, mesh)
+        _mesh(shape, geometry.dim, mesh.maxh, mesh.grading).Save(path)
+    except Exception as err:  # noqa: BLE001 - Netgen's and OpenCASCADE's own types: their message, one line
+        print(f"{type(err).__name__}: {err}".strip().splitlines()[0], file=sys.stderr)
+        sys.exit(1)

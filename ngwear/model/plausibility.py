@@ -1,0 +1,72 @@
+"""Plausibility of a scene in SI units: moduli, stiffnesses and wear coefficients far from engineering materials'.
+
+In a scene with ``units = "SI"`` the numbers are in m, N, Pa and s.  A modulus, a contact stiffness or a wear
+coefficient far outside what engineering materials have is most likely a slip of units (``young = 210`` for steel:
+GPa meant, Pa given), which a small-strain run would turn into metres of displacement without a word.
+:func:`warnings` names each such key, before the run; the run goes on (the values are valid, only unlikely).
+
+The ranges are those of engineering materials widened tenfold on each side:
+
+* moduli (``young``, ``lame_lambda``, ``lame_mu``, ``young_plane``, ``young_axis``, ``shear_axis``,
+  ``compaction_modulus`` of ``[material]`` and its regions): solids span 1e5 Pa (polymer foams) to 1.2e12 Pa
+  (diamond) on Ashby's modulus charts: outside [1e4, 1e13] Pa is warned of (λ and β may be 0: ν = 0, no
+  compaction);
+* the contact stiffness L: p(g) = L g^e is the pressure of the layer compressed through, its modulus times a strain
+  of one: L g^e outside [1e4, 1e13] Pa;
+* the wear coefficient κ, Archard's dimensional coefficient K/H in 1/Pa (= m³/(N·m)): from 1e-18 1/Pa (mild wear,
+  1e-9 mm³/(N·m)) to 1e-9 1/Pa (severe abrasion, 1 mm³/(N·m)): outside [1e-19, 1e-8] 1/Pa (0: no wear).
+
+Fields given as expressions are not looked at (their values are known at the contact points only); arrays by their
+smallest and largest value.
+"""
+from __future__ import annotations
+
+MODULI = ("young", "lame_lambda", "lame_mu", "young_plane", "young_axis", "shear_axis", "compaction_modulus")
+MAY_BE_ZERO = ("lame_lambda", "compaction_modulus")
+MODULUS = (1e4, 1e13)
+"""Pa: the moduli of engineering solids (1e5 to 1.2e12 Pa), widened tenfold."""
+WEAR = (1e-19, 1e-8)
+"""1/Pa: Archard's dimensional wear coefficients K/H of engineering pairs (1e-18 to 1e-9 1/Pa), widened tenfold."""
+
+
+def warnings(scene) -> list[str]:
+    """One line for each modulus, stiffness or wear coefficient of an SI scene far outside engineering materials'."""
+    if scene.units != "SI":
+        return []
+    out = []
+    tables = {"material": scene.material, **{f"material.regions.{name}": table
+                                            for name, table in scene.material.regions.items()}}
+    moduli = "the moduli of engineering materials (1e5 Pa, foams, to 1.2e12 Pa, diamond)"
+    for prefix, table in tables.items():
+        for name in MODULI:
+            value = getattr(table, name)
+            if value is not None and not (value == 0 and name in MAY_BE_ZERO):
+                out += _outside(f"{prefix}.{name} = {value:g} Pa", value, MODULUS, moduli, ("GPa or MPa", None))
+    contact = scene.contact
+    for value in _numbers(contact.stiffness):
+        pressure = value * contact.gap ** contact.exponent
+        out += _outside(f"contact.stiffness = {value:g} Pa/m^{contact.exponent:g} (L g^e = {pressure:.3g} Pa, the layer "
+                        "compressed through)", pressure, MODULUS, moduli, ("GPa/m or MPa/m", None))
+    for value in _numbers(contact.wear):
+        if value:
+            out += _outside(f"contact.wear = {value:g} 1/Pa", value, WEAR, "Archard's wear coefficients of engineering "
+                            "pairs (1e-18 to 1e-9 1/Pa, 1e-9 to 1 mm³/(N·m))", (None, "mm³/(N·m)"))
+    return out
+
+
+def _outside(what: str, value: float, bounds: tuple[float, float], range_of: str, units) -> list[str]:
+    """``what`` is far below or above ``bounds``, with the unit (below, above) it was perhaps given in."""
+    low, high = bounds
+    if low <= value <= high:
+        return []
+    side, unit = ("below", units[0]) if value < low else ("above", units[1])
+    return [f"{what}: far {side} {range_of}" + (f"; is it in {unit}? (units = \"SI\": Pa, m, N, s)" if unit else "")]
+
+
+def _numbers(value) -> tuple[float, ...]:
+    """The values of a coefficient known before the run: a number, or an array's extremes (an expression: none)."""
+    if isinstance(value, (int, float)):
+        return (float(value),)
+    if isinstance(value, tuple) and value:
+        return tuple(sorted({min(value), max(value)}))
+    return ()
