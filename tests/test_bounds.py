@@ -52,7 +52,7 @@ def test_the_frames_are_those_of_every_output_time_without_listing_them(paper_re
         times = np.concatenate([[0.0], np.cumsum(rng.exponential(1.0, rng.integers(1, 40)))])
         every = times[-1] * 10 ** rng.uniform(-3, 0.3)
         scene = paper_result.scene.replace(**{"time.T": float(times[-1]), "output.every": min(every, times[-1])})
-        kept = dataclasses.replace(paper_result, scene=scene, times=times)
+        kept = dataclasses.replace(paper_result, scene=scene, rows={**paper_result.rows, "times": times})
         assert kept.stored_steps == brute_force_frames(times, scene.output.every, times[-1])
 
 

@@ -16,7 +16,7 @@ from conftest import PAPER
 import ngwear
 from ngwear.cli import main
 from ngwear.results.folder import LOCK, FolderError, hold
-from ngwear.results.result import Result
+from ngwear.results.recording import Recording
 
 
 def small(**changes):
@@ -114,12 +114,12 @@ def test_a_new_run_leaves_nothing_of_an_earlier_one(run, tmp_path):
             stop.set()
         return append(self, *args)
 
-    append = Result.append
-    Result.append = stopping
+    append = Recording.append
+    Recording.append = stopping
     try:
         result = ngwear.simulate(small(**{"time.steps": 20}), checkpoint=out, progress=False, stop=stop)
     finally:
-        Result.append = append
+        Recording.append = append
     assert result.status == "interrupted" and result.steps == 2
     assert sorted(p.name for p in out.iterdir() if not p.name.startswith("steps-")) == [
         LOCK, "checkpoint.npz", "mesh.vol"]
