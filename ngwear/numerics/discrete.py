@@ -29,7 +29,7 @@ from .condense import DENSE_LIMIT, SOFT_LIMIT
 from .forms import contact_form
 from .pieces import Body, Condensation, Elastic, Loads
 
-CONTACT_SOLVES = ("auto", "dense", "krylov")
+CONTACT_SOLVES = ("auto", "dense", "krylov", "patch")
 BULK_RECOVERY = 500
 """Most iterations of a nonlinear material's displacement recovered from its contact forces (K₀ contracts)."""
 
@@ -93,7 +93,7 @@ class Discretization:
 
     def __init__(self, scene: Scene, mesh: ngs.Mesh | None = None, contact_solve: str = "auto"):
         if contact_solve not in CONTACT_SOLVES:
-            raise ValueError(f"contact_solve: must be auto, dense or krylov (got {contact_solve!r})")
+            raise ValueError(f"contact_solve: must be auto, dense, krylov or patch (got {contact_solve!r})")
         self.scene, self.contact_solve = scene, contact_solve
         self._assemble(Body(scene, mesh if mesh is not None else build_mesh(scene)))
 
@@ -213,11 +213,14 @@ class Discretization:
     def normal_response(self, normal: np.ndarray, directed: np.ndarray, directions: np.ndarray) -> np.ndarray:
         """ν·u(x_i) under the point forces f_j = normal_j ν + directed_j b_j: H normal + A directed, matrix-free.
 
-        One back-substitution, u = K⁻¹ Pᵀ f; with b_j = ν + μ n*_j it is the product with A = H + μ F.
+        One back-substitution, u = K⁻¹ Pᵀ f; with b_j = ν + μ n*_j it is the product with A = H + μ F.  ``normal``
+        and ``directed`` may be k columns (n × k): one back-substitution with k right-hand sides.
         """
-        nu = self.condensation.nu
-        forces = normal[:, None] * nu[None, :] + directed[:, None] * directions
-        return self.condensation.N @ self.elastic.operator.solve(self.points.P.T @ forces.ravel())
+        nu, columns = self.condensation.nu, np.ndim(normal) == 2
+        normal, directed = (np.reshape(a, (len(a), -1)) for a in (normal, directed))
+        forces = normal[:, None, :] * nu[None, :, None] + directed[:, None, :] * directions[:, :, None]
+        out = self.condensation.N @ self.elastic.operator.solve(self.points.P.T @ forces.reshape(-1, normal.shape[1]))
+        return out if columns else out[:, 0]
 
     # ---- time-dependent data -----------------------------------------------------------
     def load_factor(self, t: float) -> float:

@@ -79,7 +79,7 @@ def semismooth_newton(system, x, lam, tol: float = 1e-10, max_iterations: int = 
     last ``MEMORY`` merits; halving stops at θ = 1/1024.  Iterations of both phases count.
     """
     rec = NewtonRecord()
-    start = (x, lam)
+    start = (system.start(x, lam), lam)
     for damped in (False, True):
         x, lam = start
         merit = system.merit(x, lam)
@@ -182,7 +182,7 @@ class CondensedSystem:
         self.n = len(weights)
         self.c = 1.0 / np.maximum(compliance * weights, 1e-300)
         self.scale = max(np.abs(s_load).max(initial=0.0), gap)
-        self.plate = plate
+        self.plate, self._last = plate, (None, None)
         if plate is not None:
             reach = np.maximum(np.abs(plate.normal).max(axis=0, initial=0.0), 1e-300)
             self.rows = max(compliance.max(initial=0.0), 1e-300) / reach
@@ -201,13 +201,23 @@ class CondensedSystem:
         return x[:self.n] - self.d0 - self.g
 
     def residual(self, x, lam):
+        """R(x, λ), remembered for the last (x, λ): Newton asks twice per iterate."""
+        key = x.tobytes() + lam.tobytes()
+        if self._last[0] != key:
+            self._last = key, self._residual(x, lam)
+        return self._last[1]
+
+    def _residual(self, x, lam):
         s, p = x[:self.n], self.law.pressure(x[:self.n] - self.d0)
         r_s = s - self.s_load + self.response(self.m * p, self.m * lam)
         if self.plate is None:
             return r_s
-        plate, delta = self.plate, x[self.n:]
-        r_d = plate.stiffness @ delta + plate.directed.T @ (self.m * p) + plate.normal.T @ (self.m * lam) - plate.load
-        return np.concatenate([r_s - plate.normal @ delta, self.rows * r_d])
+        return np.concatenate([r_s - self.plate.normal @ x[self.n:], self.rows * self._plate_rows(x, lam)])
+
+    def _plate_rows(self, x, lam):
+        """The plate's force balance S δ + Φ_bᵀ (m∘p) + Ψᵀ (m∘λ) − s_F (f_B + F_B), unscaled (no product)."""
+        plate, p = self.plate, self.law.pressure(x[:self.n] - self.d0)
+        return plate.stiffness @ x[self.n:] + plate.directed.T @ (self.m * p) + plate.normal.T @ (self.m * lam) - plate.load
 
     def merit(self, x, lam):
         comp = np.minimum(lam / self.c, -self.gap(x))
@@ -215,10 +225,7 @@ class CondensedSystem:
 
     def _factor(self, active, dp):
         """LU of M = [J_{:,I} | H_{:,A} diag(m_A) | −Ψ] with J = I + A diag(m p'), bordered by the plate's rows."""
-        key = active.tobytes() + dp.tobytes()
-        if key in self.factors:
-            self.factors[key] = self.factors.pop(key)       # the most recently used last
-        else:
+        def build():
             inactive = ~active
             M = self.A * (self.m * dp * inactive)[None, :] + self.H * (self.m * active)[None, :]
             M[np.diag_indices(len(dp))] += inactive
@@ -228,10 +235,8 @@ class CondensedSystem:
                          + plate.normal * (self.m * active)[:, None]).T
                 M = np.block([[M, -plate.normal],
                               [self.rows[:, None] * below, self.rows[:, None] * self.jacobian_stiffness]])
-            while self.factors and len(self.factors) >= min(16, max(1, int(FACTOR_BYTES // M.nbytes))):
-                del self.factors[next(iter(self.factors))]  # the least recently used
-            self.factors[key] = sla.lu_factor(M, check_finite=False)
-        return self.factors[key]
+            return sla.lu_factor(M, check_finite=False)
+        return self._remember(active.tobytes() + dp.tobytes(), build)
 
     def step(self, x, lam, active):
         n = self.n
@@ -255,6 +260,22 @@ class CondensedSystem:
     def _solve(self, active, dp, rhs, lam):
         return sla.lu_solve(self._factor(active, dp), rhs, check_finite=False)
 
+    def start(self, x, lam):
+        """The warm start Newton begins from: x itself (see :meth:`PatchSystem.start`)."""
+        return x
+
+    def _remember(self, key, build):
+        """The factors of ``key``, built by ``build()`` when new and kept LRU within ``FACTOR_BYTES`` (16 at most)."""
+        if key in self.factors:
+            self.factors[key] = self.factors.pop(key)       # the most recently used last
+            return self.factors[key]
+        factors = build()
+        size = max(sum(a.nbytes for a in factors if isinstance(a, np.ndarray)), 1)
+        while self.factors and len(self.factors) >= min(16, max(1, int(FACTOR_BYTES // size))):
+            del self.factors[next(iter(self.factors))]      # the least recently used
+        self.factors[key] = factors
+        return factors
+
 
 class KrylovSystem(CondensedSystem):
     """The condensed step problem, matrix-free: for contact surfaces too large for dense algebra.
@@ -273,17 +294,9 @@ class KrylovSystem(CondensedSystem):
         self.recycler = recycler
         self._setup(compliance, weights, s_load, d0, gap, law, plate)
         self.atol = 1e-2 * tolerance * self.scale
-        self._last = (None, None)
 
     def response(self, directed, normal):
         return self.recycler.memory(directed, normal)
-
-    def residual(self, x, lam):
-        """As :meth:`CondensedSystem.residual`, remembered for the last (x, λ): Newton asks twice per iterate."""
-        key = x.tobytes() + lam.tobytes()
-        if self._last[0] != key:
-            self._last = key, super().residual(x, lam)
-        return self._last[1]
 
     def _solve(self, active, dp, rhs, lam):
         n, m, inactive = self.n, self.m, ~active
@@ -332,6 +345,10 @@ class FullSystem:
 
     def _set(self, x):
         self._gf.vec.FV().NumPy()[:] = self.T @ x
+
+    def start(self, x, lam):
+        """The warm start Newton begins from: x itself."""
+        return x
 
     def gap(self, x):
         return self.N @ x - self.d0 - self.g

@@ -13,9 +13,19 @@ import logging
 import numpy as np
 
 from ..numerics.bulk import Anderson, Remainder, change
+from ..numerics.columns import Columns
 from ..numerics.discrete import Discretization
+from ..numerics.patch import PatchSystem
 from ..numerics.recycle import ComplianceMemory, Recycler
-from ..numerics.solver import CondensedSystem, ConvergenceError, FullSystem, KrylovSystem, PlateRows, semismooth_newton
+from ..numerics.solver import (
+    CondensedSystem,
+    ConvergenceError,
+    FullSystem,
+    KrylovSystem,
+    PlateRows,
+    PointLaw,
+    semismooth_newton,
+)
 from ..numerics.wear import WearIntegrator
 from ..results.invariants import StepCheck
 
@@ -29,6 +39,8 @@ NEWTON = 12
 """Most Newton iterations (a factorised tangent each) before the step falls back on K₀ alone."""
 RUNAWAY = 10.0
 """Iterates whose step |G(u) − u| exceeds the best one's this many times: the mixing restarts from the best."""
+PATCH_SHARE = 0.5
+"""Largest share of the contact points in the rigid body's patch for which ``auto`` solves on the patch."""
 
 
 class Stepper:
@@ -53,6 +65,7 @@ class Stepper:
         self._kept: dict = {}                                       # K₀'s Newton matrices while a tangent is used
         self.tangents = 0                                           # tangents taken so far (factorised or updated)
         self._columns: dict = {}                                    # K₀⁻¹Dᵀ of the kink points, for this run
+        self._patch = None                                          # matrix-free: on the patch (else GCR), once
 
     @property
     def _full(self) -> bool:
@@ -213,11 +226,19 @@ class Stepper:
             return _full_system(disc, t, load_factor, integrator)
         friction = disc.friction_directions(t)                              # μ_i n*_i
         if disc.matrix_free:
-            key = ("krylov", (cond.nu[None, :] + friction).tobytes())        # A's force directions ν + μ n*
+            if self._patch is None:
+                self._patch = disc.contact_solve == "patch" or (disc.contact_solve == "auto" and _patchy(disc))
+            directions = cond.nu[None, :] + friction                         # A's force directions ν + μ n*
+            key = ("patch" if self._patch else "krylov", directions.tobytes())
             if key not in self._matrices:
-                self._matrices = {key: _recycler(disc, friction)}
-            directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + friction)
+                before = next(iter(self._matrices.values()), None)
+                self._matrices = {key: _columns(disc, friction, before) if self._patch else _recycler(disc, friction)}
+                self._factors = {}
+            directed = None if cond.plate is None else cond.plate.directed(directions)
             s_load, plate = self._loads(directed, load_factor)
+            if self._patch:
+                return PatchSystem(self._matrices[key], cond.compliance_estimate, disc.points.weights, s_load, cond.d0,
+                                   self.scene.contact.gap, law, self._factors, plate)
             return KrylovSystem(self._matrices[key], cond.compliance_estimate, disc.points.weights, s_load, cond.d0,
                                 self.scene.contact.gap, law, self.scene.solver.tolerance, plate)
         key = friction.tobytes()
@@ -249,6 +270,30 @@ def _recycler(disc: Discretization, friction) -> Recycler:
     directions = disc.condensation.nu[None, :] + friction
     respond = lambda directed, normal: disc.normal_response(normal, directed, directions)  # noqa: E731
     return Recycler(ComplianceMemory(respond, disc.points.n))
+
+
+def _columns(disc: Discretization, friction, before) -> Columns:
+    """The columns of A = H + F(μ n*) (this μ n*) and H for the run; H's are kept from ``before`` (other μ n*)."""
+    directions = disc.condensation.nu[None, :] + friction
+    respond = lambda directed, normal: disc.normal_response(normal, directed, directions)  # noqa: E731
+    normal = before.normal if isinstance(before, Columns) else None
+    return Columns(respond, disc.points.n, normal, same=not friction.any())
+
+
+def _patchy(disc: Discretization) -> bool:
+    """Whether the contact patch of the rigid body under the largest load covers at most ``PATCH_SHARE`` of Γ_C.
+
+    The body moved rigidly to the plate's force balance (:meth:`PatchSystem.start`; held otherwise: the loads'
+    displacement s_F): a soft layer's patch to a few points, and whether it is a part of Γ_C or all of it.
+    """
+    cond, n = disc.condensation, disc.points.n
+    largest = max((abs(f) for _, f in disc.scene.loads.time_table), default=1.0)
+    directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + disc.friction_directions(0.0))
+    system = PatchSystem(None, cond.compliance_estimate, disc.points.weights, largest * disc.loads.s_load, cond.d0,
+                         disc.scene.contact.gap, PointLaw(disc.law, disc.law.derivative), {},
+                         _plate_rows(disc, directed, largest))
+    x = system.start(np.concatenate([system.s_load, np.zeros(cond.plate_modes_count)]), np.zeros(n))
+    return np.count_nonzero(disc.law.derivative(x[:n] - cond.d0)) <= PATCH_SHARE * n
 
 
 def _plate_rows(disc: Discretization, directed, load_factor: float) -> PlateRows | None:
