@@ -1,0 +1,219 @@
+"""Fine contact faces (issue 32): set-up + 100 steps against one elastic solve, before and after, as Γ_C is refined.
+
+Cases: the pin ``geometries/pin_on_disc.toml`` (a spherical cap on a turning disc, held by its plate alone; 100
+steps over its 60 s) at ``mesh.contact_maxh`` = 0.3, 0.15, 0.1, 0.07 mm (a case ``pin:0.1``), and the shipped
+brake pad ``geometries/brake_pad.toml`` (100 steps, k = 1 s) at ``mesh.maxh`` = 0.004, 0.002, 0.0011 m
+(``pad:0.002``).  Two contact solves on the same mesh:
+
+* ``before``: today's (main's) choice: dense with the Schur complement up to its limits, else matrix-free GCR with
+  recycling (``contact_solve="krylov"``, the same numbers as main's matrix-free path to the bit:
+  ``tests/test_patch.py``);
+* ``after``: ``auto``, which now solves a matrix-free problem on its contact patch (``numerics/patch.py``) when the
+  rigid body's patch is at most half of Γ_C, and by GCR otherwise.
+
+Every measurement runs in a fresh process: ``elastic`` is one NGSolve linear-elastic solve on the same mesh and
+space (assemble + ``sparsecholesky`` + solve, the issue's yardstick), ``ngwear`` is ``Discretization`` + its set-up
+stages (assembly, PARDISO, loads, plate) + ``simulate``.  Reported: set-up, the first step (from rest), ms per later
+step (mean; median of the steps that compute no column), ratio (set-up + steps) / elastic, in wall and in CPU time
+(the machine is shared: CPU time is less sensitive to the load), Newton iterations, right-hand sides solved with K's
+factor in the steps ("rhs": GCR's products, or the patch's columns) and the solves they took, and the largest
+difference between before and after relative to the largest value (wear, pressure, normal displacement).
+``--crossover`` runs both matrix-free solves on the pin at 0.15 mm pressed harder (the patch's share of Γ_C from 8 %
+to all of it) and the pad: the measured crossover behind ``PATCH_SHARE``.
+
+    .venv/bin/python benchmarks/contact_scaling.py [--quick] [--reps 1] [--cases pin:0.1,pad:0.002] [--crossover]
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import tempfile
+from pathlib import Path
+
+import common as C
+import numpy as np
+
+SCENES = {"pin": C.ROOT / "geometries" / "pin_on_disc.toml", "pad": C.ROOT / "geometries" / "brake_pad.toml"}
+CASES = ("pin:0.3", "pin:0.15", "pin:0.1", "pin:0.07", "pad:0.004", "pad:0.002", "pad:0.0011")
+QUICK_CASES = ("pin:0.3", "pad:0.004")
+CROSSOVER = ("pin:0.15", "pin:0.15:100", "pin:0.15:1000", "pin:0.15:10000", "pad:0.004", "pad:0.002")
+STEPS = 100
+TARGET = 5.0
+FIELDS = ("wear", "pressure", "normal_displacement")
+
+
+def scene_of(case: str):
+    """``pin:contact_maxh_mm[:force_N]`` or ``pad:maxh_m``, 100 steps."""
+    import ngwear
+    kind, size, *force = case.split(":")
+    scene = ngwear.load_scene(SCENES[kind])
+    if kind == "pin":
+        settings = {"mesh.contact_maxh": float(size) * 1e-3, "time.steps": STEPS}
+        if force:
+            settings["loads.plate.force"] = [0.0, 0.0, -float(force[0])]
+        return scene.replace(**settings)
+    return scene.replace(**{"mesh.maxh": float(size), "time.steps": STEPS, "time.T": float(STEPS)})
+
+
+# ---- one measurement, in its own process -------------------------------------------------------------
+def run_ngwear(case: str, mode: str, out: str) -> dict:
+    import time
+
+    import ngwear
+    from ngwear.numerics.discrete import Discretization
+    from ngwear.runs import stepper
+
+    scene = scene_of(case)
+    mesh = C.mesh_for(scene)
+    wall, cpu = C.perf(), time.process_time()
+    disc = Discretization(scene, mesh, contact_solve=mode)
+    for _, build in disc.stages():
+        build()
+    setup, setup_cpu = C.perf() - wall, time.process_time() - cpu
+    solves = {"calls": 0, "rhs": 0}
+    solve = disc.elastic.operator.solve
+
+    def counted(rhs):
+        solves["calls"] += 1
+        solves["rhs"] += 1 if np.ndim(rhs) == 1 else np.shape(rhs)[1]
+        return solve(rhs)
+    disc.elastic.operator.solve = counted
+    steps, chosen = [], {}
+    step = stepper.Stepper.solve
+
+    def timed(self, *args):
+        wall, cpu, rhs = C.perf(), time.process_time(), solves["rhs"]
+        try:
+            return step(self, *args)
+        finally:
+            steps.append((C.perf() - wall, time.process_time() - cpu, solves["rhs"] - rhs))
+            chosen["path"] = ("patch" if self._patch else "krylov") if disc.matrix_free else "dense"
+    stepper.Stepper.solve = timed
+    wall, cpu = C.perf(), time.process_time()
+    result = ngwear.simulate(scene, discretization=disc, progress=False)
+    loop, loop_cpu = C.perf() - wall, time.process_time() - cpu
+    np.savez(out, **{name: getattr(result, name) for name in FIELDS})
+    steps = np.array(steps)
+    later = steps[1:]
+    quiet = later[later[:, 2] == 0]
+    return {"case": case, "mode": mode, "path": chosen.get("path"), "status": result.status,
+            "points": disc.points.n, "ndof": disc.fes.ndof, "setup_s": setup, "setup_cpu_s": setup_cpu,
+            "first_s": steps[0, 0], "later_ms": 1e3 * later[:, 0].mean(), "later_cpu_ms": 1e3 * later[:, 1].mean(),
+            "quiet_cpu_ms": 1e3 * np.median(quiet[:, 1]) if len(quiet) else None,
+            "loop_s": loop, "loop_cpu_s": loop_cpu, "step_ms": 1e3 * loop / STEPS,
+            "ngwear_s": setup + loop, "ngwear_cpu_s": setup_cpu + loop_cpu,
+            "newton": C.newton_iterations(result), "rhs": solves["rhs"], "calls": solves["calls"],
+            "max_wear": float(result.wear.max())}
+
+
+def run_elastic(case: str) -> dict:
+    import time
+    scene = scene_of(case)
+    cpu = time.process_time()
+    reference = C.elastic_reference(scene, C.mesh_for(scene))
+    return {"elastic_s": reference["total"], "elastic_cpu_s": time.process_time() - cpu}
+
+
+def measure(case: str, modes: list[str], labels: list[str], reps: int, threads, folder: Path) -> list[dict]:
+    """Elastic, then each mode, ``reps`` times interleaved (each in a fresh process); medians; the modes compared."""
+    runs, elastic = {mode: [] for mode in modes}, []
+    for _ in range(reps):
+        elastic.append(C.in_subprocess(__file__, {"fn": "elastic", "case": case}, threads))
+        for mode in modes:
+            out = str(folder / f"{case.replace(':', '_')}_{mode}.npz")
+            runs[mode].append(C.in_subprocess(__file__, {"fn": "ngwear", "case": case, "mode": mode, "out": out},
+                                              threads))
+    rows = []
+    for mode, label in zip(modes, labels):
+        row = dict(runs[mode][-1], version=label)
+        for key in ("setup_s", "setup_cpu_s", "first_s", "later_ms", "later_cpu_ms", "loop_s", "loop_cpu_s", "step_ms",
+                    "ngwear_s", "ngwear_cpu_s"):
+            row[key] = C.median([r[key] for r in runs[mode]])
+        row["elastic_s"] = C.median([r["elastic_s"] for r in elastic])
+        row["elastic_cpu_s"] = C.median([r["elastic_cpu_s"] for r in elastic])
+        row["ratio"] = row["ngwear_s"] / row["elastic_s"]
+        row["ratio_cpu"] = row["ngwear_cpu_s"] / row["elastic_cpu_s"]
+        row["reps"] = reps
+        rows.append(row)
+    if len(modes) == 2:
+        first, second = (np.load(folder / f"{case.replace(':', '_')}_{mode}.npz") for mode in modes)
+        rows[-1]["difference"] = max(np.abs(first[f] - second[f]).max() / np.abs(first[f]).max() for f in FIELDS)
+    for row in rows:
+        print(f"  {case} {row['version']} ({row['path']}): {row['points']} points, set-up {row['setup_s']:.2f} s, "
+              f"100 steps {row['loop_s']:.2f} s, elastic {row['elastic_s']:.2f} s, ratio {row['ratio']:.2f} "
+              f"(cpu {row['ratio_cpu']:.2f}), rhs {row['rhs']}", flush=True)
+    return rows
+
+
+def before(case: str) -> str:
+    """The path of main for the case: dense where ``auto`` keeps the Schur complement, else GCR (``krylov``)."""
+    return "krylov" if C.in_subprocess(__file__, {"fn": "matrix_free", "case": case}, None)["matrix_free"] else "dense"
+
+
+def run_matrix_free(case: str) -> dict:
+    from ngwear.numerics.discrete import Discretization
+    scene = scene_of(case)
+    return {"matrix_free": Discretization(scene, C.mesh_for(scene)).matrix_free}
+
+
+def fit(rows, y) -> float | None:
+    """Slope of log y against log points over ``rows``."""
+    points = [(r["points"], r[y]) for r in rows if r.get(y)]
+    return float(np.polyfit(*np.log(np.array(points)).T, 1)[0]) if len(points) >= 2 else None
+
+
+def main():
+    p = C.parser(__doc__.splitlines()[0])
+    p.add_argument("--cases", default=None, help="comma-separated pin:contact_maxh_mm[:force_N] or pad:maxh_m")
+    p.add_argument("--crossover", action="store_true", help="both matrix-free solves on harder-pressed pins and pads")
+    p.add_argument("--job", default=None, help=argparse.SUPPRESS)
+    args = p.parse_args()
+    if args.job:
+        job = json.loads(args.job)
+        with C.blas_limit(args.blas_threads):
+            print(json.dumps({"ngwear": run_ngwear, "elastic": run_elastic,
+                              "matrix_free": run_matrix_free}[job.pop("fn")](**job)))
+        return
+    cases = args.cases.split(",") if args.cases else list(
+        CROSSOVER if args.crossover else QUICK_CASES if args.quick else CASES)
+    header = C.machine_lines(args) + [
+        f"{STEPS} steps per case from the cached mesh, every measurement in a fresh process; elastic = NGSolve "
+        "assemble + sparsecholesky + 1 solve; ratio = (set-up + steps) / elastic (wall; cpu: process time)",
+        "before = main's path (dense, or GCR with recycling: contact_solve='krylov'); after = auto "
+        f"(the patch, numerics/patch.py, or GCR); target: pin after <= {TARGET:g}x elastic at 3.5k and 6.8k points"]
+    rows = []
+    with tempfile.TemporaryDirectory() as folder:
+        for case in cases:
+            modes, labels = (["krylov", "patch"], ["krylov", "patch"]) if args.crossover else (
+                [before(case), "auto"], ["before", "after"])
+            rows += measure(case, modes, labels, args.reps, args.blas_threads, Path(folder))
+    for version in ("before", "after"):
+        pins = [r for r in rows if r["case"].startswith("pin") and r["version"] == version and r["case"].count(":") == 1]
+        if len(pins) >= 2:
+            header.append(f"pin, {version}: ms per step ~ points^{fit(pins, 'step_ms'):.2f} (wall), later steps' cpu ~ "
+                          f"points^{fit(pins, 'later_cpu_ms'):.2f}, steps computing no column ~ points^"
+                          f"{fit(pins, 'quiet_cpu_ms') or float('nan'):.2f}; total ~ points^{fit(pins, 'ngwear_s'):.2f}")
+    columns = [("case", "case", None), ("version", "version", None), ("path", "solve", None),
+               ("points", "points", "d"), ("ndof", "DOFs", "d"), ("setup_s", "set-up s", ".2f"),
+               ("first_s", "first step s", ".2f"), ("later_ms", "ms/later step", ".1f"),
+               ("quiet_cpu_ms", "cpu ms, no column", ".1f"), ("step_ms", "ms/step", ".1f"),
+               ("ngwear_s", "ngwear s", ".2f"), ("elastic_s", "elastic s", ".2f"), ("ratio", "ratio", ".2f"),
+               ("ratio_cpu", "ratio cpu", ".2f"), ("newton", "Newton", "d"), ("rhs", "rhs", "d"),
+               ("calls", "solves", "d"), ("difference", "before-after", ".1e")]
+    fig, (ax,) = C.new_figure(1)
+    for kind, version, marker in (("pin", "before", "o--"), ("pin", "after", "o-"), ("pad", "before", "s--"),
+                                  ("pad", "after", "s-")):
+        same = [r for r in rows if r["case"].startswith(kind) and r["version"] == version]
+        if same:
+            ax.loglog([r["points"] for r in same], [r["ratio"] for r in same], marker, label=f"{kind}, {version}")
+    ax.axhline(TARGET, color="k", lw=0.8, ls=":")
+    ax.set(xlabel="contact points", ylabel="(set-up + 100 steps) / one elastic solve")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    name = "contact_crossover" if args.crossover else "contact_scaling"
+    C.finish(name, "Fine contact faces: set-up + 100 steps / one elastic solve (issue 32)", header, rows, columns, fig,
+             args.quick)
+
+
+if __name__ == "__main__":
+    main()
