@@ -166,6 +166,8 @@ def main():
     p = C.parser(__doc__.splitlines()[0])
     p.add_argument("--cases", default=None, help="comma-separated pin:contact_maxh_mm[:force_N] or pad:maxh_m")
     p.add_argument("--crossover", action="store_true", help="both matrix-free solves on harder-pressed pins and pads")
+    p.add_argument("--after-only", action="store_true", help="skip the path of before (e.g. to compare BLAS threads)")
+    p.add_argument("--name", default=None, help="results/NAME.* (default contact_scaling, or contact_crossover)")
     p.add_argument("--job", default=None, help=argparse.SUPPRESS)
     args = p.parse_args()
     if args.job:
@@ -185,7 +187,7 @@ def main():
     with tempfile.TemporaryDirectory() as folder:
         for case in cases:
             modes, labels = (["krylov", "patch"], ["krylov", "patch"]) if args.crossover else (
-                [before(case), "auto"], ["before", "after"])
+                ["auto"], ["after"]) if args.after_only else ([before(case), "auto"], ["before", "after"])
             rows += measure(case, modes, labels, args.reps, args.blas_threads, Path(folder))
     for version in ("before", "after"):
         pins = [r for r in rows if r["case"].startswith("pin") and r["version"] == version and r["case"].count(":") == 1]
@@ -210,7 +212,7 @@ def main():
     ax.set(xlabel="contact points", ylabel="(set-up + 100 steps) / one elastic solve")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7)
-    name = "contact_crossover" if args.crossover else "contact_scaling"
+    name = args.name or ("contact_crossover" if args.crossover else "contact_scaling")
     C.finish(name, "Fine contact faces: set-up + 100 steps / one elastic solve (issue 32)", header, rows, columns, fig,
              args.quick)
 
