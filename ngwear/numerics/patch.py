@@ -76,7 +76,7 @@ class PatchSystem(CondensedSystem):
         self.columns, self.store = columns, store
         self.factors = store.setdefault("patterns", {})
         self._setup(compliance, weights, s_load, d0, gap, law, plate)
-        self.core_plate = 0 if plate is None else len(self.rows)
+        self.modes = 0 if plate is None else len(self.rows)
 
     def response(self, directed, normal):
         return self.columns(directed, normal)
@@ -112,7 +112,7 @@ class PatchSystem(CondensedSystem):
         m, touching = self.m, active[points]
         pressing = ~touching & (dp[points] > 0)
         self.columns.ensure(points[pressing], points[touching])
-        out = np.zeros((len(rows) + self.core_plate, len(points)))
+        out = np.zeros((len(rows) + self.modes, len(points)))
         out[:len(rows), pressing] = self.columns.directed.block(rows, points[pressing]) * (m * dp)[points[pressing]]
         out[:len(rows), touching] = self.columns.normal.block(rows, points[touching]) * m[points[touching]]
         position = np.full(self.n, -1)
@@ -150,7 +150,7 @@ class PatchSystem(CondensedSystem):
             position = np.full(self.n, -1)
             position[frame] = np.arange(len(frame))
             at = position[changed]
-            at = np.where(at < len(base.patch), at, at + self.core_plate)         # the frame: base, plate, N
+            at = np.where(at < len(base.patch), at, at + self.modes)         # the frame: base, plate, N
             block = self._block(frame, changed, active, dp)
             W = np.vstack([block[:len(base.patch)], block[len(frame):], block[len(base.patch):len(frame)]])
             lu = None
@@ -169,7 +169,7 @@ class PatchSystem(CondensedSystem):
     def _solve(self, active, dp, rhs, lam):
         base, update = self._factor(active, dp)
         n, size = self.n, len(base.patch)
-        core = size + self.core_plate
+        core = size + self.modes
         b = np.concatenate([rhs[base.patch], rhs[n:], rhs[update.new]])
         z = self._base_solve(base, update.L, b)
         if update.lu is not None:
