@@ -57,8 +57,11 @@ class Discretization:
 
     ``contact_solve`` chooses how the contact problem is condensed: ``dense`` (the rows ν·G of the point
     compliance, then dense Newton algebra), ``krylov`` (matrix-free: every product with the compliance is
-    one back-substitution) or ``auto``: dense up to ``condense.DENSE_LIMIT`` contact DOFs, or up to
-    ``condense.SOFT_LIMIT`` when the layer is soft against the body (:meth:`layer_ratio` < 1).
+    one back-substitution, GCR with recycling), ``patch`` (matrix-free: dense algebra on the contact patch from the
+    compliance's columns of the points in contact, :mod:`~ngwear.numerics.patch`) or ``auto``: dense up to
+    ``condense.DENSE_LIMIT`` contact DOFs, or up to ``condense.SOFT_LIMIT`` when the layer is soft against the body
+    (:meth:`layer_ratio` < 1); beyond, ``patch`` where the rigid body's patch is a part of Γ_C, else ``krylov``
+    (``runs.stepper.PATCH_SHARE``).
 
     Parameters
     ----------
@@ -66,7 +69,7 @@ class Discretization:
         What to discretize.
     mesh : ngsolve.Mesh, optional
         A mesh with the scene's named boundaries (default: Netgen's mesh of the scene, or the cache's).
-    contact_solve : {"auto", "dense", "krylov"}
+    contact_solve : {"auto", "dense", "krylov", "patch"}
         How the contact problem is condensed (see above).
 
     Raises

@@ -16,7 +16,7 @@ max(|R|, |min(λ/c, g + d₀ − s)|).  Two systems implement the same protocol:
   R_δ = S δ + Φ_bᵀ (m∘p) + Ψᵀ (m∘λ) − s_F (f_B + F_B) join, scaled to lengths.
 * :class:`KrylovSystem`: the same, matrix-free (each product with H or A one back-substitution,
   remembered across the run; GCR with recycling for the Newton steps), for contact surfaces too large
-  for dense n × n matrices.
+  for dense n × n matrices; :class:`~ngwear.numerics.patch.PatchSystem` solves it on the contact patch.
 * :class:`FullSystem`: unknown x = the free DOFs (and δ, in the basis u = T x); R = Tᵀ(K u + R_c(u) +
   (N P)ᵀ(m∘λ) − F) assembled by NGSolve (``Apply`` / ``AssembleLinearization``) and solved as a sparse
   saddle-point system.

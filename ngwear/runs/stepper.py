@@ -1,8 +1,9 @@
 """One time step's solve: the condensed contact problem (or the full system), its cut-backs, and the bulk iteration.
 
 :class:`Stepper` builds the step's system from the discretization: dense (:class:`CondensedSystem`, the
-Newton matrices kept while μ n* keeps its direction), matrix-free (:class:`KrylovSystem` with the products
-remembered for the run) or the full-system reference (:class:`FullSystem`).  For a body with a nonlinear law
+Newton matrices kept while μ n* keeps its direction), matrix-free (:class:`PatchSystem` on the contact patch with
+the compliance's columns kept for the run, or :class:`KrylovSystem` with the products remembered for the run) or the
+full-system reference (:class:`FullSystem`).  For a body with a nonlinear law
 (:mod:`ngwear.numerics.bulk`) each step iterates u = G(u): the contact problem with the load f − n(u), the
 bulk recovered with one back-substitution, Anderson-mixed, warm-started from the previous step's u.
 """
