@@ -160,6 +160,8 @@ def test_the_rigid_predictor_balances_the_plate_force(pin):
     ("paper_strip", {}),                                              # the layer wears through: active points
     ("hertz", {}),                                                    # Signorini: every point in contact active
     ("brake_pad", {"time.steps": 10, "time.T": 10.0, "output.every": 10.0}),   # a plate, all of Γ_C in contact
+    ("pin_on_disc", {"loads.plate.force": [0.0, 0.0, -1000.0], "time.steps": 3, "time.T": 1.8,
+                     "output.every": 1.8}),                           # the predictor stops at the foundation
 ])
 def test_the_patch_equals_the_dense_solve_where_points_are_active(name, settings):
     scene = ngwear.load_scene(ROOT / "geometries" / f"{name}.toml").replace(**settings)

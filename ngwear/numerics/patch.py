@@ -86,21 +86,32 @@ class PatchSystem(CondensedSystem):
 
         The balance of the translation's row needs no product (the plate's rows see the contact forces directly):
         from rest it is the solution with the body rigid, the patch of a soft layer to a few points; from the last
-        step, the wear increment's motion.
+        step, the wear increment's motion.  Towards the foundation the move stops where the first point reaches it
+        (u_ν = d₀ + g): what the layer cannot carry there, the body's deformation does (Newton's part).
         """
         if self.plate is None or not self.floating:
             return x
-        rigid = np.concatenate([self.plate.normal[:, 0], np.eye(len(x) - self.n)[0]])
-        balance = lambda delta: self._plate_rows(x + delta * rigid, lam)[0]  # noqa: E731 - increasing in δ
-        value = balance(0.0)
+        slope = self.plate.normal[:, 0]
+        rigid = np.concatenate([slope, np.eye(len(x) - self.n)[0]])
+        value = self._plate_rows(x, lam)[0]
         if value == 0:
             return x
-        near, far = 0.0, np.copysign(1e-3 * self.scale, -value)            # bracketed by doubling, then Brent
-        while np.sign(balance(far)) == np.sign(value):
-            if abs(far) > 1e30:
+        toward = 1.0 if value < 0 else -1.0                                 # the row increases along the move
+        balance = lambda t: self._plate_rows(x + toward * t * rigid, lam)[0]  # noqa: E731
+        reach = np.inf
+        if toward > 0:
+            ahead = slope > 0
+            reach = np.min(-self.gap(x)[ahead] / slope[ahead], initial=np.inf)
+            if reach <= 0:
                 return x
-            near, far = far, 2 * far
-        return x + spo.brentq(balance, min(near, far), max(near, far), xtol=1e-15 * self.scale) * rigid
+        near, far = 0.0, min(1e-3 * self.scale, reach)                     # bracketed by doubling, then Brent
+        while np.sign(balance(far)) == np.sign(value):
+            if far >= reach:
+                return x + toward * reach * rigid                          # a point at the foundation: stop there
+            if far > 1e30:
+                return x
+            near, far = far, min(2 * far, reach)
+        return x + toward * spo.brentq(balance, near, far, xtol=1e-15 * self.scale) * rigid
 
     def step(self, x, lam, active):
         self.columns.clearance = x[:self.n] - self.d0
