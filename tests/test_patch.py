@@ -150,7 +150,7 @@ def test_the_rigid_predictor_balances_the_plate_force(pin):
     R = Compliance(n)
     system = PatchSystem(Columns(R, n), cond.compliance_estimate, disc.points.weights, disc.loads.s_load, cond.d0,
                          scene.contact.gap, PointLaw(disc.law, disc.law.derivative), {}, rows)
-    x = system.start(np.zeros(n + 1), np.zeros(n))
+    x, lam = system.start(np.zeros(n + 1), np.zeros(n))
     force = disc.points.weights @ disc.law(x[:n] - cond.d0)
     assert force == pytest.approx(10.0, rel=1e-9) and R.rhs == 0       # the plate's 10 N along ν, no column
     assert 0 < np.count_nonzero(disc.law(x[:n] - cond.d0)) < 0.15 * n

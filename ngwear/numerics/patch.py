@@ -66,9 +66,11 @@ class PatchSystem(CondensedSystem):
 
     ``columns``: :class:`~ngwear.numerics.columns.Columns`, the compliance's columns kept for the run; ``store``:
     the base and the patterns' updates (LRU as the factors of :class:`CondensedSystem`), kept across iterations and
-    steps.  c and the plate's row scaling come from the estimate h_i ≤ H_ii (``compliance``) as in
-    :class:`~ngwear.numerics.solver.KrylovSystem`; the iterates are the dense system's up to round-off.  A body held
-    by the plate alone first moves rigidly to its force balance (:meth:`start`).
+    steps.  The columns of active points, H_:j m_j, are scaled by c_j = 1/(m_j h_j) to the order of the others: LU
+    with pivoting does not mind a column's scale, Woodbury's k × k matrix does (unscaled, its error turned the pin's
+    active set in circles at 1 000 N).  c and the plate's row scaling come from the estimate h_i ≤ H_ii
+    (``compliance``) as in :class:`~ngwear.numerics.solver.KrylovSystem`; the iterates are the dense system's up to
+    round-off.  A body held by the plate alone first moves rigidly to its force balance (:meth:`start`).
     """
 
     def __init__(self, columns, compliance, weights, s_load, d0, gap, law: PointLaw, store: dict,
@@ -86,16 +88,17 @@ class PatchSystem(CondensedSystem):
 
         The balance of the translation's row needs no product (the plate's rows see the contact forces directly):
         from rest it is the solution with the body rigid, the patch of a soft layer to a few points; from the last
-        step, the wear increment's motion.  Towards the foundation the move stops where the first point reaches it
-        (u_ν = d₀ + g): what the layer cannot carry there, the body's deformation does (Newton's part).
+        step, the wear increment's motion.  Towards the foundation the move stops where the first points reach it
+        (u_ν = d₀ + g), and their reactions λ take the force the layer does not carry: Newton starts with them active
+        instead of sweeping a step's worth of the plate's force over the whole face.
         """
         if self.plate is None or not self.floating:
-            return x
+            return x, lam
         slope = self.plate.normal[:, 0]
         rigid = np.concatenate([slope, np.eye(len(x) - self.n)[0]])
         value = self._plate_rows(x, lam)[0]
         if value == 0:
-            return x
+            return x, lam
         toward = 1.0 if value < 0 else -1.0                                 # the row increases along the move
         balance = lambda t: self._plate_rows(x + toward * t * rigid, lam)[0]  # noqa: E731
         reach = np.inf
@@ -103,15 +106,19 @@ class PatchSystem(CondensedSystem):
             ahead = slope > 0
             reach = np.min(-self.gap(x)[ahead] / slope[ahead], initial=np.inf)
             if reach <= 0:
-                return x
+                return x, lam
         near, far = 0.0, min(1e-3 * self.scale, reach)                     # bracketed by doubling, then Brent
         while np.sign(balance(far)) == np.sign(value):
-            if far >= reach:
-                return x + toward * reach * rigid                          # a point at the foundation: stop there
+            if far >= reach:                                                # points at the foundation carry the rest
+                x = x + reach * rigid
+                touching = (self.gap(x) >= -1e-12 * self.scale) & (slope > 0)
+                lam = lam.copy()
+                lam[touching] += -balance(reach) / (self.m[touching] * slope[touching]).sum()
+                return x, lam
             if far > 1e30:
-                return x
+                return x, lam
             near, far = far, min(2 * far, reach)
-        return x + toward * spo.brentq(balance, near, far, xtol=1e-15 * self.scale) * rigid
+        return x + toward * spo.brentq(balance, near, far, xtol=1e-15 * self.scale) * rigid, lam
 
     def step(self, x, lam, active):
         self.columns.clearance = x[:self.n] - self.d0
@@ -125,14 +132,14 @@ class PatchSystem(CondensedSystem):
         self.columns.ensure(points[pressing], points[touching])
         out = np.zeros((len(rows) + self.modes, len(points)))
         out[:len(rows), pressing] = self.columns.directed.block(rows, points[pressing]) * (m * dp)[points[pressing]]
-        out[:len(rows), touching] = self.columns.normal.block(rows, points[touching]) * m[points[touching]]
+        out[:len(rows), touching] = self.columns.normal.block(rows, points[touching]) * (m * self.c)[points[touching]]
         position = np.full(self.n, -1)
         position[rows] = np.arange(len(rows))
         own = (position[points] >= 0) & ~touching
         out[position[points[own]], np.flatnonzero(own)] += 1.0
         if self.plate is not None:
             below = (self.plate.directed[points] * (m * dp * ~active)[points, None]
-                     + self.plate.normal[points] * (m * active)[points, None])
+                     + self.plate.normal[points] * (m * self.c * active)[points, None])
             out[len(rows):] = self.rows[:, None] * below.T
         return out
 
@@ -189,11 +196,11 @@ class PatchSystem(CondensedSystem):
             z[update.at] += c
         on = np.zeros(n)
         on[base.patch], on[update.new] = z[:size], z[core:]
-        on *= active | (dp > 0)
+        on *= np.where(active, self.c, 1.0)                     # the active points' columns are scaled by c_i
         out = rhs.copy()
         out[:n] -= self.response(self.m * dp * ~active * on, self.m * active * on)
         if self.plate is not None:
             out[:n] += self.plate.normal @ z[size:core]
             out[n:] = z[size:core]
-        out[base.patch], out[update.new] = z[:size], z[core:]
+        out[base.patch], out[update.new] = on[base.patch], on[update.new]
         return out

@@ -79,7 +79,7 @@ def semismooth_newton(system, x, lam, tol: float = 1e-10, max_iterations: int = 
     last ``MEMORY`` merits; halving stops at θ = 1/1024.  Iterations of both phases count.
     """
     rec = NewtonRecord()
-    start = (system.start(x, lam), lam)
+    start = system.start(x, lam)
     for damped in (False, True):
         x, lam = start
         merit = system.merit(x, lam)
@@ -261,8 +261,8 @@ class CondensedSystem:
         return sla.lu_solve(self._factor(active, dp), rhs, check_finite=False)
 
     def start(self, x, lam):
-        """The warm start Newton begins from: x itself (see :meth:`PatchSystem.start`)."""
-        return x
+        """The warm start (x, λ) Newton begins from: itself (see :meth:`PatchSystem.start`)."""
+        return x, lam
 
     def _remember(self, key, build):
         """The factors of ``key``, built by ``build()`` when new and kept LRU within ``FACTOR_BYTES`` (16 at most)."""
@@ -347,8 +347,8 @@ class FullSystem:
         self._gf.vec.FV().NumPy()[:] = self.T @ x
 
     def start(self, x, lam):
-        """The warm start Newton begins from: x itself."""
-        return x
+        """The warm start (x, λ) Newton begins from: itself."""
+        return x, lam
 
     def gap(self, x):
         return self.N @ x - self.d0 - self.g

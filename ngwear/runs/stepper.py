@@ -293,7 +293,7 @@ def _patchy(disc: Discretization) -> bool:
     system = PatchSystem(None, cond.compliance_estimate, disc.points.weights, largest * disc.loads.s_load, cond.d0,
                          disc.scene.contact.gap, PointLaw(disc.law, disc.law.derivative), {},
                          _plate_rows(disc, directed, largest))
-    x = system.start(np.concatenate([system.s_load, np.zeros(cond.plate_modes_count)]), np.zeros(n))
+    x, _ = system.start(np.concatenate([system.s_load, np.zeros(cond.plate_modes_count)]), np.zeros(n))
     return np.count_nonzero(disc.law.derivative(x[:n] - cond.d0)) <= PATCH_SHARE * n
 
 
