@@ -18,8 +18,9 @@ step (mean; median of the steps that compute no column), ratio (set-up + steps) 
 (the machine is shared: CPU time is less sensitive to the load), Newton iterations, right-hand sides solved with K's
 factor in the steps ("rhs": GCR's products, or the patch's columns) and the solves they took, and the largest
 difference between before and after relative to the largest value (wear, pressure, normal displacement).
-``--crossover`` runs both matrix-free solves on the pin at 0.15 mm pressed harder (the patch's share of Γ_C from 8 %
-to all of it) and the pad: the measured crossover behind ``PATCH_SHARE``.
+``--crossover`` runs both matrix-free solves on the pin at 0.15 mm pressed harder and with flatter ends (the rigid
+body's patch from 8 % of Γ_C to all of it: "rigid share", ``runs.stepper.patch_share``; "touched": the share of the
+points in contact at some step) and on the pad: the measured crossover behind ``PATCH_SHARE``.
 
     .venv/bin/python benchmarks/contact_scaling.py [--quick] [--reps 1] [--cases pin:0.1,pad:0.002] [--crossover]
 """
@@ -36,21 +37,24 @@ import numpy as np
 SCENES = {"pin": C.ROOT / "geometries" / "pin_on_disc.toml", "pad": C.ROOT / "geometries" / "brake_pad.toml"}
 CASES = ("pin:0.3", "pin:0.15", "pin:0.1", "pin:0.07", "pad:0.004", "pad:0.002", "pad:0.0011")
 QUICK_CASES = ("pin:0.3", "pad:0.004")
-CROSSOVER = ("pin:0.15", "pin:0.15:100", "pin:0.15:1000", "pin:0.15:10000", "pad:0.004", "pad:0.002")
+CROSSOVER = ("pin:0.15", "pin:0.15:100", "pin:0.15:1000", "pin:0.15:10000", "pin:0.15:100:0.02", "pin:0.15:100:0.05",
+             "pin:0.15:1000:0.05", "pad:0.004", "pad:0.002")
 STEPS = 100
 TARGET = 5.0
 FIELDS = ("wear", "pressure", "normal_displacement")
 
 
 def scene_of(case: str):
-    """``pin:contact_maxh_mm[:force_N]`` or ``pad:maxh_m``, 100 steps."""
+    """``pin:contact_maxh_mm[:force_N[:end_radius_m]]`` or ``pad:maxh_m``, 100 steps."""
     import ngwear
-    kind, size, *force = case.split(":")
+    kind, size, *more = case.split(":")
     scene = ngwear.load_scene(SCENES[kind])
     if kind == "pin":
         settings = {"mesh.contact_maxh": float(size) * 1e-3, "time.steps": STEPS}
-        if force:
-            settings["loads.plate.force"] = [0.0, 0.0, -float(force[0])]
+        if more:
+            settings["loads.plate.force"] = [0.0, 0.0, -float(more[0])]
+        if len(more) > 1:
+            settings["geometry.end_radius"] = float(more[1])
         return scene.replace(**settings)
     return scene.replace(**{"mesh.maxh": float(size), "time.steps": STEPS, "time.T": float(STEPS)})
 
@@ -97,6 +101,7 @@ def run_ngwear(case: str, mode: str, out: str) -> dict:
     later = steps[1:]
     quiet = later[later[:, 2] == 0]
     return {"case": case, "mode": mode, "path": chosen.get("path"), "status": result.status,
+            "share": stepper.patch_share(disc), "touched": float(np.logical_or.reduce(result.pressure > 0).mean()),
             "points": disc.points.n, "ndof": disc.fes.ndof, "setup_s": setup, "setup_cpu_s": setup_cpu,
             "first_s": steps[0, 0], "later_ms": 1e3 * later[:, 0].mean(), "later_cpu_ms": 1e3 * later[:, 1].mean(),
             "quiet_cpu_ms": 1e3 * np.median(quiet[:, 1]) if len(quiet) else None,
@@ -196,7 +201,8 @@ def main():
                           f"points^{fit(pins, 'later_cpu_ms'):.2f}, steps computing no column ~ points^"
                           f"{fit(pins, 'quiet_cpu_ms') or float('nan'):.2f}; total ~ points^{fit(pins, 'ngwear_s'):.2f}")
     columns = [("case", "case", None), ("version", "version", None), ("path", "solve", None),
-               ("points", "points", "d"), ("ndof", "DOFs", "d"), ("setup_s", "set-up s", ".2f"),
+               ("points", "points", "d"), ("ndof", "DOFs", "d"), ("share", "rigid share", ".2f"),
+               ("touched", "touched", ".2f"), ("setup_s", "set-up s", ".2f"),
                ("first_s", "first step s", ".2f"), ("later_ms", "ms/later step", ".1f"),
                ("quiet_cpu_ms", "cpu ms, no column", ".1f"), ("step_ms", "ms/step", ".1f"),
                ("ngwear_s", "ngwear s", ".2f"), ("elastic_s", "elastic s", ".2f"), ("ratio", "ratio", ".2f"),

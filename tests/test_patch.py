@@ -125,7 +125,7 @@ def test_the_pin_on_its_patch_equals_the_dense_solve_in_a_newton_step_a_step(pin
     scene, mesh = pin
     dense = ngwear.simulate(scene, discretization=Discretization(scene, mesh, contact_solve="dense"), progress=False)
     disc = Discretization(scene, mesh)
-    assert disc.matrix_free and stepper._patchy(disc)
+    assert disc.matrix_free and stepper.patch_share(disc) <= stepper.PATCH_SHARE
     rhs = []
     respond = disc.normal_response
     disc.normal_response = lambda *a: (rhs.append(np.shape(a[0])[1]), respond(*a))[1]
@@ -179,6 +179,6 @@ def test_the_patch_equals_the_dense_solve_where_points_are_active(name, settings
 def test_auto_solves_on_the_patch_only_where_it_is_a_part_of_the_contact_face(pin):
     """The rigid body's patch: 8 % of the pin's Γ_C, all of the pad's."""
     scene, mesh = pin
-    assert stepper._patchy(Discretization(scene, mesh))
+    assert 0.05 < stepper.patch_share(Discretization(scene, mesh)) < 0.15
     pad = ngwear.load_scene(ROOT / "geometries" / "brake_pad.toml")
-    assert not stepper._patchy(Discretization(pad))
+    assert stepper.patch_share(Discretization(pad)) == 1.0

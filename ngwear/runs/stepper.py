@@ -228,7 +228,8 @@ class Stepper:
         friction = disc.friction_directions(t)                              # μ_i n*_i
         if disc.matrix_free:
             if self._patch is None:
-                self._patch = disc.contact_solve == "patch" or (disc.contact_solve == "auto" and _patchy(disc))
+                self._patch = disc.contact_solve == "patch" or (
+                    disc.contact_solve == "auto" and patch_share(disc) <= PATCH_SHARE)
             directions = cond.nu[None, :] + friction                         # A's force directions ν + μ n*
             key = ("patch" if self._patch else "krylov", directions.tobytes())
             if key not in self._matrices:
@@ -281,11 +282,12 @@ def _columns(disc: Discretization, friction, before) -> Columns:
     return Columns(respond, disc.points.n, normal, same=not friction.any())
 
 
-def _patchy(disc: Discretization) -> bool:
-    """Whether the contact patch of the rigid body under the largest load covers at most ``PATCH_SHARE`` of Γ_C.
+def patch_share(disc: Discretization) -> float:
+    """The share of the contact points in the rigid body's contact patch under the largest load.
 
     The body moved rigidly to the plate's force balance (:meth:`PatchSystem.start`; held otherwise: the loads'
-    displacement s_F): a soft layer's patch to a few points, and whether it is a part of Γ_C or all of it.
+    displacement s_F): a soft layer's patch to a few points, and whether it is a part of Γ_C or all of it.  ``auto``
+    solves on the patch up to ``PATCH_SHARE``.
     """
     cond, n = disc.condensation, disc.points.n
     largest = max((abs(f) for _, f in disc.scene.loads.time_table), default=1.0)
@@ -294,7 +296,7 @@ def _patchy(disc: Discretization) -> bool:
                          disc.scene.contact.gap, PointLaw(disc.law, disc.law.derivative), {},
                          _plate_rows(disc, directed, largest))
     x, _ = system.start(np.concatenate([system.s_load, np.zeros(cond.plate_modes_count)]), np.zeros(n))
-    return np.count_nonzero(disc.law.derivative(x[:n] - cond.d0)) <= PATCH_SHARE * n
+    return np.count_nonzero(disc.law.derivative(x[:n] - cond.d0)) / max(n, 1)
 
 
 def _plate_rows(disc: Discretization, directed, load_factor: float) -> PlateRows | None:
