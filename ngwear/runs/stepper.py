@@ -40,8 +40,9 @@ NEWTON = 12
 """Most Newton iterations (a factorised tangent each) before the step falls back on K₀ alone."""
 RUNAWAY = 10.0
 """Iterates whose step |G(u) − u| exceeds the best one's this many times: the mixing restarts from the best."""
-PATCH_SHARE = 0.5
-"""Largest share of the contact points in the rigid body's patch for which ``auto`` solves on the patch."""
+PATCH_SHARE = 0.9
+"""Largest share of the contact points in the rigid body's patch for which ``auto`` solves on the patch (measured:
+the patch 2–11× faster than GCR up to a share of 0.84, GCR 1.1–3.9× faster on pads pressed flat, share 1)."""
 
 
 class Stepper:
