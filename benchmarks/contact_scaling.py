@@ -9,7 +9,7 @@ brake pad ``geometries/brake_pad.toml`` (100 steps, k = 1 s) at ``mesh.maxh`` = 
   recycling (``contact_solve="krylov"``, the same numbers as main's matrix-free path to the bit:
   ``tests/test_patch.py``);
 * ``after``: ``auto``, which now solves a matrix-free problem on its contact patch (``numerics/patch.py``) when the
-  rigid body's patch is at most half of Γ_C, and by GCR otherwise.
+  rigid body's patch is at most 90 % of Γ_C, and by GCR otherwise.
 
 Every measurement runs in a fresh process: ``elastic`` is one NGSolve linear-elastic solve on the same mesh and
 space (assemble + ``sparsecholesky`` + solve, the issue's yardstick), ``ngwear`` is ``Discretization`` + its set-up
