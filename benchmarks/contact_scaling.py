@@ -6,8 +6,8 @@ brake pad ``geometries/brake_pad.toml`` (100 steps, k = 1 s) at ``mesh.maxh`` = 
 (``pad:0.002``).  Two contact solves on the same mesh:
 
 * ``before``: today's (main's) choice: dense with the Schur complement up to its limits, else matrix-free GCR with
-  recycling (``contact_solve="krylov"``, the same numbers as main's matrix-free path to the bit:
-  ``tests/test_patch.py``);
+  recycling (``contact_solve="krylov"``: the same result arrays as main's matrix-free path to the bit, compared on
+  the pin and the pad at 0.004 when the patch was added);
 * ``after``: ``auto``, which now solves a matrix-free problem on its contact patch (``numerics/patch.py``) when the
   rigid body's patch is at most 90 % of Γ_C, and by GCR otherwise.
 
