@@ -22,7 +22,11 @@ difference between before and after relative to the largest value (wear, pressur
 body's patch from 8 % of Γ_C to all of it: "rigid share", ``runs.stepper.patch_share``; "touched": the share of the
 points in contact at some step) and on the pad: the measured crossover behind ``PATCH_SHARE``.
 
+``--profile`` counts, for GCR and the patch on the pins at 0.15, 0.1, 0.07 mm, step 0's and the later steps' Newton
+iterations, back-substitutions, GCR's products and pattern changes, and splits the loop's time by cProfile.
+
     .venv/bin/python benchmarks/contact_scaling.py [--quick] [--reps 1] [--cases pin:0.1,pad:0.002] [--crossover]
+    .venv/bin/python benchmarks/contact_scaling.py --profile
 """
 from __future__ import annotations
 
@@ -37,6 +41,7 @@ import numpy as np
 SCENES = {"pin": C.ROOT / "geometries" / "pin_on_disc.toml", "pad": C.ROOT / "geometries" / "brake_pad.toml"}
 CASES = ("pin:0.3", "pin:0.15", "pin:0.1", "pin:0.07", "pad:0.004", "pad:0.002", "pad:0.0011")
 QUICK_CASES = ("pin:0.3", "pad:0.004")
+PROFILED = ("pin:0.15", "pin:0.1", "pin:0.07")
 CROSSOVER = ("pin:0.15", "pin:0.15:100", "pin:0.15:1000", "pin:0.15:10000", "pin:0.15:100:0.02", "pin:0.15:100:0.05",
              "pin:0.15:1000:0.05", "pad:0.004", "pad:0.002")
 STEPS = 100
@@ -155,10 +160,97 @@ def before(case: str) -> str:
     return "krylov" if C.in_subprocess(__file__, {"fn": "matrix_free", "case": case}, None)["matrix_free"] else "dense"
 
 
+def run_profile(case: str, mode: str) -> dict:
+    """Step 0 and the later steps' mean of the counts and the CPU time; where the loop's seconds go (cProfile, wall).
+
+    Counted: Newton iterations, back-substitutions (and their right-hand sides), GCR's products, pattern changes.
+    """
+    import cProfile
+    import pstats
+    import time
+
+    import ngwear
+    from ngwear.numerics import recycle, solver
+    from ngwear.numerics.discrete import Discretization
+    from ngwear.runs import stepper
+
+    scene = scene_of(case)
+    disc = Discretization(scene, C.mesh_for(scene), contact_solve=mode)
+    for _, build in disc.stages():
+        build()
+    count = {"solves": 0, "rhs": 0, "gcr": 0, "changes": 0, "active_changes": 0}
+    solve, minimise, step, newton = (disc.elastic.operator.solve, recycle.Recycler._minimise,
+                                     solver.CondensedSystem.step, stepper.Stepper._newton)
+    last, rows = {}, []
+
+    def counted(rhs):
+        count["solves"] += 1
+        count["rhs"] += 1 if np.ndim(rhs) == 1 else np.shape(rhs)[1]
+        return solve(rhs)
+
+    def gcr(self, *args):
+        products = self.memory.products
+        try:
+            return minimise(self, *args)
+        finally:
+            count["gcr"] += self.memory.products - products
+
+    def stepped(self, x, lam, active):
+        pattern = (self.law.derivative(x[:self.n] - self.d0) > 0, active.copy())
+        if last:
+            count["changes"] += not all(np.array_equal(a, b) for a, b in zip(pattern, last["pattern"]))
+            count["active_changes"] += not np.array_equal(active, last["pattern"][1])
+        last["pattern"] = pattern
+        return step(self, x, lam, active)
+
+    def timed(self, *args):
+        before, cpu = dict(count), time.process_time()
+        out = newton(self, *args)
+        rows.append({"newton": out[2].iterations, "cpu_ms": 1e3 * (time.process_time() - cpu),
+                     **{key: count[key] - before[key] for key in count}})
+        return out
+    disc.elastic.operator.solve, recycle.Recycler._minimise = counted, gcr
+    solver.CondensedSystem.step, stepper.Stepper._newton = stepped, timed
+    profile = cProfile.Profile()
+    wall = C.perf()
+    profile.runcall(ngwear.simulate, scene, discretization=disc, progress=False)
+    loop = C.perf() - wall
+    stats = pstats.Stats(profile).stats
+
+    def seconds(*names):
+        return sum(v[3] for k, v in stats.items() if any(k[0].endswith(f) and k[2] == fn for f, fn in names))
+    out = {"case": case, "mode": mode, "points": disc.points.n, "loop_s": loop,
+           "backsub_s": seconds(("pardiso.py", "_call")), "memory_s": seconds(("recycle.py", "__call__")) - seconds(
+               ("pardiso.py", "_call")) if mode == "krylov" else 0.0,
+           "recall_s": seconds(("recycle.py", "_recall")), "extend_s": seconds(("recycle.py", "_extend")),
+           "lu_s": seconds(("_decomp_lu.py", "lu_factor"))}
+    for key, part in (("step0", rows[:1]), ("later", rows[1:])):
+        for name in rows[0]:
+            out[f"{key}_{name}"] = float(np.mean([r[name] for r in part]))
+    return out
+
+
 def run_matrix_free(case: str) -> dict:
     from ngwear.numerics.discrete import Discretization
     scene = scene_of(case)
     return {"matrix_free": Discretization(scene, C.mesh_for(scene)).matrix_free}
+
+
+def profile(args) -> None:
+    """``--profile``: GCR (main's path) and the patch on the pins, each in a fresh process (results/contact_profile.*)."""
+    cases = args.cases.split(",") if args.cases else list(PROFILED)
+    rows = [C.in_subprocess(__file__, {"fn": "profile", "case": case, "mode": mode}, args.blas_threads)
+            for case in cases for mode in ("krylov", "patch")]
+    header = C.machine_lines(args) + [f"{STEPS} steps, cProfile on; step 0 and the later steps' mean: Newton iterations, "
+                                      "back-substitutions (rhs), GCR's products, pattern changes (active set), CPU ms; "
+                                      "the loop's wall seconds by part"]
+    columns = [("case", "case", None), ("mode", "solve", None), ("points", "points", "d")] + [
+        (f"{part}_{name}", f"{label} {name}", ".2f") for part, label in (("step0", "step 0:"), ("later", "later:"))
+        for name in ("newton", "solves", "rhs", "gcr", "changes", "active_changes", "cpu_ms")] + [
+        ("loop_s", "loop s", ".1f"), ("backsub_s", "back-subst. s", ".1f"), ("memory_s", "memory s", ".1f"),
+        ("recall_s", "recall s", ".1f"), ("extend_s", "GCR QR s", ".1f"), ("lu_s", "LU s", ".2f")]
+    C.finish(args.name or "contact_profile", "Profile of the pin's contact solve (issue 32)", header, rows, columns,
+             None, args.quick)
 
 
 def fit(rows, y) -> float | None:
@@ -172,14 +264,18 @@ def main():
     p.add_argument("--cases", default=None, help="comma-separated pin:contact_maxh_mm[:force_N] or pad:maxh_m")
     p.add_argument("--crossover", action="store_true", help="both matrix-free solves on harder-pressed pins and pads")
     p.add_argument("--after-only", action="store_true", help="skip the path of before (e.g. to compare BLAS threads)")
+    p.add_argument("--profile", action="store_true", help="counts and a cProfile of GCR and the patch on the pins")
     p.add_argument("--name", default=None, help="results/NAME.* (default contact_scaling, or contact_crossover)")
     p.add_argument("--job", default=None, help=argparse.SUPPRESS)
     args = p.parse_args()
     if args.job:
         job = json.loads(args.job)
         with C.blas_limit(args.blas_threads):
-            print(json.dumps({"ngwear": run_ngwear, "elastic": run_elastic,
-                              "matrix_free": run_matrix_free}[job.pop("fn")](**job)))
+            print(json.dumps({"ngwear": run_ngwear, "elastic": run_elastic, "matrix_free": run_matrix_free,
+                              "profile": run_profile}[job.pop("fn")](**job)))
+        return
+    if args.profile:
+        profile(args)
         return
     cases = args.cases.split(",") if args.cases else list(
         CROSSOVER if args.crossover else QUICK_CASES if args.quick else CASES)
