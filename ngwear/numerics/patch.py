@@ -36,7 +36,7 @@ from .solver import CondensedSystem, PlateRows, PointLaw
 RANK = 32
 """Most columns a pattern's matrix may differ in from the base's before it is factorised itself."""
 BASE = "base"
-"""The key of the base in the system's factors (the patterns' keys are bytes)."""
+"""The key of the base in the store a run keeps (beside ``"patterns"``, the updates by pattern)."""
 
 
 class Base(NamedTuple):
