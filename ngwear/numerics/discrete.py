@@ -28,7 +28,7 @@ from .forms import contact_form
 from .operators import DENSE_LIMIT, SOFT_LIMIT
 from .pieces import Body, Condensation, Elastic, Loads
 
-CONTACT_SOLVES = ("auto", "dense", "krylov")
+CONTACT_SOLVES = ("auto", "dense", "krylov", "patch")
 BULK_RECOVERY = 500
 """Most iterations of a nonlinear material's displacement recovered from its contact forces (K₀ contracts)."""
 
@@ -56,8 +56,11 @@ class Discretization:
 
     ``contact_solve`` chooses how the contact problem is condensed: ``dense`` (the rows ν·G of the point
     compliance, then dense Newton algebra), ``krylov`` (matrix-free: every product with the compliance is
-    one back-substitution) or ``auto``: dense up to ``operators.DENSE_LIMIT`` contact DOFs, or up to
-    ``operators.SOFT_LIMIT`` when the layer is soft against the body (:meth:`layer_ratio` < 1).
+    one back-substitution, GCR with recycling), ``patch`` (matrix-free: dense algebra on the contact patch from the
+    compliance's columns of the points in contact, :mod:`~ngwear.numerics.patch`) or ``auto``: dense up to
+    ``operators.DENSE_LIMIT`` contact DOFs, or up to ``operators.SOFT_LIMIT`` when the layer is soft against the body
+    (:meth:`layer_ratio` < 1); beyond, ``patch`` where the rigid body's patch is a part of Γ_C, else ``krylov``
+    (``numerics.problem.PATCH_SHARE``).
 
     Parameters
     ----------
@@ -65,7 +68,7 @@ class Discretization:
         What to discretize.
     mesh : ngsolve.Mesh, optional
         A mesh with the scene's named boundaries (default: Netgen's mesh of the scene, or the cache's).
-    contact_solve : {"auto", "dense", "krylov"}
+    contact_solve : {"auto", "dense", "krylov", "patch"}
         How the contact problem is condensed (see above).
 
     Raises
@@ -90,7 +93,7 @@ class Discretization:
 
     def __init__(self, scene: Scene, mesh: ngs.Mesh | None = None, contact_solve: str = "auto"):
         if contact_solve not in CONTACT_SOLVES:
-            raise ValueError(f"contact_solve: must be auto, dense or krylov (got {contact_solve!r})")
+            raise ValueError(f"contact_solve: must be auto, dense, krylov or patch (got {contact_solve!r})")
         self.scene, self.contact_solve = scene, contact_solve
         self._assemble(Body(scene, mesh if mesh is not None else build_mesh(scene)))
 

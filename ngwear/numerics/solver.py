@@ -17,7 +17,7 @@ max(|R|, |min(λ/c, g + d₀ − s)|), whose overshoot of the layer (s − d₀ 
   R_δ = S δ + Φ_bᵀ (m∘p) + Ψᵀ (m∘λ) − s_F (f_B + F_B) join, scaled to lengths.
 * :class:`KrylovSystem`: the same, matrix-free (each product with H or A one back-substitution,
   remembered across the run; GCR with recycling for the Newton steps), for contact surfaces too large
-  for dense n × n matrices.
+  for dense n × n matrices; :class:`~ngwear.numerics.patch.PatchSystem` solves it on the contact patch.
 * :class:`FullSystem`: unknown x = the free DOFs (and δ, in the basis u = T x); R = Tᵀ(K u + R_c(u) +
   (N P)ᵀ(m∘λ) − F) assembled by NGSolve (``Apply`` / ``AssembleLinearization``) and solved as a sparse
   saddle-point system.
@@ -80,7 +80,7 @@ def semismooth_newton(system, x, lam, tol: float = 1e-10, max_iterations: int = 
     last ``MEMORY`` merits; halving stops at θ = 1/1024.  Iterations of both phases count.
     """
     rec = NewtonRecord()
-    start = (x, lam)
+    start = system.start(x, lam)
     for damped in (False, True):
         x, lam = start
         merit = system.merit(x, lam)
@@ -183,7 +183,7 @@ class CondensedSystem:
         self.n = len(weights)
         self.c = 1.0 / np.maximum(compliance * weights, 1e-300)
         self.scale = max(np.abs(s_load).max(initial=0.0), gap)
-        self.plate = plate
+        self.plate, self._last = plate, (None, None)
         if plate is not None:
             reach = np.maximum(np.abs(plate.normal).max(axis=0, initial=0.0), 1e-300)
             self.rows = max(compliance.max(initial=0.0), 1e-300) / reach
@@ -202,13 +202,23 @@ class CondensedSystem:
         return x[:self.n] - self.d0 - self.g
 
     def residual(self, x, lam):
+        """R(x, λ), remembered for the last (x, λ): Newton asks twice per iterate."""
+        key = x.tobytes() + lam.tobytes()
+        if self._last[0] != key:
+            self._last = key, self._residual(x, lam)
+        return self._last[1]
+
+    def _residual(self, x, lam):
         s, p = x[:self.n], self.law.pressure(x[:self.n] - self.d0)
         r_s = s - self.s_load + self.response(self.m * p, self.m * lam)
         if self.plate is None:
             return r_s
-        plate, delta = self.plate, x[self.n:]
-        r_d = plate.stiffness @ delta + plate.directed.T @ (self.m * p) + plate.normal.T @ (self.m * lam) - plate.load
-        return np.concatenate([r_s - plate.normal @ delta, self.rows * r_d])
+        return np.concatenate([r_s - self.plate.normal @ x[self.n:], self.rows * self._plate_rows(x, lam)])
+
+    def _plate_rows(self, x, lam):
+        """The plate's force balance S δ + Φ_bᵀ (m∘p) + Ψᵀ (m∘λ) − s_F (f_B + F_B), unscaled (no product)."""
+        plate, p = self.plate, self.law.pressure(x[:self.n] - self.d0)
+        return plate.stiffness @ x[self.n:] + plate.directed.T @ (self.m * p) + plate.normal.T @ (self.m * lam) - plate.load
 
     def merit(self, x, lam):
         """max(|R|, |min(λ/c, −gap)|) / S, and the layer's overshoot max (s − d₀ − g)₊ / g in its own terms.
@@ -223,10 +233,7 @@ class CondensedSystem:
 
     def _factor(self, active, dp):
         """LU of M = [J_{:,I} | H_{:,A} diag(m_A) | −Ψ] with J = I + A diag(m p'), bordered by the plate's rows."""
-        key = active.tobytes() + dp.tobytes()
-        if key in self.factors:
-            self.factors[key] = self.factors.pop(key)       # the most recently used last
-        else:
+        def build():
             inactive = ~active
             M = self.A * (self.m * dp * inactive)[None, :] + self.H * (self.m * active)[None, :]
             M[np.diag_indices(len(dp))] += inactive
@@ -236,10 +243,8 @@ class CondensedSystem:
                          + plate.normal * (self.m * active)[:, None]).T
                 M = np.block([[M, -plate.normal],
                               [self.rows[:, None] * below, self.rows[:, None] * self.jacobian_stiffness]])
-            while self.factors and len(self.factors) >= min(16, max(1, int(FACTOR_BYTES // M.nbytes))):
-                del self.factors[next(iter(self.factors))]  # the least recently used
-            self.factors[key] = sla.lu_factor(M, check_finite=False)
-        return self.factors[key]
+            return sla.lu_factor(M, check_finite=False)
+        return self._remember(active.tobytes() + dp.tobytes(), build)
 
     def step(self, x, lam, active):
         n = self.n
@@ -263,6 +268,22 @@ class CondensedSystem:
     def _solve(self, active, dp, rhs, lam):
         return sla.lu_solve(self._factor(active, dp), rhs, check_finite=False)
 
+    def start(self, x, lam):
+        """The warm start (x, λ) Newton begins from: itself (see :meth:`PatchSystem.start`)."""
+        return x, lam
+
+    def _remember(self, key, build):
+        """The factors of ``key``, built by ``build()`` when new and kept LRU within ``FACTOR_BYTES`` (16 at most)."""
+        if key in self.factors:
+            self.factors[key] = self.factors.pop(key)       # the most recently used last
+            return self.factors[key]
+        factors = build()
+        size = max(sum(a.nbytes for a in factors if isinstance(a, np.ndarray)), 1)
+        while self.factors and len(self.factors) >= min(16, max(1, int(FACTOR_BYTES // size))):
+            del self.factors[next(iter(self.factors))]      # the least recently used
+        self.factors[key] = factors
+        return factors
+
 
 class KrylovSystem(CondensedSystem):
     """The condensed step problem, matrix-free: for contact surfaces too large for dense algebra.
@@ -281,17 +302,9 @@ class KrylovSystem(CondensedSystem):
         self.recycler = recycler
         self._setup(compliance, weights, s_load, d0, gap, law, plate)
         self.atol = 1e-2 * tolerance * self.scale
-        self._last = (None, None)
 
     def response(self, directed, normal):
         return self.recycler.memory(directed, normal)
-
-    def residual(self, x, lam):
-        """As :meth:`CondensedSystem.residual`, remembered for the last (x, λ): Newton asks twice per iterate."""
-        key = x.tobytes() + lam.tobytes()
-        if self._last[0] != key:
-            self._last = key, super().residual(x, lam)
-        return self._last[1]
 
     def _solve(self, active, dp, rhs, lam):
         n, m, inactive = self.n, self.m, ~active
@@ -340,6 +353,10 @@ class FullSystem:
 
     def _set(self, x):
         self._gf.vec.FV().NumPy()[:] = self.T @ x
+
+    def start(self, x, lam):
+        """The warm start (x, λ) Newton begins from: itself."""
+        return x, lam
 
     def gap(self, x):
         return self.N @ x - self.d0 - self.g
