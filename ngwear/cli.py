@@ -33,10 +33,15 @@ STAGES = logging.getLogger("ngwear.progress")
 
 
 SCENE_HELP = "scene TOML file, or the name of a shipped scene (see `ngwear examples`), e.g. paper_strip"
+DESCRIPTION = ("An elastic body in frictional contact with a moving rigid foundation while its soft layer wears: "
+               "run a scene, verify it, study it on Dask, explore it in the browser.  `ngwear COMMAND --help` "
+               "shows a command's options.")
+"""The parser's description.  Help texts are plain text (`code` in single backquotes), read in a terminal; the
+documentation's CLI reference turns them into reST (``docs/_ext/ngwear_reference.py``)."""
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="ngwear", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="ngwear", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     talk = argparse.ArgumentParser(add_help=False)
