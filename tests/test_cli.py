@@ -216,4 +216,5 @@ def test_progress_in_a_terminal_is_a_bar(tmp_path):
     os.close(main)
     drawn = b"".join(drawn)
     assert proc.returncode == 0
-    assert b"\r" in drawn and b"0/20 [" in drawn and b"factorising K" in drawn and b" of 20 steps" not in drawn
+    assert b"\r" in drawn and b"| 0 of 20 steps [" in drawn and b"factorising K" in drawn       # the bar's format
+    assert b"ngwear: paper_strip: 0 of 20 steps" not in drawn                                      # not log lines
