@@ -169,18 +169,13 @@ class PictureData:
         return ((x0, x1, -g - depth, -g, -0.02, -0.01) if dim == 2
                 else (x0, x1, lo[1] + 0.02 * size, hi[1] + 0.05 * size, -g - depth, -g))
 
-    def foundation_bounds(self) -> tuple:
-        """(x0, x1, y0, y1, z0, z1) of the foundation: the block, or the rotor's sector."""
-        if self.rotor is None:
-            return self.box()
-        points = self.sector().reshape(-1, 3)
-        return tuple(float(f(points[:, k])) for k in range(3) for f in (np.min, np.max))
+    def view(self) -> tuple:
+        """(x0, x1, y0, y1) a 2D picture frames: the foundation's block up to the highest point of the body.
 
-    def view(self) -> list:
-        """Bounds a 2D picture frames: the foundation up to the highest point of the body (3D: :meth:`framed`)."""
-        view = list(self.foundation_bounds())[:2 * self.dim]
-        view[2 * self.dim - 1] = max(self.hi[-1], view[2 * self.dim - 1])
-        return view if self.dim == 3 else [*view, -0.02, -0.01]
+        A 3D picture frames :meth:`framed`.
+        """
+        x0, x1, y0, y1 = self.box()[:4]
+        return x0, x1, y0, max(self.hi[-1], y1)
 
     def framed(self) -> np.ndarray:
         """The points a 3D picture frames: the part, its layer down to the foundation, the motion's arrow and label.

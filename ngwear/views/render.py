@@ -392,7 +392,7 @@ def _camera(pl: pv.Plotter, picture: PictureData, window_size) -> None:
         _level(pl.camera, points)
     else:
         pl.camera.position, pl.camera.focal_point, pl.camera.up = (0, 0, 10), (0, 0, 0), (0, 1, 0)
-        x0, x1, y0, y1 = picture.view()[:4]
+        x0, x1, y0, y1 = picture.view()
         points = np.array([[x0, y0, 0.0], [x1, y1, 0.0]])
     _fit(pl.camera, points, window_size[0] / window_size[1])
     pl.reset_camera_clipping_range()
