@@ -3,7 +3,8 @@
 The shapes come from the registry of part kinds (:mod:`ngwear.model.shapes`, :mod:`ngwear.model.cad`); the
 body is the region ``body``, its contact face/edge ``contact``.  The soft layer is not meshed: it lives on
 the contact points (its compression and wear are nodal) and pictures draw it by offsetting Γ_C along ν.
-``mesh.grading`` (Netgen's, default 0.3) slows the growth of the elements away from refined faces.  Meshes
+``mesh.grading`` (Netgen's, default 0.3) slows the growth of the elements away from refined faces and from the
+refined zone of Γ_C (:mod:`ngwear.model.zone`).  Meshes
 are cached on disk by a hash of the keys that declare they invalidate the mesh (``$NGWEAR_CACHE`` or
 ``~/.cache/ngwear``).
 """
@@ -20,12 +21,13 @@ import scipy.sparse as sp
 from netgen.occ import OCCGeometry
 from scipy.sparse.csgraph import connected_components
 
+from . import zone
 from .cache import cache_dir
 from .cad import read_mesh
 from .keys import Level, SceneError
 from .kinds import KINDS
 
-CACHE_VERSION = 4
+CACHE_VERSION = 5
 
 
 def mesh_key(scene) -> str:
@@ -98,8 +100,16 @@ def _build_mesh(scene, use_cache: bool) -> ngs.Mesh:
     if not (use_cache and path.is_file()):
         options = {"grading": m.grading} if m.grading is not None else {}
         try:
-            shape = kind.build(g, m)
-            ngmesh = OCCGeometry(shape, dim=g.dim).GenerateMesh(maxh=m.maxh, **options)
+            if zone.radius(g, m) is None:
+                shape = kind.build(g, m)
+                ngmesh = OCCGeometry(shape, dim=g.dim).GenerateMesh(maxh=m.maxh, **options)
+            else:                   # Γ_C's size held within the zone only, not set on its faces
+                shape = kind.build(g, m.model_copy(update={"contact_maxh": None}))
+                parameters = netgen.meshing.MeshingParameters(maxh=m.maxh, **options)
+                zone.restrict(parameters, shape, scene)
+                ngmesh = OCCGeometry(shape, dim=g.dim).GenerateMesh(parameters)
+        except SceneError:
+            raise
         except Exception as err:  # noqa: BLE001 - OpenCASCADE and Netgen raise their own types, with their message
             name = "geometry.file" if g.file is not None else "geometry.size"
             reason = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
