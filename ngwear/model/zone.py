@@ -103,15 +103,18 @@ def first_contact(part: Sample, nu: np.ndarray, extent: float) -> np.ndarray:
     return part.points[np.argmax(height)]
 
 
+def across(points: np.ndarray, center: np.ndarray, nu: np.ndarray) -> np.ndarray:
+    """|P(x − c)|, P = I − ν νᵀ: the distance from the centre measured across ν (in the foundation's plane)."""
+    return np.linalg.norm((points - center) @ (np.eye(3) - np.outer(nu, nu)), axis=-1)
+
+
 def zone_points(part: Sample, center: np.ndarray, rho: float, nu: np.ndarray, spacing: float) -> np.ndarray:
     """Points of Γ_C whose projection along ν lies within ρ of the centre's, no farther apart than ``spacing``.
 
     The cells that reach into the zone are subdivided evenly (barycentric grids of ``n`` parts per side).
     """
-    flat = np.eye(3) - np.outer(nu, nu)
-
     def inside(points, margin=0.0):
-        return np.linalg.norm((points - center) @ flat, axis=-1) <= rho + margin
+        return across(points, center, nu) <= rho + margin
 
     corners = part.points[part.cells]
     sides = np.linalg.norm(corners - np.roll(corners, 1, axis=1), axis=-1).max(axis=1)
@@ -141,8 +144,7 @@ def restrict(parameters, shape, scene) -> int:
     coarse = sample(shape, g.dim, m.maxh)
     if center is None:
         center = first_contact(coarse, nu, g.extent)
-    flat = np.eye(3) - np.outer(nu, nu)
-    seed = coarse.points[np.argmin(np.linalg.norm((coarse.points - center) @ flat, axis=1))]   # on Γ_C
+    seed = coarse.points[np.argmin(across(coarse.points, center, nu))]       # on Γ_C, nearest the centre
     part = sample(shape, g.dim, min(m.maxh, 2 * rho), seed, h)
     if m.zone_center is None:
         center = first_contact(part, nu, g.extent)
