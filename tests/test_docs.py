@@ -20,9 +20,11 @@ import urllib.request
 from html.parser import HTMLParser
 from urllib.parse import urldefrag, urlparse
 
+import numpy as np
 import pytest
 from browser import Shots, Watch, chromium
 from conftest import ROOT
+from PIL import Image
 
 DOCS = ROOT / "docs"
 sys.path.insert(0, str(DOCS / "_ext"))
@@ -129,6 +131,9 @@ def test_site_builds_with_warnings_as_errors(site):
     assert all(f"<code class=\"docutils literal notranslate\"><span class=\"pre\">{row.split('`')[1]}</span>" in
                reference for row in reference_table().splitlines()[2:])
     assert (html / "_static" / "mathjax" / "tex-chtml.js").is_file()
+    for name in ("03_brake_pad", "04_pin_on_disc", "05_own_step_file"):   # 3D parts: thumbnails not a white page
+        thumb = np.asarray(Image.open(html / "_images" / f"sphx_glr_{name}_thumb.png").convert("RGB"))
+        assert (thumb.min(axis=-1) > 235).mean() < 0.6, name                # white before: 0.86 … 0.91
     cli = (html / "reference" / "cli.html").read_text()   # help texts as reST: code literal, addresses not links
     assert "<cite>" not in cli and 'href="tcp://' not in cli and ">tcp://host:8786<" in cli
     assert '<span class="pre">--help</span>' in cli
