@@ -15,6 +15,8 @@ import ngwear
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE / "_ext"))
+import gallery_files  # noqa: E402
+
 os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")
 pyvista.OFF_SCREEN = True
 
@@ -109,3 +111,4 @@ def setup(app):
     for generated in (HERE / "gallery", HERE / "reference" / "api"):   # made anew by every build: nothing stale
         shutil.rmtree(generated, ignore_errors=True)
     app.connect("build-finished", copy_mathjax)
+    app.connect("builder-inited", gallery_files.thumbnails, priority=900)     # after Sphinx-Gallery's examples

@@ -34,10 +34,15 @@ STAGES = logging.getLogger("ngwear.progress")
 
 
 SCENE_HELP = "scene TOML file, or the name of a shipped scene (see `ngwear examples`), e.g. paper_strip"
+DESCRIPTION = ("An elastic body in frictional contact with a moving rigid foundation while its soft layer wears: "
+               "run a scene, verify it, study it on Dask, explore it in the browser.  `ngwear COMMAND --help` "
+               "shows a command's options.")
+"""The parser's description.  Help texts are plain text (`code` in single backquotes), read in a terminal; the
+documentation's CLI reference turns them into reST (``docs/_ext/ngwear_reference.py``)."""
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="ngwear", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="ngwear", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     talk = argparse.ArgumentParser(add_help=False)
@@ -219,8 +224,9 @@ def _run(args, scene, settings, out: Path) -> int:
 def _uniqueness(result, stop, progress: bool) -> tuple[str, str] | None:
     """(label, text) of the summary's (H_S) line for a completed run with friction; None when there is nothing to say.
 
-    Never after an interrupt; a signal during the check aborts it.  It reuses the run's factorisation
-    (:func:`ngwear.studies.theory.uniqueness`), shown as a stage on the progress bar.
+    Information, not a warning: (H_S) is sufficient for uniqueness, and a completed run has met the invariants at
+    every step whatever it says.  Never after an interrupt; a signal during the check aborts it.  It reuses the
+    run's factorisation (:func:`ngwear.studies.theory.uniqueness`), shown as a stage on the progress bar.
     """
     disc = result.discretization
     if not result.completed or stop.is_set() or disc is None or not disc.contact.coefficients.friction.any():
@@ -239,7 +245,7 @@ def _uniqueness(result, stop, progress: bool) -> tuple[str, str] | None:
         return "uniqueness", f"(H_S) not evaluated: Lanczos did not converge ({str(err).splitlines()[0]})"
     finally:
         stages.close()
-    return ("uniqueness" if check.holds else "warning"), check.message()
+    return "uniqueness", check.message() + ("" if check.holds else "; the run's own checks hold")
 
 
 def _write(result, out: Path, pictures: bool, check: tuple[str, str] | None = None) -> None:

@@ -160,6 +160,16 @@ def test_every_command_takes_quiet_and_verbose():
             assert (args.quiet, args.verbose) == (flag in ("--quiet", "-q"), flag in ("--verbose", "-v")), command
 
 
+def test_help_is_plain_text(capsys):
+    """`ngwear --help` and every command's: no reST (``…``, :func:), read in a terminal as it is."""
+    from ngwear.cli import _parser
+    parser = _parser()
+    commands = parser._subparsers._group_actions[0].choices
+    texts = [parser.format_help(), *(command.format_help() for command in commands.values())]
+    assert all("``" not in text and ":func:" not in text and ":mod:" not in text for text in texts), texts
+    assert "ngwear COMMAND --help" in texts[0] and "tcp://host:8786" in commands["sweep"].format_help()
+
+
 def test_progress_without_a_terminal_is_one_line_per_stage(tmp_path):
     """With stderr a pipe (CI, a batch job): stage lines and the count at each tenth, no carriage return; --quiet: none."""
     args = ["run", PAPER, "--set", "mesh.maxh=0.25", "time.steps=20", "--no-pictures", "--no-check", "--out"]
@@ -206,4 +216,5 @@ def test_progress_in_a_terminal_is_a_bar(tmp_path):
     os.close(main)
     drawn = b"".join(drawn)
     assert proc.returncode == 0
-    assert b"\r" in drawn and b"0/20 [" in drawn and b"factorising K" in drawn and b" of 20 steps" not in drawn
+    assert b"\r" in drawn and b"| 0 of 20 steps [" in drawn and b"factorising K" in drawn       # the bar's format
+    assert b"ngwear: paper_strip: 0 of 20 steps" not in drawn                                      # not log lines

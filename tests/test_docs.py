@@ -17,11 +17,14 @@ import sys
 import threading
 import time
 import urllib.request
+from html.parser import HTMLParser
 from urllib.parse import urldefrag, urlparse
 
+import numpy as np
 import pytest
 from browser import Shots, Watch, chromium
 from conftest import ROOT
+from PIL import Image
 
 pytest.importorskip("sphinx", reason="the site needs the docs extra (pip install 'ngwear[docs]')")
 DOCS = ROOT / "docs"
@@ -46,6 +49,52 @@ def test_result_file_keys_are_explained(name):
     """Every key a run writes into the file has its line on the reference page (the build fails otherwise)."""
     table = ngwear_reference.result_key_table(name)
     assert len(table.splitlines()) == 2 + len(ngwear_reference.written_keys()[name])
+
+
+def markdown_tables(text: str) -> list[list[list[str]]]:
+    """The pipe tables of a Markdown text outside code blocks: rows of cells, split where Markdown splits them."""
+    tables, rows, fenced = [], [], False
+    for line in text.splitlines() + [""]:
+        fenced ^= line.lstrip().startswith("```")
+        if not fenced and line.lstrip().startswith("|"):
+            rows.append(re.split(r"(?<!\\)\|", line.strip().strip("|")))
+        elif rows:
+            tables.append(rows)
+            rows = []
+    return tables
+
+
+def generated_tables() -> dict[str, str]:
+    """The tables docs/_ext writes into the reference pages, by name."""
+    return {**{f"scene-keys {s}": ngwear_reference.scene_key_table(s) for s in ["name", *SECTIONS]},
+            **{f"result-keys {f}": ngwear_reference.result_key_table(f) for f in ngwear_reference.MEANING}}
+
+
+def test_every_markdown_table_row_has_the_headers_cells():
+    """A `|` left in a cell (`|φ|`, `|F_t|`) splits its row: the generated tables and every page's own."""
+    pages = {str(p.relative_to(ROOT)): p.read_text() for p in [ROOT / "README.md", *DOCS.rglob("*.md")]
+             if not {"node_modules", "_build", "gallery"} & set(p.parts)}
+    problems = [f"{name}: {'|'.join(row)[:80]}… has {len(row)} cells, its header {len(table[0])}"
+                for name, text in {**pages, **generated_tables()}.items() for table in markdown_tables(text)
+                for row in table if len(row) != len(table[0])]
+    assert len(generated_tables()) > 10 and not problems, "\n".join(problems)
+
+
+def test_cli_help_becomes_rest_in_the_reference():
+    """`code` becomes a literal; an address outside one too, so docutils does not make it a link."""
+    assert ngwear_reference.rest("see `ngwear examples`, e.g. tcp://host:8786 (default)") == \
+        "see ``ngwear examples``, e.g. ``tcp://host:8786`` (default)"
+    parser = ngwear_reference.cli_parser()
+    sweep = parser._subparsers._group_actions[0].choices["sweep"]
+    assert "``tcp://host:8786``" in next(a.help for a in sweep._actions if a.dest == "scheduler")
+    assert "``ngwear COMMAND --help``" in parser.description
+
+
+def test_markdown_tables_split_rows_as_markdown_does():
+    """The check above sees what a reader sees: an unescaped `|` in a cell makes one cell more."""
+    text = "x\n\n| a | b |\n|---|---|\n| `x` | \\|φ\\| ≤ 1 |\n| y | |φ| |\n\n```\n| not | a | table |\n```\n"
+    (table,) = markdown_tables(text)
+    assert [len(row) for row in table] == [2, 2, 2, 4]
 
 
 @pytest.fixture(scope="session")
@@ -83,10 +132,50 @@ def test_site_builds_with_warnings_as_errors(site):
     assert all(f"<code class=\"docutils literal notranslate\"><span class=\"pre\">{row.split('`')[1]}</span>" in
                reference for row in reference_table().splitlines()[2:])
     assert (html / "_static" / "mathjax" / "tex-chtml.js").is_file()
+    for name in ("03_brake_pad", "04_pin_on_disc", "05_own_step_file"):   # 3D parts: thumbnails not a white page
+        thumb = np.asarray(Image.open(html / "_images" / f"sphx_glr_{name}_thumb.png").convert("RGB"))
+        assert (thumb.min(axis=-1) > 235).mean() < 0.6, name                # white before: 0.86 … 0.91
+    cli = (html / "reference" / "cli.html").read_text()   # help texts as reST: code literal, addresses not links
+    assert "<cite>" not in cli and 'href="tcp://' not in cli and ">tcp://host:8786<" in cli
+    assert '<span class="pre">--help</span>' in cli
     for page in pages:               # nothing loaded from elsewhere: scripts, styles and images are the site's own
+        assert not ragged_tables(page.read_text()), f"{page.relative_to(html)}: {ragged_tables(page.read_text())}"
         for tag in re.findall(r"<(?:script|link|img)\b[^>]*>", page.read_text()):
             assert not re.search(r"(?:src|href)=\"(?:https?:)?//", tag) or "rel=\"canonical\"" in tag, \
                 f"{page.relative_to(html)}: {tag}"
+
+
+class _Tables(HTMLParser):
+    """The cell count (colspans summed) of each row of each table of an HTML page."""
+
+    def __init__(self):
+        super().__init__()
+        self.tables, self.open = [], []
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "table":
+            self.open.append([])
+        elif tag == "tr" and self.open:
+            self.open[-1].append(0)
+        elif tag in ("td", "th") and self.open and self.open[-1]:
+            self.open[-1][-1] += int(dict(attrs).get("colspan") or 1)
+
+    def handle_endtag(self, tag):
+        if tag == "table" and self.open:
+            self.tables.append(self.open.pop())
+
+
+def ragged_tables(page: str) -> list[list[int]]:
+    """The cell counts of the tables of an HTML page whose rows do not all have the header's number of cells."""
+    parser = _Tables()
+    parser.feed(page)
+    return [rows for rows in parser.tables if rows and any(n != rows[0] for n in rows)]
+
+
+def test_ragged_tables_are_found():
+    page = "<table><tr><th>a</th><th>b</th></tr><tr><td colspan='2'>c</td></tr></table>"
+    assert ragged_tables(page) == []
+    assert ragged_tables(page.replace("<td colspan='2'>c</td>", "<td>c</td>")) == [[2, 1]]
 
 
 # ---------------------------------------------------------------- in the browser

@@ -88,7 +88,7 @@ def test_half_disk_mesh(scene, disc):
     x = np.sort(pts[:, 0])
     spacing, middle = np.diff(x), 0.5 * (x[1:] + x[:-1])
     assert spacing[np.abs(middle) < zone].max() <= 1.2 * h   # Netgen keeps maxh to ~15 %
-    assert spacing[np.abs(middle) > 0.5].min() > 5 * h   # coarse away from the contact
+    assert spacing[np.abs(middle) > 0.5].min() > 4 * h   # coarse away from the contact
 
 
 @pytest.mark.parametrize("changes, field, allowed", [
@@ -111,7 +111,7 @@ def test_half_disk_scene_errors(scene, changes, field, allowed):
 def test_half_disk_defaults_and_other_kinds(paper_scene):
     s = Scene.from_dict({"geometry": {"kind": "half_disk"}})
     assert s.geometry.size == (1.0,) and s.geometry.dirichlet == ("top",)
-    with pytest.raises(SceneError, match=r"^mesh\.contact_zone: only for geometry.kind = 'half_disk'"):
+    with pytest.raises(SceneError, match=r"^mesh\.contact_zone: only with mesh\.contact_maxh"):
         paper_scene.replace(**{"mesh.contact_zone": 0.1})
     refined = paper_scene.replace(**{"mesh.contact_maxh": 0.02, "mesh.grading": 0.2})
     assert refined.mesh.contact_maxh == 0.02 and refined.mesh.grading == 0.2

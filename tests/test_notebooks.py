@@ -68,4 +68,4 @@ def test_convergence_notebook_runs(tmp_path, monkeypatch):
     out = tmp_path / "notebooks" / "out"
     assert (out / "convergence_h.png").stat().st_size > 10_000 and (out / "convergence_k.png").is_file()
     printed = "".join(o.get("text", "") for c in notebook.cells for o in c.get("outputs", []))
-    assert "(H_S)" in printed and "uniqueness is not guaranteed" in printed
+    assert "(H_S)" in printed and "does not cover this scene" in printed

@@ -210,6 +210,46 @@ def test_part_on_a_disc_sector_with_an_arc_arrow(pad):
         assert "|u − δν|" in drawn.body.__doc__
 
 
+def on_screen(plotter, points) -> np.ndarray:
+    """Pixel coordinates (x right, y up) of 3D points in the plotter's window."""
+    from vtkmodules.vtkRenderingCore import vtkCoordinate
+    where = vtkCoordinate()
+    where.SetCoordinateSystemToWorld()
+    seen = []
+    for point in points:
+        where.SetValue(*point)
+        seen.append(where.GetComputedDoubleDisplayValue(plotter.renderer))
+    return np.array(seen)
+
+
+@pytest.mark.parametrize("name", ["pad", "box"])
+def test_a_3d_part_fills_the_frame(name, request):
+    """The part, its layer and the motion's arrow fill the frame left of the colour bars (before: a quarter of it)."""
+    result = request.getfixturevalue(name)
+    size = (1200, 500)
+    with render.Canvas(window_size=size) as canvas:
+        image = canvas.frame(result, -1).astype(int)
+        seen = on_screen(canvas._plotter, canvas._picture.framed())
+    left, right, bottom, top = render.FRAME
+    assert seen[:, 0].min() >= left * size[0] - 1 and seen[:, 0].max() <= right * size[0] + 1
+    assert seen[:, 1].min() >= bottom * size[1] - 1 and seen[:, 1].max() <= top * size[1] + 1
+    assert max(np.ptp(seen[:, 0]) / ((right - left) * size[0]), np.ptp(seen[:, 1]) / ((top - bottom) * size[1])) > 0.99
+    coloured = np.ptp(image, axis=-1) > 25                       # the part, its layer, the colour bars
+    assert coloured.mean() > 0.15, coloured.mean()              # the pad before: 0.05
+
+
+def test_the_wear_bar_spans_the_wear_and_marks_g(pad):
+    """0 … max w (2e-5 of a 1e-3 layer shows), with g and the top's share of it noted under the bar."""
+    assert pad.wear.max() < 0.5 * pad.scene.contact.gap
+    with render.Canvas(window_size=(600, 300)) as canvas:
+        canvas.frame(pad, -1)
+        parts = canvas._parts
+        assert parts["layer_actor"].mapper.scalar_range == pytest.approx((0.0, pad.wear.max()))
+        share = pad.wear.max() / pad.scene.contact.gap
+        assert parts["gap_note"].GetInput() == f"g = 0.001 m\ntop: {share:.0%} of g"
+    assert render.gap_note(ngwear.load_scene(PAPER), 0.2) == "g = 0.2\ntop: 100% of g"
+
+
 @pytest.mark.parametrize("order", [1, 2], ids=["P1", "P2"])
 def test_part_plots(pad, tmp_path, order):
     from ngwear.views import part_plots

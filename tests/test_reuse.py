@@ -105,7 +105,10 @@ CHANGES = {
     "mesh.order": lambda s: {"mesh.order": 2},
     "mesh.contact_maxh": lambda s: {"mesh.contact_maxh": 0.5 * (s.mesh.contact_maxh or s.mesh.maxh)}
     if s.mesh.maxh else None,
-    "mesh.contact_zone": lambda s: {"mesh.contact_zone": 0.2} if s.geometry.kind == "half_disk" else None,
+    "mesh.contact_zone": lambda s: {"mesh.contact_zone": 0.2} if s.geometry.kind == "half_disk" else
+    {"mesh.contact_zone": 0.002} if s.geometry.kind == "pin" else None,
+    "mesh.zone_center": lambda s: {"mesh.zone_center": [0.05, 0.0]} if s.geometry.kind == "half_disk" else
+    {"mesh.contact_zone": 0.002, "mesh.zone_center": [0.031, 0.0, 0.0]} if s.geometry.kind == "pin" else None,
     "mesh.grading": lambda s: {"mesh.grading": 0.5} if s.mesh.maxh else None,
     "material.lame_lambda": lambda s: {"material.lame_lambda": 2.0} if s.material.lame_lambda is not None else None,
     "material.lame_mu": lambda s: {"material.lame_mu": 1.5} if s.material.lame_mu is not None else None,

@@ -5,16 +5,27 @@ figures.  An example writes into ``out/<name>/`` of its working folder, as ``ngw
 code block this scraper takes the PNG files written there since the block began, in the order they were
 written, and puts them under the block.  :func:`reset` (a ``reset_modules`` hook) starts the clock of each
 example, so pictures of an earlier build are never taken for new ones.
+
+An example's thumbnail is its first picture.  When that is one of ngwear's pictures of the part (``fig1_step025.png``,
+``regions.png``), :func:`thumbnails` makes it anew from the picture's frame (:data:`ngwear.views.render.FRAME`): the
+part without the colour bars, the caption and the margins around them.
 """
 from __future__ import annotations
 
+import re
 import shutil
+import tempfile
 import time
 from pathlib import Path
 
+from PIL import Image
 from sphinx_gallery.scrapers import figure_rst
+from sphinx_gallery.utils import scale_image
 
 _since = {"ns": time.time_ns()}
+PICTURES = re.compile(r"^(fig\d+_step\d+|regions)\.png$")
+"""The file names of ngwear's pictures of the part (:func:`ngwear.views.pictures.write_pictures`)."""
+_framed: set[Path] = set()
 
 
 def reset(gallery_conf, fname, when=None) -> None:
@@ -34,4 +45,23 @@ def png_files(block, block_vars, gallery_conf) -> str:
         target = Path(next(block_vars["image_path_iterator"]))
         shutil.copyfile(path, target)
         targets.append(str(target))
+        if PICTURES.match(path.name):
+            _framed.add(target)
     return figure_rst(targets, gallery_conf["src_dir"]) if targets else ""
+
+
+def thumbnails(app) -> None:
+    """After Sphinx-Gallery made them (``builder-inited``): thumbnails of ngwear's pictures show the picture's frame."""
+    from ngwear.views.render import FRAME
+
+    width, height = app.config.sphinx_gallery_conf["thumbnail_size"]
+    for picture in sorted(_framed):
+        if not picture.stem.endswith("_001"):      # the thumbnail is an example's first picture
+            continue
+        thumb = picture.parent / "thumb" / f"{picture.stem.removesuffix('_001')}_thumb{picture.suffix}"
+        with Image.open(picture) as image, tempfile.TemporaryDirectory() as folder:
+            w, h = image.size
+            left, right, bottom, top = FRAME
+            image.crop((round(left * w), round((1 - top) * h), round(right * w), round((1 - bottom) * h))).save(
+                Path(folder) / "frame.png")
+            scale_image(Path(folder) / "frame.png", thumb, width, height)

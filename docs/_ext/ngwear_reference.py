@@ -7,10 +7,16 @@
   meaning (the per-step fields': their declarations, :mod:`ngwear.results.step_fields`).  The keys are those of
   files really written by a small run at build time; a key the code writes that :data:`MEANING` does not explain,
   or one it explains that the code no longer writes, fails the build.
+* :func:`cli_parser` — ``ngwear``'s argument parser for sphinx-argparse, its plain help texts (read in a terminal)
+  turned into reST.
+
+A table cell's ``|`` is escaped (:func:`ngwear.model.messages.markdown_row`): unescaped, Markdown splits the row there.
 """
 from __future__ import annotations
 
+import argparse
 import json
+import re
 import tempfile
 from functools import cache
 from pathlib import Path
@@ -21,6 +27,7 @@ from docutils.statemachine import StringList
 from sphinx.errors import ExtensionError
 from sphinx.util.docutils import SphinxDirective
 
+from ngwear.model.messages import markdown_row
 from ngwear.results.step_fields import STEP_FIELDS
 
 MEANING = {
@@ -152,8 +159,38 @@ def result_key_table(name: str) -> str:
     lines = ["| key | shape | meaning |" if shaped else "| key | meaning |", "|---|---|---|" if shaped else "|---|---|"]
     for key in keys:
         shape, text = meaning[key]
-        lines.append(f"| `{key}` | {shape} | {text} |" if shaped else f"| `{key}` | {text} |")
+        lines.append(markdown_row((f"`{key}`", shape, text) if shaped else (f"`{key}`", text)))
     return "\n".join(lines)
+
+
+def rest(text: str | None) -> str | None:
+    """A help text in reST: `code` as a literal, and addresses (``tcp://host:8786``) literal too, not links."""
+    if not text:
+        return text
+    parts = re.split(r"`([^`]+)`", text)          # odd parts: the code spans
+    for k in range(0, len(parts), 2):
+        parts[k] = re.sub(r"\b([a-z][a-z0-9+.-]*://[^\s,;)]+)", r"``\1``", parts[k])
+    for k in range(1, len(parts), 2):
+        parts[k] = f"``{parts[k]}``"
+    return "".join(parts)
+
+
+def cli_parser() -> argparse.ArgumentParser:
+    """``ngwear``'s parser (:func:`ngwear.cli._parser`) with every description and help text in reST (:func:`rest`)."""
+    from ngwear.cli import _parser
+
+    def convert(parser):
+        parser.description = rest(parser.description)
+        for action in parser._actions:
+            action.help = rest(action.help)
+            if isinstance(action, argparse._SubParsersAction):
+                for choice in action._choices_actions:
+                    choice.help = rest(choice.help)
+                for sub in action.choices.values():
+                    convert(sub)
+        return parser
+
+    return convert(_parser())
 
 
 class _Table(SphinxDirective):

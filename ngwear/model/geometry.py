@@ -3,7 +3,8 @@
 The shapes come from the registry of part kinds (:mod:`ngwear.model.shapes`, :mod:`ngwear.model.cad`); the
 body is the region ``body``, its contact face/edge ``contact``.  The soft layer is not meshed: it lives on
 the contact points (its compression and wear are nodal) and pictures draw it by offsetting Γ_C along ν.
-``mesh.grading`` (Netgen's, default 0.3) slows the growth of the elements away from refined faces.  Meshes
+``mesh.grading`` (Netgen's, default 0.3) slows the growth of the elements away from refined faces and from the
+refined zone of Γ_C (:mod:`ngwear.model.zone`).  Meshes
 are cached on disk by a hash of the keys that declare they invalidate the mesh (``$NGWEAR_CACHE`` or
 ``~/.cache/ngwear``).
 """
@@ -23,9 +24,9 @@ from scipy.sparse.csgraph import connected_components
 from .cad import cache_dir, read_mesh
 from .keys import Level, SceneError
 from .kinds import KINDS
-from .meshing import Stopped, check_size, generate
+from .meshing import Stopped, check_size, generate, part
 
-CACHE_VERSION = 4
+CACHE_VERSION = 5
 
 
 def mesh_key(scene) -> str:
@@ -101,17 +102,19 @@ def _build_mesh(scene, use_cache: bool, stop: threading.Event | None) -> ngs.Mes
         return load_mesh(path, g.dim)
     name = "geometry.file" if g.file is not None else "geometry.size"
     try:
-        shape = kind.build(g, scene.mesh)
+        check_size(scene, kind.build(g, scene.mesh))        # Γ_C's faces refined all over: an upper bound
+        shape = part(g, scene.mesh)
     except Exception as err:  # noqa: BLE001 - OpenCASCADE raises its own types, with their message
+        if isinstance(err, SceneError):
+            raise
         raise SceneError(f"{name}: Netgen cannot build or mesh this part ({_reason(err)}); change its size or "
                          "mesh.maxh") from None
-    check_size(scene, shape)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(f".{os.getpid()}.tmp.vol")
     try:
         try:
             generate(scene, shape, tmp, stop)
-        except Stopped:
+        except (Stopped, SceneError):
             raise
         except Exception as err:  # noqa: BLE001 - Netgen raises its own types, with their message
             raise SceneError(f"{name}: Netgen cannot build or mesh this part ({_reason(err)}); change its size or "

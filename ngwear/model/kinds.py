@@ -29,7 +29,8 @@ class Kind:
     fills the kind's defaults into a raw ``[geometry]`` dict; ``extent`` is the part's largest dimension
     from its size; ``build`` makes the netgen.occ shape from ``(geometry, mesh)`` (None: a mesh file).
     ``options`` are the keys (dotted) that only this kind takes; ``files`` the suffixes of its part files;
-    ``thickness`` the index in ``size`` of the height above Γ_C (where a ``geometry.backing`` is stacked).
+    ``thickness`` the index in ``size`` of the height above Γ_C (where a ``geometry.backing`` is stacked); ``zone``
+    the default ``mesh.contact_zone`` from the size (None: ``mesh.contact_maxh`` refines all of Γ_C).
     """
 
     name: str
@@ -46,6 +47,7 @@ class Kind:
     options: tuple[str, ...] = ()
     files: tuple[str, ...] = ()
     thickness: int | None = None
+    zone: Callable | None = None
 
     @property
     def from_file(self) -> bool:

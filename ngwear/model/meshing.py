@@ -16,6 +16,9 @@ builds the part from the same keys (the same mesh as in this process) and writes
 kills it at once (:class:`Stopped`), as does the end of this process (``PR_SET_PDEATHSIG``); it ignores SIGINT
 (this process decides).  Netgen does not stop in this process: its volume mesher ignores its own terminate flag
 for tens of seconds.  Smaller meshes, a few seconds of Netgen, are made here.
+
+With a refined zone (:mod:`ngwear.model.zone`) Γ_C's faces carry no size of their own (:func:`part`): Netgen's
+local size is held in the zone instead.  The estimate is made on the faces refined all over, an upper bound.
 """
 from __future__ import annotations
 
@@ -27,8 +30,10 @@ import sys
 import threading
 from pathlib import Path
 
+import netgen.meshing
 from netgen.occ import OCCGeometry
 
+from . import zone
 from .keys import SceneError
 from .kinds import KINDS
 
@@ -68,20 +73,27 @@ def check_size(scene, shape) -> None:
                          "raise mesh.max_elements")
 
 
+def part(geometry, mesh):
+    """The part's shape as Netgen meshes it: with a refined zone, Γ_C's faces without a size of their own."""
+    zoned = zone.radius(geometry, mesh) is not None
+    return KINDS[geometry.kind].build(geometry, mesh.model_copy(update={"contact_maxh": None}) if zoned else mesh)
+
+
 def generate(scene, shape, path: Path, stop: threading.Event | None = None) -> None:
-    """Mesh ``shape`` (built from ``scene``) and write it to ``path``: here, or in a child when it is large.
+    """Mesh ``shape`` (built from ``scene``, :func:`part`) and write it to ``path``: here, or in a child when large.
 
     Raises :class:`Stopped` when ``stop`` is set while a child meshes (the child is killed, ``path`` not written),
-    and what Netgen raises (in a child: a RuntimeError with its last line).
+    SceneError when a refined zone holds no point of Γ_C, and what Netgen raises (in a child: a RuntimeError with its
+    last line).
     """
-    g, m = scene.geometry, scene.mesh
+    g, m, direction = scene.geometry, scene.mesh, tuple(scene.contact.direction)
     if estimate(shape, g.dim, m.maxh, m.grading)[0] <= IN_PROCESS:
-        _mesh(shape, g.dim, m.maxh, m.grading).Save(str(path))
+        _mesh(shape, g, m, direction).Save(str(path))
         return
     child = subprocess.Popen([sys.executable, "-c", f"from {__name__} import _child; _child()"],
                              stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     try:
-        child.stdin.write(pickle.dumps((g, m, str(path))))
+        child.stdin.write(pickle.dumps((g, m, direction, str(path))))
         child.stdin.close()
         while True:
             try:
@@ -93,7 +105,10 @@ def generate(scene, shape, path: Path, stop: threading.Event | None = None) -> N
         if child.returncode:
             if child.returncode < 0:
                 raise RuntimeError(f"Netgen died of {signal.Signals(-child.returncode).name} in its child process")
-            raise RuntimeError((child.stderr.read().decode(errors="replace").strip().splitlines() or ["no reason"])[-1])
+            last = (child.stderr.read().decode(errors="replace").strip().splitlines() or ["no reason"])[-1]
+            if last.startswith("SceneError: "):
+                raise SceneError(last.removeprefix("SceneError: "))
+            raise RuntimeError(last)
     finally:
         if child.poll() is None:
             child.kill()
@@ -101,24 +116,29 @@ def generate(scene, shape, path: Path, stop: threading.Event | None = None) -> N
         child.stderr.close()
 
 
-def _mesh(shape, dim: int, maxh: float, grading: float | None):
-    return OCCGeometry(shape, dim=dim).GenerateMesh(maxh=maxh, **({"grading": grading} if grading is not None else {}))
+def _mesh(shape, g, m, direction):
+    """Netgen's mesh of ``shape`` at ``mesh.maxh`` (and ``mesh.grading``), held to ``mesh.contact_maxh`` in a zone."""
+    options = {"grading": m.grading} if m.grading is not None else {}
+    if zone.radius(g, m) is None:
+        return OCCGeometry(shape, dim=g.dim).GenerateMesh(maxh=m.maxh, **options)
+    parameters = netgen.meshing.MeshingParameters(maxh=m.maxh, **options)
+    zone.restrict(parameters, shape, g, m, direction)
+    return OCCGeometry(shape, dim=g.dim).GenerateMesh(parameters)
 
 
 def _child() -> None:
-    """The child of :func:`generate`: read (geometry, mesh, path), build the part, mesh it, write the mesh file."""
+    """The child of :func:`generate`: read (geometry, mesh, ν, path), build the part, mesh it, write the mesh file."""
     from . import cad, shapes  # noqa: F401 - they register the kinds
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     if sys.platform == "linux":                     # die with the parent, however it ends
         import ctypes
         ctypes.CDLL(None).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
-    geometry, mesh, path = pickle.loads(sys.stdin.buffer.read())
+    geometry, mesh, direction, path = pickle.loads(sys.stdin.buffer.read())
     if os.getppid() == 1:                           # the parent ended before the line above
         sys.exit(1)
     try:
-        shape = KINDS[geometry.kind].build(geometry, mesh)
-        _mesh(shape, geometry.dim, mesh.maxh, mesh.grading).Save(path)
+        _mesh(part(geometry, mesh), geometry, mesh, direction).Save(path)
     except Exception as err:  # noqa: BLE001 - Netgen's and OpenCASCADE's own types: their message, one line
         print(f"{type(err).__name__}: {err}".strip().splitlines()[0], file=sys.stderr)
         sys.exit(1)

@@ -68,9 +68,15 @@ def reference_table() -> str:
     rows = ["| key | meaning | default | allowed |", "|---|---|---|---|"]
     for name, info in declared_keys():
         extra = info.json_schema_extra or {}
-        rows.append(f"| `{name}` | {info.description} | {extra.get('shown', _plain(info.default))} | "
-                    f"{extra.get('allowed') or _allowed(info)} |")
+        cells = (f"`{name}`", info.description, extra.get("shown", _plain(info.default)),
+                 extra.get("allowed") or _allowed(info))
+        rows.append(markdown_row(cells))
     return "\n".join(rows)
+
+
+def markdown_row(cells) -> str:
+    """A Markdown table row; a ``|`` in a cell (``|φ|``, ``|F_t|``) escaped, else the row splits there."""
+    return "| " + " | ".join(str(cell).replace("|", "\\|") for cell in cells) + " |"
 
 
 # ---------------------------------------------------------------- reading declarations

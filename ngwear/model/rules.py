@@ -65,16 +65,26 @@ def _check_geometry(scene) -> None:
         if b not in boundaries or b == "contact":
             allowed = ", ".join(x for x in boundaries if x != "contact")
             raise SceneError(f"geometry.dirichlet: unknown or non-Dirichlet boundary {b!r} (allowed: {allowed})")
+    sizes = ("maxh", "contact_maxh", "grading", "contact_zone", "zone_center")
     if kind.build is None:
-        if m.maxh is not None or m.contact_maxh is not None or m.grading is not None:
+        if any(getattr(m, name) is not None for name in sizes):
             raise SceneError(f"mesh.maxh: not used with geometry.kind = {g.kind!r} (the file is the mesh; leave "
-                             "mesh.maxh, mesh.contact_maxh and mesh.grading out)")
-    elif not 0 < m.maxh <= g.extent:
+                             f"{', '.join(f'mesh.{name}' for name in sizes)} out)")
+        return
+    if not 0 < m.maxh <= g.extent:
         raise SceneError(f"mesh.maxh: must be {range_text(0, round(g.extent, 6), lo_open=True)} (got {m.maxh!r})")
     if m.contact_maxh is not None and not 0 < m.contact_maxh <= m.maxh:
         raise SceneError(f"mesh.contact_maxh: must be {range_text(0, m.maxh, lo_open=True)} (got {m.contact_maxh!r})")
-    if m.contact_zone is not None and not 0 < m.contact_zone <= g.size[0]:
-        raise SceneError(f"mesh.contact_zone: must be {range_text(0, g.size[0], lo_open=True)} (got {m.contact_zone!r})")
+    if m.contact_zone is not None and not 0 < m.contact_zone <= g.extent:
+        raise SceneError(f"mesh.contact_zone: must be {range_text(0, round(g.extent, 6), lo_open=True)} "
+                         f"(got {m.contact_zone!r})")
+    for name in ("contact_zone", "zone_center"):
+        if getattr(m, name) is not None and m.contact_maxh is None:
+            raise SceneError(f"mesh.{name}: only with mesh.contact_maxh, the size within the zone")
+    if m.zone_center is not None:
+        if m.contact_zone is None and KINDS[g.kind].zone is None:
+            raise SceneError("mesh.zone_center: only with mesh.contact_zone, the radius of the zone")
+        vector(m.zone_center, "mesh.zone_center", g.dim)
 
 
 def _check_size(g, kind) -> None:

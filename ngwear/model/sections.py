@@ -95,11 +95,16 @@ class MeshSpec(Section):
     maxh: Number | None = key(None, "Netgen's largest element size (not for `geometry.kind = \"mesh\"`)",
                               reuse=Level.MESH, shown="0.1; a tenth of a file's part", allowed="(0, size of the part]")
     order: Whole = key(1, "polynomial order", reuse=Level.SPACE, ge=1, le=2, allowed="1, 2")
-    contact_maxh: Number | None = key(None, "mesh size on Γ_C; for `half_disk` on the arc within "
-                                      "`mesh.contact_zone` of its lowest point", reuse=Level.MESH,
-                                      shown="`mesh.maxh`", allowed="(0, maxh]")
-    contact_zone: Number | None = key(None, "`half_disk` only: horizontal half-width of the arc refined to "
-                                      "`mesh.contact_maxh`", reuse=Level.MESH, shown="R/4", allowed="(0, R]")
+    contact_maxh: Number | None = key(None, "mesh size on Γ_C, or within `mesh.contact_zone` of it only",
+                                      reuse=Level.MESH, shown="`mesh.maxh`", allowed="(0, maxh]")
+    contact_zone: Number | None = key(None, "with `mesh.contact_maxh`: refine Γ_C only where it lies within this "
+                                      "distance of `mesh.zone_center`, measured across `contact.direction` (the "
+                                      "half-disk's horizontal half-width), growing smoothly (`mesh.grading`) away "
+                                      "from it", reuse=Level.MESH, shown="R/4 (`half_disk`); none: all of Γ_C",
+                                      allowed="(0, size of the part]")
+    zone_center: Vector | None = key(None, "the point the zone is measured from", reuse=Level.MESH,
+                                     shown="the part's first point of contact: the middle of a flat Γ_C (the pad's "
+                                     "centre), the tip of a curved one (the pin's axis)", allowed="d numbers")
     grading: Number | None = key(None, "Netgen's grading: how fast elements grow away from fine edges (0.1 "
                                  "resolves the field under a Hertz contact)", reuse=Level.MESH, shown="0.3",
                                  ge=0.1, le=1.0)

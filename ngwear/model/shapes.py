@@ -7,8 +7,8 @@ above x_d = 0, touching it:
 * ``box`` [0,Lx]×[0,Ly]×[0,Lz]: left, right, front, back, top, contact (z = 0);
 * ``half_disk``: the lower half of the disk of radius R centred at (0, R), a section of a half-cylinder
   (plane strain): ``top`` the flat edge y = R, ``contact`` the arc, which touches y = 0 at its lowest
-  point.  The arc is four OCC edges split at x = ±zone and at x = 0, so the lowest point is always a
-  mesh vertex and the zone (``mesh.contact_zone``) can be refined on its own;
+  point.  The arc is two OCC edges split at x = 0, so the lowest point is always a mesh vertex; with
+  ``mesh.contact_maxh`` the arc is refined within ``mesh.contact_zone`` (default R/4) of it;
 * ``pad``: the annular sector r_i ≤ r ≤ r_o, |φ| ≤ angle/2, 0 ≤ z ≤ thickness of a disc brake pad on a
   disc turning about the z axis: contact (z = 0), back (z = thickness), inner, outer, leading
   (φ = −angle/2, where a point of a disc turning with ω_z > 0 enters) and trailing;
@@ -20,7 +20,8 @@ the face opposite Γ_C, meshed conformingly with the body: the face between them
 backing's outer face takes the name of the face it covers (``top`` of a strip or box, ``back`` of a pad or
 pin) and its sides the names of the body's sides.  Every feature of a part (a side, the pad's inner arc,
 the pin's cap, the backing) must be at least :data:`~ngwear.model.kinds.FEATURE` of its largest dimension:
-thinner ones cannot be built or meshed.  ``mesh.contact_maxh`` sets the element size on Γ_C.
+thinner ones cannot be built or meshed.  ``mesh.contact_maxh`` sets the element size on Γ_C, or within
+``mesh.contact_zone`` of ``mesh.zone_center`` only (:mod:`ngwear.model.zone`, for every kind).
 """
 from __future__ import annotations
 
@@ -100,34 +101,26 @@ register(Kind("box", "`box` [0,Lx]×[0,Ly]×[0,Lz]", 3, (1.0, 0.5, 0.5), "`box` 
 
 
 def _half_disk(geometry, mesh):
-    """Lower half of the disk |x − (0, R)| ≤ R: flat edge ``top`` at y = R, arc ``contact``."""
+    """Lower half of the disk |x − (0, R)| ≤ R: flat edge ``top`` at y = R, arc ``contact`` split at its lowest point."""
     radius = geometry.size[0]
-    zone = mesh.contact_zone if mesh.contact_zone is not None else radius / 4
-    quarter = math.pi / 2
-    theta = min(math.asin(min(zone / radius, 1.0)), quarter)
 
     def at(phi):  # point of the arc at angle phi from the downward vertical, positive towards +x
         return Pnt(radius * math.sin(phi), radius * (1 - math.cos(phi)), 0)
 
-    def arc(a, b):
-        return ArcOfCircle(at(a), at((a + b) / 2), at(b))
-
-    zone_arcs = [arc(-theta, 0.0), arc(0.0, theta)]
-    full = theta >= quarter * (1 - 1e-9)
-    arcs = zone_arcs if full else [arc(-quarter, -theta), *zone_arcs, arc(theta, quarter)]
+    quarter = math.pi / 2
+    arcs = [ArcOfCircle(at(a), at((a + b) / 2), at(b)) for a, b in ((-quarter, 0.0), (0.0, quarter))]
     body = Face(Wire([*arcs, Segment(at(quarter), at(-quarter))]))
     body.faces.name = "body"
     body.edges.name = "contact"
     body.edges.Max(Y).name = "top"
     for edge in body.edges:
-        if edge.name == "contact" and abs(edge.center.x) < zone:
+        if edge.name == "contact":
             _refine_contact(edge, mesh)
     return body
 
 
 register(Kind("half_disk", "`half_disk` the lower half of the disk of radius R centred at (0, R) (2D)", 2, (1.0,),
-              "`half_disk` [R]", ("top", "contact"), ("top",), build=_half_disk,
-              options=("mesh.contact_zone",)))
+              "`half_disk` [R]", ("top", "contact"), ("top",), build=_half_disk, zone=lambda size: size[0] / 4))
 
 
 # ---------------------------------------------------------------- brake pad

@@ -11,8 +11,10 @@ from __future__ import annotations
 from .step_fields import STEP_FIELDS
 
 QUANTITIES = {"length": ("m", "m"), "time": ("s", "s"), "pressure": ("Pa", "Pa"), "force": ("N", "N/m"),
-              "torque": ("N·m", "N·m/m"), "area": ("m²", "m"), "volume": ("m³", "m²"), "line load": ("N/m", "N/m")}
-"""Each quantity's unit in 3D and in 2D (per unit thickness)."""
+              "torque": ("N·m", "N·m/m"), "area": ("m²", "m"), "volume": ("m³", "m²"), "line load": ("N/m", "N/m"),
+              "wear coefficient": ("1/Pa", "1/Pa"), "compliance stiffness": ("Pa/m", "Pa/m")}
+"""Each quantity's unit in 3D and in 2D (per unit thickness).  κ in w' = κ‖v*‖p is 1/Pa; L in p = L r₊ is Pa/m
+(``Pa/m^e`` for the power law p = L r₊^e)."""
 
 NAMES = {**{f.name: f.quantity for f in STEP_FIELDS if f.quantity}, "contact_points": "length", "weights": "area",
          "fields": "length", "max_wear": "length", "max_penetration": "length", "gap": "length"}
@@ -22,7 +24,11 @@ with a unit (the rest are counts, fractions, ratios or wall-clock seconds)."""
 
 def unit(scene, quantity: str) -> str | None:
     """The unit of ``quantity`` (a key of :data:`QUANTITIES`) in ``scene``; None for a dimensionless scene."""
-    return None if scene.units is None else QUANTITIES[quantity][0 if scene.dim == 3 else 1]
+    if scene.units is None:
+        return None
+    if quantity == "compliance stiffness" and scene.contact.law == "power":
+        return f"Pa/m^{scene.contact.exponent:g}"
+    return QUANTITIES[quantity][0 if scene.dim == 3 else 1]
 
 
 def units(scene, names=NAMES) -> dict[str, str] | None:

@@ -5,6 +5,10 @@ scheduler, output piped into a file) a bar's carriage returns are noise in the l
 :class:`Lines` instead: the same calls, written through the logger ``ngwear.progress`` at INFO, one line per
 stage (each new description) and one at every tenth of a counted total.  ``ngwear`` shows these lines unless
 ``--quiet``; a Python program sees them once it configures logging (``logging.basicConfig(level=logging.INFO)``).
+Both count in whole numbers with thousands separators and say how long the rest will take, from the rate so far::
+
+    paper_strip:  70%|███████   | 42,000 of 60,000 steps [00:12<00:05, 3500.00 step/s]     (a terminal)
+    ngwear: paper_strip: 42,000 of 60,000 steps [12.0 s, about 5.1 s left]                 (a log)
 """
 from __future__ import annotations
 
@@ -24,10 +28,19 @@ def watched() -> bool:
     return shell is not None and "IPKernelApp" in shell.config
 
 
+COUNTED = "{l_bar}{bar}| {n:,} of {total:,} {unit}s [{elapsed}<{remaining}, {rate_fmt}]"
+"""The format of a tqdm bar that counts (steps, cases): whole numbers with separators, the time left."""
+
+
 def bar(**kw):
-    """A tqdm bar (``tqdm.auto``) with the keywords ``kw`` where someone watches it, else :class:`Lines`."""
+    """A tqdm bar (``tqdm.auto``) with the keywords ``kw`` where someone watches it, else :class:`Lines`.
+
+    A bar with a ``total`` and a ``unit`` counts in :data:`COUNTED`'s format unless ``kw`` gives a ``bar_format``.
+    """
     if watched():
         from tqdm.auto import tqdm
+        if kw.get("total") is not None and "unit" in kw:
+            kw.setdefault("bar_format", COUNTED)
         return tqdm(**kw)
     return Lines(**kw)
 
@@ -51,7 +64,7 @@ class Lines:
 
     def __init__(self, total=None, desc: str = "", unit: str = "it", initial=0, disable: bool = False, **_):
         self.total, self.desc, self.unit, self.n, self.disable = total, desc, unit, initial, disable
-        self.start = time.monotonic()
+        self.start, self.initial = time.monotonic(), initial
         self.tenth = self._tenth()
         if total is not None:
             self._say(self._count())
@@ -77,9 +90,25 @@ class Lines:
         return int(10 * self.n / self.total + 1e-9) if self.total else 0
 
     def _count(self) -> str:
+        """``desc: n of total units [elapsed, about … left]``; the time left from the rate since the start."""
         unit = "" if self.unit == "it" else f" {self.unit}s"
-        return f"{self.desc}: {self.n:.4g} of {self.total:.4g}{unit} [{time.monotonic() - self.start:.1f} s]"
+        elapsed, done = time.monotonic() - self.start, self.n - self.initial
+        left = f", about {duration(elapsed * (self.total - self.n) / done)} left" if 0 < done and self.n < self.total \
+            else ""
+        return f"{self.desc}: {number(self.n)} of {number(self.total)}{unit} [{duration(elapsed)}{left}]"
 
     def _say(self, text: str) -> None:
         if not self.disable:
             log.info("%s", text)
+
+
+def number(value) -> str:
+    """A count as a whole number with thousands separators (``42,000``); a fraction (a time) to 4 digits."""
+    return f"{int(value):,}" if float(value).is_integer() else f"{value:.4g}"
+
+
+def duration(seconds: float) -> str:
+    """Seconds as a reader takes them in: ``5.1 s``, ``3.2 min``, ``1.5 h``."""
+    if seconds < 120:
+        return f"{seconds:.1f} s"
+    return f"{seconds / 60:.1f} min" if seconds < 7200 else f"{seconds / 3600:.1f} h"

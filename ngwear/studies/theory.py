@@ -52,9 +52,8 @@ class SmallnessCheck:
         return self.product < self.monotonicity
 
     def message(self) -> str:
-        verdict = "holds: the solution is unique" if self.holds else "fails: uniqueness is not guaranteed"
         return (f"(H_S) c0² L_p μ = {self.c0:.3g}² · {self.lipschitz:.3g} · {self.friction:.3g} = "
-                f"{self.product:.3g} {'<' if self.holds else '>='} m_F = {self.monotonicity:.3g}: {verdict}")
+                f"{self.product:.3g} {'<' if self.holds else '≥'} m_F = {self.monotonicity:.3g}: {verdict(self.holds)}")
 
 
 @dataclass(frozen=True)
@@ -74,9 +73,15 @@ class EnergyCheck:
         return self.product < 1.0
 
     def message(self) -> str:
-        verdict = "holds: the solution is unique" if self.holds else "fails: uniqueness is not guaranteed"
         return (f"(H_S) c_K² L_p μ = {self.trace:.3g} · {self.lipschitz:.3g} · {self.friction:.3g} = "
-                f"{self.product:.3g} {'<' if self.holds else '>='} 1 (energy norm of K): {verdict}")
+                f"{self.product:.3g} {'<' if self.holds else '≥'} 1 (energy norm of K): {verdict(self.holds)}")
+
+
+def verdict(holds: bool) -> str:
+    """What (H_S) says about the scene: information, not a warning (it is sufficient for uniqueness, not necessary)."""
+    if holds:
+        return "the paper's uniqueness theorem covers this scene: its solution is unique"
+    return "the paper's uniqueness theorem does not cover this scene (a sufficient condition, not a necessary one)"
 
 
 def energy_trace(disc: Discretization, interrupted=None) -> float:

@@ -1,7 +1,8 @@
 """Plots a brake or pin-on-disc engineer reads off a run (matplotlib, no display needed).
 
 ``contact_maps``: the contact face Γ_C seen from above (projected on the plane ⟂ ν), coloured by the
-pressure p and by the wear depth w at chosen steps (a 3D result; the colour bars name the field).
+pressure p and by the wear depth w at chosen steps (a 3D result; the colour bars name the field, the axes the
+directions in the plane).
 ``coefficient_maps``: the contact coefficients that are fields over Γ_C (μ, κ, L: an expression, an array or a
 function, not a number), one panel each: maps of the face in 3D, curves along x in 2D.
 ``history``: the normal force, the friction torque about the counterface's axis (the friction force ‖F_t‖
@@ -24,10 +25,11 @@ from ..results.units import label, unit
 from .plots import _sampled, _save, plain
 
 FIELDS = {"pressure": ("pressure p", "plasma", "pressure"), "wear": ("wear depth w", "YlOrRd", "length")}
-COEFFICIENTS = {"friction_coefficient": ("friction", "friction μ", "viridis"),
-                "wear_coefficient": ("wear", "wear coefficient κ", "cividis"),
-                "contact_stiffness": ("stiffness", "compliance stiffness L", "magma")}
-"""The contact coefficients of a result: its array, the scene key (``contact.<key>``), title, colour map."""
+COEFFICIENTS = {"friction_coefficient": ("friction", "friction μ", "viridis", None),
+                "wear_coefficient": ("wear", "wear coefficient κ", "cividis", "wear coefficient"),
+                "contact_stiffness": ("stiffness", "compliance stiffness L", "magma", "compliance stiffness")}
+"""The contact coefficients of a result: its array, the scene key (``contact.<key>``), title, colour map, quantity
+(its unit in an SI scene: :mod:`ngwear.results.units`; μ has none)."""
 
 
 def _plane(nu: np.ndarray) -> np.ndarray:
@@ -71,7 +73,30 @@ def _triangulation(result) -> tuple[Triangulation, sp.csr_matrix]:
     return Triangulation(xy[:, 0], xy[:, 1], np.array(triangles)), values
 
 
+def _axis_name(direction: np.ndarray) -> str:
+    """A direction as an axis label: ``x``, ``−z`` for a coordinate axis, else ``along (0.71, 0.71, 0)``."""
+    k = int(np.argmax(np.abs(direction)))
+    if abs(abs(direction[k]) - 1) < 1e-9:
+        return ("" if direction[k] > 0 else "−") + "xyz"[k]
+    return "along (" + ", ".join(f"{c:.2g}" for c in direction) + ")"
+
+
+def _label_face(fig_axes, scene) -> None:
+    """Axis labels of maps of Γ_C from above (the plane ⟂ ν), with units: under the last row, left of the first."""
+    first, second = (_axis_name(v) for v in _plane(np.asarray(scene.contact.direction)))
+    axes = np.atleast_2d(fig_axes)
+    for ax in axes[-1]:
+        ax.set_xlabel(label(scene, first, "length"), fontsize=8)
+    for ax in axes[:, 0]:
+        ax.set_ylabel(label(scene, second, "length"), fontsize=8)
+
+
 def contact_maps(result, path, steps=None, fields=("pressure", "wear")) -> Path:
+    """Write :func:`contact_figure` as a PNG."""
+    return _save(contact_figure(result, steps, fields), path)
+
+
+def contact_figure(result, steps=None, fields=("pressure", "wear")) -> Figure:
     """Γ_C from above coloured by each of ``fields`` (rows) at ``steps`` (columns; default 4 of the run)."""
     if result.scene.dim != 3:
         raise ValueError("contact maps need a 3D result (in 2D, Γ_C is a line: see plots.wear_profiles)")
@@ -91,13 +116,14 @@ def contact_maps(result, path, steps=None, fields=("pressure", "wear")) -> Path:
             ax.set_title(f"t = {result.times[step]:.4g}{seconds}", fontsize=9)
             ax.tick_params(labelsize=7)
         fig.colorbar(shaded, ax=row.tolist(), shrink=0.9, format="%.3g", label=label(result.scene, title, quantity))
+    _label_face(axes, result.scene)
     fig.suptitle(f"{result.scene.name}: contact face from above", fontsize=10)
-    return _save(fig, path)
+    return fig
 
 
 def varying(result) -> list[str]:
     """The coefficients of :data:`COEFFICIENTS` that the scene gives as fields (not numbers)."""
-    return [name for name, (key, _, _) in COEFFICIENTS.items()
+    return [name for name, (key, *_) in COEFFICIENTS.items()
             if not isinstance(getattr(result.scene.contact, key), (int, float))]
 
 
@@ -114,20 +140,24 @@ def coefficient_figure(result, names=None) -> Figure:
     tri, at_nodes = _triangulation(result) if dim == 3 else (None, None)
     aspect = np.clip(np.ptp(tri.x) / max(np.ptp(tri.y), 1e-300), 0.35, 3.0) if dim == 3 else 1.6
     fig = Figure(figsize=((2.6 * aspect + 1.2) * len(names), 3.2), layout="constrained")
-    for ax, name in zip(np.atleast_1d(fig.subplots(1, len(names), squeeze=False)[0]), names):
-        key, title, cmap = COEFFICIENTS[name]
-        values = getattr(result, name)
+    axes = np.atleast_1d(fig.subplots(1, len(names), squeeze=False)[0])
+    for ax, name in zip(axes, names):
+        key, title, cmap, quantity = COEFFICIENTS[name]
+        values, named = getattr(result, name), label(result.scene, title, quantity) if quantity else title
         ax.set_title(f"{title}: contact.{key}", fontsize=9)
         ax.tick_params(labelsize=7)
         if dim == 2:
             order = np.argsort(result.contact_points[:, 0])
             ax.plot(result.contact_points[order, 0], values[order], color="C0")
-            ax.set(xlabel=label(result.scene, "x on Γ_C", "length"))
+            ax.set_xlabel(label(result.scene, "x on Γ_C", "length"), fontsize=8)
+            ax.set_ylabel(named, fontsize=8)
             continue
         lo, hi = float(values.min()), float(values.max())   # a field that is constant after all: one colour
         shaded = ax.tripcolor(tri, at_nodes @ values, shading="gouraud", cmap=cmap, vmin=lo, vmax=hi)
         ax.set_aspect("equal")
-        fig.colorbar(shaded, ax=ax, shrink=0.9, format="%.3g")
+        fig.colorbar(shaded, ax=ax, shrink=0.9, format="%.3g", label=named)
+    if dim == 3:
+        _label_face(axes[None], result.scene)
     fig.suptitle(f"{result.scene.name}: contact coefficients over Γ_C", fontsize=10)
     return fig
 

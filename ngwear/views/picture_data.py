@@ -64,9 +64,9 @@ class Scales:
 
     @classmethod
     def of(cls, result, displacements) -> Scales:
+        """|u| over the frames, w and p over the run: each colour bar spans its data from 0 (the wear not up to g)."""
         u = max(np.linalg.norm(u, axis=1).max() for u in displacements)
-        w = max(result.wear.max(), result.scene.contact.gap)
-        return cls(_positive(u), _positive(w), _positive(result.pressure.max()))
+        return cls(_positive(u), _positive(result.wear.max()), _positive(result.pressure.max()))
 
 
 @dataclass(frozen=True)
@@ -94,8 +94,8 @@ class PictureData:
         self.result, self.field, self.magnify, self.mesh = result, field, magnify, mesh
         shown = {s: vertex_displacement(result, s) for s in sorted(set(result.stored_steps) | set(steps))}
         self.scales = Scales.of(result, [elastic(result, s, u) for s, u in shown.items()])
-        moved = np.array([mesh.points + magnify * u for u in shown.values()])
-        self.lo, self.hi = moved.min(axis=(0, 1)), moved.max(axis=(0, 1))
+        self.moved = np.array([mesh.points + magnify * u for u in shown.values()])
+        self.lo, self.hi = self.moved.min(axis=(0, 1)), self.moved.max(axis=(0, 1))
         self.at_vertices = result.discretization.points.at_vertices
 
     @property
@@ -169,18 +169,30 @@ class PictureData:
         return ((x0, x1, -g - depth, -g, -0.02, -0.01) if dim == 2
                 else (x0, x1, lo[1] + 0.02 * size, hi[1] + 0.05 * size, -g - depth, -g))
 
-    def foundation_bounds(self) -> tuple:
-        """(x0, x1, y0, y1, z0, z1) of the foundation: the block, or the rotor's sector."""
-        if self.rotor is None:
-            return self.box()
-        points = self.sector().reshape(-1, 3)
-        return tuple(float(f(points[:, k])) for k in range(3) for f in (np.min, np.max))
+    def view(self) -> tuple:
+        """(x0, x1, y0, y1) a 2D picture frames: the foundation's block up to the highest point of the body.
 
-    def view(self) -> list:
-        """Bounds the camera fits: the foundation up to the highest point of the body."""
-        view = list(self.foundation_bounds())[:2 * self.dim]
-        view[2 * self.dim - 1] = max(self.hi[-1], view[2 * self.dim - 1])
-        return view if self.dim == 3 else [*view, -0.02, -0.01]
+        A 3D picture frames :meth:`framed`.
+        """
+        x0, x1, y0, y1 = self.box()[:4]
+        return x0, x1, y0, max(self.hi[-1], y1)
+
+    def framed(self) -> np.ndarray:
+        """The points a 3D picture frames: the part, its layer down to the foundation, the motion's arrow and label.
+
+        The part at every step shown, the arrow's path and its label's anchor.  The foundation may run out of the
+        picture: it is the ground the part stands on, not what the picture shows.
+        """
+        nu, g = np.asarray(self.result.scene.contact.direction), self.result.scene.contact.gap
+        points = [self.moved.reshape(-1, 3), self.moved[:, np.unique(self.mesh.facets)].reshape(-1, 3) + g * nu]
+        for step in self.result.stored_steps:
+            motion = self.motion(step)
+            if motion is not None:
+                shape, where, _ = motion
+                points.append(np.vstack([shape.path, shape.tip]) if isinstance(shape, ArcArrow) else
+                              np.array([shape.start, shape.start + shape.length * shape.direction]))
+                points.append(np.asarray(where)[None])
+        return np.vstack(points)
 
     def motion(self, step: int) -> tuple[StraightArrow | ArcArrow, np.ndarray, str] | None:
         """Arrow, label position and label of the foundation's motion at a step (None when it is at rest)."""

@@ -5,8 +5,10 @@ The picture (paper, Figs. 1–4) is described, and its arrays computed, in
 objects and draws them: the body coloured by |u| (or plain), the remaining layer coloured by w (or
 p), the worn-away part of the layer translucent, the foundation (a block, or a sector of the
 rotor) with an arrow or an arc arrow for its motion.  A 3D picture looks from below, through the
-translucent foundation, at the worn contact face; the colour bars say what they show, with units in an SI
-scene.  No numerical module imports this one.
+translucent foundation, at the worn contact face, turned so that the part's longest extent runs across the
+window, and the part fills the window left of the colour bars (:data:`FRAME`).  The colour bars say what they
+show, with units in an SI scene, and span the run's data from 0: the wear's up to its largest w, the layer's
+thickness g noted under it.  No numerical module imports this one.
 A :class:`Canvas` keeps one plotter for many pictures (figures, animations, the explorer).
 
 VTK's OpenGL contexts belong to the thread that created them: a plotter used from another thread
@@ -30,7 +32,7 @@ from PIL import Image
 from vtkmodules.vtkCommonCore import VTK_FONT_FILE
 
 from ..results.folder import replacing
-from ..results.units import label
+from ..results.units import label, unit
 from ..results.vtk import frame_name
 from . import video
 from .picture_data import LAYER_FIELDS, ArcArrow, MeshArrays, PictureData, StraightArrow, xyz
@@ -177,6 +179,11 @@ class Canvas:
                 line_width=0.5, scalar_bar_args=_bar(titles[name], int(self.field == "displacement"), width),
                 lighting=False)                         # its colours as the bar shows them, seen from any side
             pl.add_mesh(parts["worn"].grid, color=WORN_COLOR, opacity=0.5 if picture.dim == 2 else 0.2, **lit)
+            if name == "wear":                          # under the wear's bar: g, and how much of it the top is
+                x, y = _bar(titles[name], int(self.field == "displacement"), width)["position_x"], BAR_BOTTOM
+                parts["gap_note"] = pl.add_text("", position=(round((x - 0.01) * width),
+                                                              round((y - 0.1) * self.window_size[1])),
+                                                font_size=9, color="black")
         parts["foundation"] = foundation(picture)      # 3D: seen through from below, onto the contact face
         pl.add_mesh(parts["foundation"], color=FOUNDATION_COLOR, opacity=0.15 if picture.dim == 3 else 1.0, **lit)
         parts["arrow"] = pv.Arrow()
@@ -194,7 +201,7 @@ class Canvas:
                         color="black")
         for bar in pl.scalar_bars.values():
             _font(bar.GetTitleTextProperty(), bar.GetLabelTextProperty())
-        _font(parts["caption"].GetTextProperty())
+        _font(*(parts[text].GetTextProperty() for text in ("caption", "gap_note") if text in parts))
         self._plotter, self._parts = pl, parts
 
     def _update(self, picture: PictureData, step: int) -> None:
@@ -210,6 +217,8 @@ class Canvas:
             parts["layer"].update(top, bottom, {name: values})
             parts["worn"].update(bottom, worn, {})
             parts["layer_actor"].mapper.scalar_range = (0, getattr(scales, name))
+            if name == "wear":
+                parts["gap_note"].SetInput(gap_note(picture.result.scene, scales.wear))
         parts["foundation"].copy_from(foundation(picture))
         motion = picture.motion(step)
         parts["arrow_actor"].visibility = parts["label_actor"].visibility = motion is not None
@@ -219,7 +228,7 @@ class Canvas:
             parts["label"].points = np.asarray(where)[None]
             parts["label"].point_data["label"] = np.array([label])
         parts["caption"].SetInput(picture.caption(step))
-        _camera(self._plotter, picture.dim, picture.view(), self.window_size, picture.rotor is not None)
+        _camera(self._plotter, picture, self.window_size)
 
 
 def frame(result, step: int, *, field: str = "displacement", magnify: float = 1.0,
@@ -341,6 +350,12 @@ def bar_titles(result) -> dict[str, str]:
             "wear": label(scene, "wear w", "length"), "pressure": label(scene, "pressure p", "pressure")}
 
 
+def gap_note(scene, top: float) -> str:
+    """The note under the wear's colour bar, which spans 0 … max w: the layer's thickness g and the top's share of it."""
+    gap, metres = scene.contact.gap, unit(scene, "length")
+    return f"g = {gap:.3g}{f' {metres}' if metres else ''}\ntop: {top / gap:.0%} of g"
+
+
 def _font(*properties) -> None:
     """Draw text with :data:`FONT` (VTK drops Greek letters and '|' from its own fonts)."""
     for prop in properties:
@@ -348,32 +363,68 @@ def _font(*properties) -> None:
         prop.SetFontFile(FONT)
 
 
+BAR_BOTTOM = 0.3
+"""Where the colour bars start, as a fraction of the window's height."""
+
+
 def _bar(title: str, slot: int, width: int) -> dict:
     """A vertical scalar bar at the right edge of a window ``width`` pixels wide; slot 0 outermost."""
     scale = min(1.0, width / 1200)
-    return dict(title=title, vertical=True, position_x=0.93 - 0.1 * slot, position_y=0.3, width=0.03,
+    return dict(title=title, vertical=True, position_x=0.93 - 0.1 * slot, position_y=BAR_BOTTOM, width=0.03,
                 height=0.6, color="black", fmt="%.3g", n_labels=5, title_font_size=round(16 * scale),
                 label_font_size=round(13 * scale))
 
 
-def _camera(pl: pv.Plotter, dim: int, bounds, window_size, rotor: bool = False) -> None:
-    """Fit the scene into the left ~80 % of the window (room for the scalar bars on the right).
+FRAME = (0.03, 0.79, 0.08, 0.9)
+"""Where a picture's subject goes: the window's fraction from its left (0) to right (1) and bottom to top, leaving
+the scalar bars on the right, the caption above and the note below."""
 
-    A 3D part is seen from below, through the translucent foundation, onto its worn contact face; a part on a
-    rotor from further below, so that the whole face and the rotor's arc arrow show.
+
+def _camera(pl: pv.Plotter, picture: PictureData, window_size) -> None:
+    """Look at the picture's subject and fill :data:`FRAME` with it (parallel projection).
+
+    A 3D part is seen from below, through the translucent foundation, onto its worn contact face (from further
+    below on a rotor, so that the whole face shows); it is framed with its layer and the arrow of the foundation's
+    motion (:meth:`PictureData.framed`).  A 2D picture is seen from the front, the foundation's block included.
     """
-    if dim == 3:
-        pl.view_xz()
-        pl.camera.azimuth, pl.camera.elevation = -25, -55 if rotor else -40
-        pl.reset_camera(bounds=bounds)
-        pl.camera.zoom(1.25 if rotor else 1.1)
-        return
-    lo, hi = np.array(bounds[::2]), np.array(bounds[1::2])
-    aspect = window_size[0] / window_size[1]
-    height = max((hi - lo)[1] / 0.8, (hi - lo)[0] / (0.76 * aspect))
-    center = np.array([lo[0] - 0.03 * height * aspect + 0.5 * height * aspect, 0.5 * (lo[1] + hi[1]), 0.0])
     pl.enable_parallel_projection()
-    pl.camera.focal_point = center
-    pl.camera.position = center + (0, 0, 10)
-    pl.camera.up = (0, 1, 0)
-    pl.camera.parallel_scale = 0.5 * height
+    if picture.dim == 3:
+        pl.view_xz()
+        pl.camera.azimuth, pl.camera.elevation = -25, -55 if picture.rotor is not None else -40
+        points = picture.framed()
+        _level(pl.camera, points)
+    else:
+        pl.camera.position, pl.camera.focal_point, pl.camera.up = (0, 0, 10), (0, 0, 0), (0, 1, 0)
+        x0, x1, y0, y1 = picture.view()
+        points = np.array([[x0, y0, 0.0], [x1, y1, 0.0]])
+    _fit(pl.camera, points, window_size[0] / window_size[1])
+    pl.reset_camera_clipping_range()
+
+
+def _level(camera, points: np.ndarray) -> None:
+    """Turn the camera about its direction so that the longest extent of ``points`` runs across the window."""
+    forward = np.asarray(camera.direction)
+    up = np.asarray(camera.up) - (np.asarray(camera.up) @ forward) * forward
+    up /= np.linalg.norm(up)
+    right = np.cross(forward, up)
+    seen = np.column_stack([points @ right, points @ up])
+    major = np.linalg.eigh(np.cov(seen.T))[1][:, -1]          # the principal axis of the points as seen
+    angle = np.arctan2(major[1], major[0])
+    angle = (angle + np.pi / 2) % np.pi - np.pi / 2            # the smaller turn: within ±90°
+    camera.up = np.cos(angle) * up - np.sin(angle) * right
+
+
+def _fit(camera, points: np.ndarray, aspect: float) -> None:
+    """Point the camera (its direction and up kept) at the middle of ``points`` so that they fill :data:`FRAME`."""
+    forward = np.asarray(camera.direction)
+    up = np.asarray(camera.up) - (np.asarray(camera.up) @ forward) * forward
+    up /= np.linalg.norm(up)
+    right = np.cross(forward, up)
+    across, along, deep = points @ right, points @ up, points @ forward
+    left, width, bottom, height = FRAME[0], FRAME[1] - FRAME[0], FRAME[2], FRAME[3] - FRAME[2]
+    scale = max(np.ptp(along) / height, np.ptp(across) / (width * aspect), 1e-300) / 2   # half the window's height
+    middle = np.array([across.min() + np.ptp(across) / 2, along.min() + np.ptp(along) / 2])
+    shift = 2 * scale * np.array([aspect * (0.5 - left - width / 2), 0.5 - bottom - height / 2])
+    focus = (middle[0] + shift[0]) * right + (middle[1] + shift[1]) * up + deep.mean() * forward
+    camera.focal_point, camera.position = focus, focus - (np.ptp(deep) + 4 * scale) * forward
+    camera.parallel_scale = scale
