@@ -1,5 +1,6 @@
 """The README's examples: the Python one runs verbatim and prints the numbers shown beside it; the first CLI one is
-right as printed."""
+right as printed.
+"""
 import re
 import shlex
 
