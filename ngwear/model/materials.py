@@ -329,14 +329,14 @@ LAW_KEYS = {
     "energy": ((("energy",),), ()),
 }
 """What each ``material.law`` needs; any other constant is refused."""
+_CONSTANTS = sorted({k for ways, optional in LAW_KEYS.values() for way in ways for k in (*way, *optional)})
 
 
 def check_table(table, key: str) -> None:
     """Refuse a material table whose constants do not fit its law: one line naming the key (``key.young``)."""
     law = table.kind
     ways, optional = LAW_KEYS[law]
-    given = {name for name in type(table).model_fields
-             if name not in ("law", "regions") and getattr(table, name) is not None}
+    given = {name for name in _CONSTANTS if getattr(table, name) is not None}
     allowed = {k for way in ways for k in way} | set(optional)
     choices = "either " + ", or ".join(_listing(way) for way in ways) if len(ways) > 1 else _listing(ways[0])
     stray = sorted(given - allowed)
