@@ -34,7 +34,7 @@ class Thermal:
 
     @property
     def effusivity(self) -> float:
-        """e = √(k ρc)."""
+        """The effusivity e = √(k ρc)."""
         return math.sqrt(self.conductivity * self.capacity)
 
 

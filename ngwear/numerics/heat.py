@@ -49,7 +49,7 @@ class Balance:
 
     @property
     def residual(self) -> float:
-        """stored − (supplied − convected): zero to round-off."""
+        """The balance's defect, stored − (supplied − convected): zero to round-off."""
         return self.stored - (self.supplied - self.convected)
 
 
