@@ -10,7 +10,7 @@ Charron's partition of two semi-infinite bodies in perfect contact,
 e_b of the region that carries Γ_C, e_f of the counterface (``foundation.conductivity``, ``density``,
 ``heat_capacity``).  A linear law's thermal stress per unit temperature rise is β = C : (α_th I) with the 3D
 stiffness C; in 2D (plane strain, ε₃₃ = 0) its in-plane block, which the out-of-plane expansion loads through
-C₁₃, C₂₃ (isotropic: β = (3λ + 2η) α_th I in 2D and 3D).
+C₁₃, C₂₃ (Hooke: β = (3λ + 2η) α_th I = E α_th / (1 − 2ν) I in 2D and 3D, λ and η the Lamé constants).
 """
 from __future__ import annotations
 
