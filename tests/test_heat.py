@@ -213,3 +213,6 @@ def test_frictional_power_and_a_bad_flux():
     heat, _ = heat_of(scene_of(size=(1.0, 0.2), maxh=0.2))
     with pytest.raises(ValueError, match="one frictional power per contact point"):
         heat.advance(0.1, np.ones(3))
+    scene = scene_of(size=(1.0, 0.2), maxh=0.2)
+    with pytest.raises(ValueError, match=r"heat: the scene has no temperature \(heat.model = 'none'\)"):
+        heat_of(scene.replace(**{"heat.model": "none"}))

@@ -82,6 +82,8 @@ class Heat:
     """
 
     def __init__(self, scene, mesh: ngs.Mesh, points):
+        if scene.heat.model != "conduction":
+            raise ValueError(f"heat: the scene has no temperature (heat.model = {scene.heat.model!r})")
         props, heat = region_properties(scene), scene.heat
         self.space = ngs.H1(mesh, order=1)
         u, v = self.space.TnT()
