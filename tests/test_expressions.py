@@ -61,7 +61,7 @@ def test_2d_points_have_z_zero_and_constants_broadcast():
 
 
 @pytest.mark.parametrize("text, message", [
-    ("0.3*foo", "unknown name 'foo' at position 5 in \"0.3*foo\" (allowed: x, y, z, pi, sqrt, exp, log, sin, cos,"),
+    ("0.3*foo", "unknown name 'foo' at position 5 in \"0.3*foo\" (allowed: x, y, z, pi, T, p, v, sqrt, exp, log, sin, cos,"),
     ("__import__('os')", "unknown function '__import__' at position 1"),
     ("x.__class__", "attribute access not allowed at position 1"),
     ("().__class__.__bases__[0]", "subscripts not allowed"), ("().__class__", "attribute access not allowed"),

@@ -83,6 +83,13 @@ def plate_only(fn):
     return lambda s: fn(s) if s.loads.plate is not None else None
 
 
+def heated(**change):
+    """The strip heated (k = ρ = c = 1, η = 1) with ``change`` (the heat is read at solve time: one kind will do)."""
+    base = {"heat.model": "conduction", "heat.partition": 1.0, "material.conductivity": 1.0, "material.density": 1.0,
+            "material.heat_capacity": 1.0}
+    return lambda s: {**base, **change} if s.geometry.kind == "strip" else None
+
+
 # key → the overrides that change it in a scene (None: not for that scene)
 CHANGES = {
     "name": lambda s: {"name": "other"},
@@ -160,6 +167,24 @@ CHANGES = {
     "output.every": lambda s: {"output.every": s.time.T / 2},
     "output.times": lambda s: {"output.times": [0.0, s.time.T]},
     "output.checkpoint_seconds": lambda s: {"output.checkpoint_seconds": 0.0},
+    "material.conductivity": heated(**{"material.conductivity": 2.0}),
+    "material.heat_capacity": heated(**{"material.heat_capacity": 2.0}),
+    "material.density": heated(**{"material.density": 2.0}),
+    "material.expansion": heated(**{"material.expansion": 1e-3}),
+    "foundation.temperature": heated(**{"foundation.temperature": 5.0}),
+    "foundation.thermal_mass": heated(**{"foundation.thermal_mass": 2.0, "foundation.cooling": 0.5}),
+    "foundation.cooling": heated(**{"foundation.thermal_mass": 2.0, "foundation.cooling": 1.5}),
+    "foundation.conductivity": heated(**{"heat.partition": "effusivity", "foundation.conductivity": 2.0,
+                                         "foundation.density": 1.0, "foundation.heat_capacity": 1.0}),
+    "foundation.density": heated(**{"heat.partition": "effusivity", "foundation.conductivity": 1.0,
+                                    "foundation.density": 2.0, "foundation.heat_capacity": 1.0}),
+    "foundation.heat_capacity": heated(**{"heat.partition": "effusivity", "foundation.conductivity": 1.0,
+                                          "foundation.density": 1.0, "foundation.heat_capacity": 2.0}),
+    "heat.model": heated(),
+    "heat.partition": heated(**{"heat.partition": 0.5}),
+    "heat.convection": heated(**{"heat.convection": [{"boundary": "top", "coefficient": 2.0}]}),
+    "heat.ambient": heated(**{"heat.ambient": 20.0}),
+    "heat.initial": heated(**{"heat.initial": 30.0}),
 }
 
 

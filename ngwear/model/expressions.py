@@ -1,9 +1,11 @@
 """Coefficient fields over Γ_C: a number, or an expression in x, y, z evaluated at the contact points.
 
 ``contact.friction = "where(hypot(x, y) < 0.05, 0, 0.4)"`` gives μ(x) = 0 on a disc of radius 0.05 and 0.4 elsewhere.
+An expression may also name the state at the point, :data:`STATE`: T (the surface temperature), p (the pressure),
+v (the sliding speed); ``contact.friction = "0.42 - 0.0004 * max(T - 250, 0)"`` fades above 250 degrees.
 The grammar is fixed (Python's precedence and associativity, so ``-2**2 = -4`` and ``2**3**2 = 2**9``)::
 
-    number     := arithmetic of numbers, x, y, z, pi with + - * / ** (unary + and - too) and parentheses,
+    number     := arithmetic of numbers, x, y, z, pi, T, p, v with + - * / ** (unary + and - too) and parentheses,
                   sqrt exp log sin cos abs (one argument), atan2 hypot (two), min max (two or more),
                   where(condition, number, number)
     condition  := number (< | <= | > | >= | == | !=) number (chains as in 0 < x < 1),
@@ -38,7 +40,9 @@ MAX_LENGTH = 1000
 MAX_DEPTH = 60
 """Deepest syntax tree accepted (``ast`` levels; ``sqrt(x)`` is 4 deep, each operator or call adds 1–2)."""
 
-NAMES = ("x", "y", "z", "pi")
+STATE = ("T", "p", "v")
+"""The names of the state at a contact point: its temperature, pressure and sliding speed."""
+NAMES = ("x", "y", "z", "pi", *STATE)
 FUNCTIONS: dict[str, tuple[int, int | None, Callable]] = {
     # name: (fewest arguments, most arguments (None: any), numpy function)
     "sqrt": (1, 1, np.sqrt), "exp": (1, 1, np.exp), "log": (1, 1, np.log), "sin": (1, 1, np.sin),
@@ -62,7 +66,7 @@ NUMBER, CONDITION = "a number", "a condition"
 
 @dataclass(frozen=True)
 class Expression:
-    """A checked expression of x, y, z for the scene key ``key``; build it with :meth:`parse`.
+    """A checked expression of x, y, z (and of the state T, p, v) for the scene key ``key``; build it with :meth:`parse`.
 
     Attributes
     ----------
@@ -105,33 +109,44 @@ class Expression:
         _Checker(text, key).run(tree)
         return cls(text, key, tree)
 
-    def evaluate(self, points: np.ndarray) -> np.ndarray:
+    @property
+    def state(self) -> frozenset[str]:
+        """The names of :data:`STATE` the expression uses (empty: a field of x, y, z alone)."""
+        return frozenset(n.id for n in ast.walk(self.tree) if isinstance(n, ast.Name)) & set(STATE)
+
+    def evaluate(self, points: np.ndarray, state: dict[str, np.ndarray] | None = None) -> np.ndarray:
         """The values at ``points`` (n × d, d = 2 or 3; z = 0 in 2D), shape (n,), float64.
 
+        ``state``: the arrays (n,) of the names of :attr:`state` at the points (``{"T": ..., "p": ...}``).
         Non-finite values (overflow, log of a negative number, division by zero) are returned as they are:
         :func:`check_values` refuses them.
         """
         pts = np.asarray(points, dtype=float)
         if pts.ndim != 2 or pts.shape[1] not in (2, 3):
             raise ValueError(f"{self.key}: points must be an (n, 2) or (n, 3) array (got shape {pts.shape})")
+        missing = sorted(self.state - set(state or ()))
+        if missing:
+            raise ValueError(f"{self.key}: depends on {', '.join(missing)}: give its values at the points")
         coords = {"x": pts[:, 0], "y": pts[:, 1], "z": pts[:, 2] if pts.shape[1] == 3 else np.zeros(len(pts)),
-                  "pi": np.pi}
+                  "pi": np.pi, **{name: np.asarray(state[name], dtype=float) for name in self.state}}
         with np.errstate(all="ignore"):
             values = _evaluate(self.tree.body, coords)
         return np.broadcast_to(np.asarray(values, dtype=float), (len(pts),)).copy()
 
 
-def values_at(value, key: str, points: np.ndarray, **bounds) -> np.ndarray:
+def values_at(value, key: str, points: np.ndarray, state: dict | None = None, t: float | None = None,
+              **bounds) -> np.ndarray:
     """The coefficient ``value`` at ``points``, checked by :func:`check_values` with ``bounds``.
 
     ``value``: a number, an expression string (or :class:`Expression`), an array with one value per point, or a
-    callable ``f(points) -> (n,)``.
+    callable ``f(points) -> (n,)``.  ``state``: the state's arrays at the points (an expression of T, p, v), named
+    with the time ``t`` by a refusal.
     """
     pts = np.asarray(points, dtype=float)
     if isinstance(value, str):
         value = Expression.parse(value, key)
     if isinstance(value, Expression):
-        values = value.evaluate(pts)
+        values = value.evaluate(pts, state)
     elif callable(value):
         values = np.asarray(value(pts), dtype=float)
     else:
@@ -139,14 +154,16 @@ def values_at(value, key: str, points: np.ndarray, **bounds) -> np.ndarray:
     values = np.broadcast_to(values, (len(pts),)) if values.ndim == 0 else values
     if values.shape != (len(pts),):
         raise SceneError(f"{key}: must give one value per contact point ({len(pts)}) (got shape {values.shape})")
-    return check_values(key, values, pts, **bounds)
+    return check_values(key, values, pts, state=state, t=t, **bounds)
 
 
 def check_values(key: str, values: np.ndarray, points: np.ndarray, *, lo: float | None = None,
-                 hi: float | None = None, lo_open: bool = False, hi_open: bool = False) -> np.ndarray:
+                 hi: float | None = None, lo_open: bool = False, hi_open: bool = False, state: dict | None = None,
+                 t: float | None = None) -> np.ndarray:
     """``values`` if each is finite and in the range; else one line naming the key, the value and the first point.
 
-    The range is lo ≤ v ≤ hi (strict where ``lo_open`` / ``hi_open``), either end optional.  Returns ``values``.
+    The range is lo ≤ v ≤ hi (strict where ``lo_open`` / ``hi_open``), either end optional.  ``state`` (arrays
+    at the points) and the time ``t``, where given, are named too.  Returns ``values``.
     """
     values = np.asarray(values, dtype=float)
     bad = ~np.isfinite(values)
@@ -161,7 +178,9 @@ def check_values(key: str, values: np.ndarray, points: np.ndarray, *, lo: float 
     if bad.any():
         i = int(np.argmax(bad))
         where = ", ".join(f"{c:.6g}" for c in np.asarray(points, dtype=float)[i])
-        raise SceneError(f"{key}: must be {rule} at every contact point (got {values[i]:.6g} at ({where}))")
+        there = ", ".join(f"{name} = {np.asarray(v)[i]:.6g}" for name, v in (state or {}).items())
+        there = (f" with {there}" if there else "") + ("" if t is None else f" at t = {t:.6g}")
+        raise SceneError(f"{key}: must be {rule} at every contact point (got {values[i]:.6g} at ({where}){there})")
     return values
 
 

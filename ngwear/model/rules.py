@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from .coefficients import bound, describe
+from .coefficients import NAMES, bound, describe, state_of
 from .compliance import COMPLIANCES, largest_slope
 from .keys import SceneError, range_text
 from .kinds import KINDS, check_features, owners
@@ -25,6 +25,7 @@ def check(scene) -> None:
     _check_motion(scene)
     _check_loads(scene)
     _check_time(scene)
+    _check_heat(scene)
     if scene.solver.method == "full" and scene.wear.integrator != "explicit":
         raise SceneError(f"solver.method: 'full' supports only wear.integrator = 'explicit' "
                          f"(got {scene.wear.integrator!r}; use solver.method = 'condensed')")
@@ -291,3 +292,58 @@ def frame_count(scene) -> float:
 
 def _count(number: float) -> str:
     return f"{number:.3g}" if number >= 1e9 else f"{int(number)}"
+
+
+# ---------------------------------------------------------------- heat
+
+
+def _check_heat(scene) -> None:
+    """A coefficient of T needs the temperature; ``conduction`` needs k, ρ, c everywhere, η and a counterface."""
+    h, f = scene.heat, scene.foundation
+    if h.model == "none":
+        for name in NAMES:
+            if "T" in state_of(getattr(scene.contact, name), name):
+                raise SceneError(f"contact.{name}: depends on the temperature T: needs heat.model = 'conduction' "
+                                 f"(got {h.model!r})")
+        return
+    material = scene.material
+    for region, table in material.by_region(scene.geometry.regions).items():
+        owner = f"material.regions.{region}" if region in material.regions else "material"
+        for name in ("conductivity", "heat_capacity", "density"):
+            if getattr(table, name) is None:
+                raise SceneError(f"{owner}.{name}: missing (heat.model = 'conduction' needs conductivity, "
+                                 "heat_capacity and density on every region)")
+        if table.expansion and table.kind == "energy" and scene.dim == 2:
+            raise SceneError(f"{owner}.expansion: not for material.law = 'energy' in 2D (ψ of the in-plane strain "
+                             "has no out-of-plane stiffness for the plane-strain thermal stress)")
+    if h.partition is None:
+        raise SceneError("heat.partition: missing (heat.model = 'conduction' needs the body's share η of the "
+                         "frictional heat: a number in [0, 1] or 'effusivity')")
+    if h.partition == "effusivity":
+        for name in ("conductivity", "density", "heat_capacity"):
+            if getattr(f, name) is None:
+                raise SceneError(f"foundation.{name}: missing (heat.partition = 'effusivity' needs the "
+                                 "counterface's conductivity, density and heat_capacity)")
+    boundaries, seen = scene.geometry.boundaries, set()
+    for i, entry in enumerate(h.convection):
+        if entry.boundary not in boundaries or entry.boundary == "contact" or entry.boundary in seen:
+            allowed = ", ".join(b for b in boundaries if b != "contact" and b not in seen)
+            raise SceneError(f"heat.convection[{i}].boundary: unknown, contact or repeated boundary "
+                             f"{entry.boundary!r} (allowed: {allowed})")
+        seen.add(entry.boundary)
+    _check_counterface(f, scene.time.T)
+
+
+def _check_counterface(f, T: float) -> None:
+    """A given temperature (a number or a table over [0, T]) or a lumped disc with its cooling, not both."""
+    if f.thermal_mass is not None:
+        if f.temperature is not None:
+            raise SceneError("foundation.temperature: not with foundation.thermal_mass (a lumped counterface's "
+                             "temperature is computed; give one of them)")
+        if f.cooling is None:
+            raise SceneError("foundation.cooling: missing (a lumped counterface, foundation.thermal_mass, needs its "
+                             "cooling H_d >= 0)")
+    elif f.cooling is not None:
+        raise SceneError("foundation.cooling: only with foundation.thermal_mass (a lumped counterface)")
+    if isinstance(f.temperature, tuple):
+        _check_table(f.temperature, "foundation.temperature", T)

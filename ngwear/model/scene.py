@@ -1,7 +1,7 @@
 """Scenes: plain frozen data describing one contact-with-wear simulation.
 
 A scene is read from TOML with nested tables (``[geometry]``, ``[mesh]``, ``[material]``, ``[contact]``,
-``[foundation]``, ``[loads]``, ``[time]``, ``[wear]``, ``[solver]``, ``[output]``) and two top-level keys
+``[foundation]``, ``[loads]``, ``[time]``, ``[wear]``, ``[heat]``, ``[solver]``, ``[output]``) and two top-level keys
 (``name``, ``units``), each key declared once
 in :mod:`ngwear.model.sections`.  :meth:`Scene.from_dict` first prepares the raw tables (a part given in
 Python becomes a cached file, a part file is read, the defaults that depend on the kind and on other keys
@@ -28,6 +28,7 @@ from .sections import (
     Contact,
     Foundation,
     Geometry,
+    HeatSpec,
     Loads,
     Material,
     MeshSpec,
@@ -54,7 +55,7 @@ class Scene(TopLevel):
         The scene's name (output folder, titles).
     units : {"SI"} or None
         The unit system of its numbers (None: dimensionless).
-    geometry, mesh, material, contact, foundation, loads, time, wear, solver, output : Section
+    geometry, mesh, material, contact, foundation, loads, time, wear, heat, solver, output : Section
         The scene file's tables, with their keys as attributes (``scene.contact.friction``).
     dim : int
         2 or 3.
@@ -72,6 +73,7 @@ class Scene(TopLevel):
     loads: Loads = Loads()
     time: TimeGrid = TimeGrid()
     wear: WearSpec = WearSpec()
+    heat: HeatSpec = HeatSpec()
     solver: SolverSpec = SolverSpec()
     output: Output = Output()
 

@@ -1,7 +1,7 @@
 """The tables of a scene file and their keys, each declared once: type, range, documentation, what it invalidates.
 
 The top-level keys ``name`` and ``units``, then ``[geometry]``, ``[mesh]``, ``[material]``, ``[contact]``,
-``[foundation]``, ``[loads]`` (with ``plate``), ``[time]``, ``[wear]``, ``[solver]``, ``[output]``.  Ranges
+``[foundation]``, ``[loads]`` (with ``plate``), ``[time]``, ``[wear]``, ``[heat]``, ``[solver]``, ``[output]``.  Ranges
 that depend on other keys are rules of :mod:`ngwear.model.rules`; the kinds of ``geometry.kind`` come from the registry
 (:mod:`ngwear.model.kinds`).
 """
@@ -20,7 +20,7 @@ from .kinds import KINDS, ordered
 from .materials import LAWS, constants, groups, lame
 
 KindName = Literal[tuple(kind.name for kind in ordered())]
-Coefficient = float | str | tuple[float, ...]
+Coefficient = float | str | tuple[float, ...] | Table
 
 
 class TopLevel(Section):
@@ -135,11 +135,26 @@ class MaterialBase(Section):
         return any(getattr(self, c.name) is not None for c in constants())
 
 
+THERMAL_KEYS = {
+    "conductivity": (Number | None, key(None, "k, the thermal conductivity (`heat.model = \"conduction\"`)",
+                                        reuse=Level.NOTHING, shown="—", gt=0)),
+    "heat_capacity": (Number | None, key(None, "c, the specific heat capacity (per unit mass)", reuse=Level.NOTHING,
+                                         shown="—", gt=0)),
+    "density": (Number | None, key(None, "ρ, the density (the heat capacity per volume is ρc)", reuse=Level.NOTHING,
+                                   shown="—", gt=0)),
+    "expansion": (Number | None, key(None, "α_th, the linear thermal expansion coefficient: the thermal strain "
+                                     "α_th (T − T₀) I loads the body (`heat.model = \"conduction\"`)",
+                                     reuse=Level.NOTHING, shown="0", allowed="a number")),
+}
+"""A material's thermal keys: they hold for any law, and a region without its own takes ``[material]``'s."""
+THERMAL = tuple(THERMAL_KEYS)
+
 MaterialLaw = create_model("MaterialLaw", __base__=MaterialBase, __module__=__name__,
                            __doc__="One material: its ``law`` and constants (σ = F(ε), paper H(F)); see "
                                    ":mod:`ngwear.model.materials`.",
-                           **{c.name: c.declaration() for c in constants()})
-"""One material's table: :class:`MaterialBase` and the constants the laws declare (:mod:`ngwear.model.materials`)."""
+                           **{c.name: c.declaration() for c in constants()}, **THERMAL_KEYS)
+"""One material's table: :class:`MaterialBase`, the constants the laws declare (:mod:`ngwear.model.materials`) and
+the thermal keys."""
 
 
 class Material(MaterialLaw):
@@ -161,7 +176,8 @@ class Material(MaterialLaw):
             own = self.regions[name].model_dump(exclude_none=True) if name in self.regions else {}
             alien = {k for k in own if k in every and k not in mine}
             replaced = own.get("law", default.get("law")) != default.get("law") or alien
-            out[name] = MaterialLaw.model_validate(own if replaced else {**default, **own})
+            thermal = {k: v for k, v in default.items() if k in THERMAL}
+            out[name] = MaterialLaw.model_validate({**thermal, **own} if replaced else {**default, **own})
         return out
 
 
@@ -185,9 +201,11 @@ class Contact(ContactLawKeys):
     gap: Number = key(0.2, "g, thickness of the soft layer", reuse=Level.NOTHING, gt=0)
     friction: Coefficient = key(0.0, "μ: a number, or a field over Γ_C: an expression in x, y, z with + − * / **, "
                                 "sqrt, exp, log, sin, cos, atan2, hypot, abs, min, max, pi and where(condition, a, b) "
-                                "(e.g. `where(hypot(x, y) < 0.12, 0.3, 0.45)`); in Python also an array over the "
-                                "contact points or a function of them", reuse=Level.NOTHING,
-                                allowed=">= 0 at every contact point")
+                                "(e.g. `where(hypot(x, y) < 0.12, 0.3, 0.45)`), which may also use the state of the "
+                                "last step at the point: T (the surface temperature), p (the pressure), v (the sliding "
+                                "speed); or a table [[T, value], …] of the temperature (piecewise linear, constant "
+                                "beyond its ends); in Python also an array over the contact points or a function of "
+                                "them", reuse=Level.NOTHING, allowed=">= 0 at every contact point")
     wear: Coefficient = key(0.0, "κ, a number or a field over Γ_C (as `contact.friction`)", reuse=Level.NOTHING,
                             allowed=">= 0 at every contact point")
     direction: Vector | None = key(None, "ν, the contact direction (outward normal of a flat Γ_C)",
@@ -221,6 +239,35 @@ class Foundation(Section):
                                 allowed="d numbers")
     speed_table: Table = key((), "v*(x, t) scaled by s(t), piecewise linear through [[t, s], …]", reuse=Level.NOTHING,
                              shown="[] (s = 1)", allowed="covers [0, T]")
+    temperature: Number | Table | None = key(None, "`heat`: the counterface's given temperature T_f, a number or "
+                                             "piecewise linear through [[t, T_f], …] (not with "
+                                             "`foundation.thermal_mass`)", reuse=Level.NOTHING,
+                                             shown="`heat.ambient`", allowed="a number, or a table covering [0, T]")
+    thermal_mass: Number | None = key(None, "`heat`: C_d, the heat capacity of a lumped counterface (a disc) that "
+                                      "takes the heat the body does not and cools: "
+                                      "C_d dT_f/dt = (1 − η) Q − H_d (T_f − T_∞)", reuse=Level.NOTHING, shown="none",
+                                      gt=0)
+    cooling: Number | None = key(None, "`heat`: H_d, the lumped counterface's cooling (heat per unit time and degree)",
+                                 reuse=Level.NOTHING, shown="—", allowed=">= 0, with `foundation.thermal_mass`", ge=0)
+    conductivity: Number | None = key(None, "`heat.partition = \"effusivity\"`: the counterface's k",
+                                      reuse=Level.NOTHING, shown="—", gt=0)
+    density: Number | None = key(None, "`heat.partition = \"effusivity\"`: the counterface's ρ", reuse=Level.NOTHING,
+                                 shown="—", gt=0)
+    heat_capacity: Number | None = key(None, "`heat.partition = \"effusivity\"`: the counterface's c",
+                                       reuse=Level.NOTHING, shown="—", gt=0)
+
+    @field_validator("temperature", mode="before")
+    @classmethod
+    def _temperature(cls, value):
+        """A finite number or a table of [t, T_f] pairs."""
+        if value is None or (isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)):
+            return value
+        rows = value if isinstance(value, (list, tuple)) else None
+        if not rows or not all(isinstance(r, (list, tuple)) and len(r) == 2 and all(
+                isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in r) for r in rows):
+            raise SceneError(f"foundation.temperature: must be a finite number or a table [[t, T], …] of finite "
+                             f"numbers (got {value!r})")
+        return value
 
 
 class Plate(Section):
@@ -276,6 +323,68 @@ class WearSpec(Section):
                                reuse=Level.NOTHING)
 
 
+class Convection(Section):
+    """One entry of ``heat.convection``: −k ∂T/∂n = h (T − T_∞) on a named boundary."""
+
+    boundary: str = key(..., "a named boundary of the part, not `contact`", reuse=Level.NOTHING)
+    coefficient: Number = key(..., "h, the heat transfer coefficient", reuse=Level.NOTHING, ge=0)
+
+
+class HeatSpec(Section):
+    """Heat conduction in the body, ρc ∂T/∂t = ∇·(k∇T), heated on Γ_C by friction (see :mod:`ngwear.numerics.heat`)."""
+
+    model: Literal["none", "conduction"] = key(
+        "none", "`none`: no temperature (the paper's model); `conduction`: the temperature of the body, heated by "
+        "the share η of the frictional power μ p ‖v*‖ on Γ_C", reuse=Level.NOTHING)
+    partition: Number | Literal["effusivity"] | None = key(
+        None, "η, the share of the frictional heat that enters the body (the rest the counterface): a number, or "
+        "`effusivity`: η = e_b / (e_b + e_f), e = √(kρc) of the body's region on Γ_C and of the counterface "
+        "(`foundation.conductivity`, `density`, `heat_capacity`)", reuse=Level.NOTHING,
+        shown="— (needed with `conduction`)", allowed="in [0, 1], effusivity")
+    convection: tuple[Convection, ...] = key(
+        (), "[{ boundary, coefficient }, …]: convection −k ∂T/∂n = h (T − T_∞) on these boundaries; every other "
+        "boundary is adiabatic", reuse=Level.NOTHING, shown="[] (all adiabatic)",
+        allowed="named boundaries except `contact`, each once; h >= 0")
+    ambient: Number = key(0.0, "T_∞, the surroundings' temperature (convection, the counterface's cooling)",
+                          reuse=Level.NOTHING)
+    initial: Number | None = key(None, "T₀, the initial temperature of the body and of a lumped counterface; the "
+                                 "stress-free temperature of `material.expansion`", reuse=Level.NOTHING,
+                                 shown="`heat.ambient`")
+
+    @field_validator("convection", mode="before")
+    @classmethod
+    def _convection(cls, entries):
+        """A list of tables { boundary = name, coefficient = h >= 0 }, each refused by its index."""
+        if not isinstance(entries, (list, tuple)):
+            raise SceneError(f"heat.convection: must be a list of tables {{ boundary, coefficient }} (got {entries!r})")
+        for i, entry in enumerate(entries):
+            name = f"heat.convection[{i}]"
+            if isinstance(entry, Convection):
+                continue
+            if not isinstance(entry, dict) or set(entry) != {"boundary", "coefficient"}:
+                raise SceneError(f"{name}: must be a table {{ boundary = NAME, coefficient = h }} (got {entry!r})")
+            h = entry["coefficient"]
+            if not isinstance(entry["boundary"], str):
+                raise SceneError(f"{name}.boundary: must be a boundary's name (got {entry['boundary']!r})")
+            if isinstance(h, bool) or not isinstance(h, (int, float)) or not math.isfinite(h) or h < 0:
+                raise SceneError(f"{name}.coefficient: must be a finite number >= 0 (got {h!r})")
+        return entries
+
+    @field_validator("partition", mode="before")
+    @classmethod
+    def _partition(cls, value):
+        """A number in [0, 1] or ``"effusivity"``."""
+        number = isinstance(value, (int, float)) and not isinstance(value, bool)
+        if value is None or value == "effusivity" or (number and 0 <= value <= 1):
+            return value
+        raise SceneError(f"heat.partition: must be a number in [0, 1] or 'effusivity' (got {value!r})")
+
+    @property
+    def start(self) -> float:
+        """T₀: ``heat.initial``, or ``heat.ambient`` when it is not given."""
+        return self.ambient if self.initial is None else self.initial
+
+
 class SolverSpec(Section):
     """Nonlinear solver: ``condensed`` onto the contact points (fast) or ``full`` system (reference)."""
 
@@ -302,13 +411,13 @@ class Output(Section):
 
 
 SECTIONS = {"geometry": Geometry, "mesh": MeshSpec, "material": Material, "contact": Contact,
-            "foundation": Foundation, "loads": Loads, "time": TimeGrid, "wear": WearSpec, "solver": SolverSpec,
-            "output": Output}
+            "foundation": Foundation, "loads": Loads, "time": TimeGrid, "wear": WearSpec, "heat": HeatSpec,
+            "solver": SolverSpec, "output": Output}
 
 
 def nested_table(info) -> type[Section] | None:
-    """The section a field holds (``loads.plate``: :class:`Plate`), or None for a key (a table of tables too)."""
-    if get_origin(info.annotation) is dict:
+    """The section a field holds (``loads.plate``: :class:`Plate`), or None for a key (a table or list of tables too)."""
+    if get_origin(info.annotation) in (dict, tuple):
         return None
     for candidate in (info.annotation, *get_args(info.annotation)):
         if isinstance(candidate, type) and issubclass(candidate, Section):

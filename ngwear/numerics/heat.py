@@ -1,0 +1,191 @@
+"""Transient heat conduction in the body, heated by friction on Γ_C (DESIGN §6; issue 31).
+
+    ρc ∂T/∂t = ∇·(k ∇T) in Ω,   k ∂T/∂n = η q on Γ_C,   −k ∂T/∂n = h_b (T − T_∞) on the convected boundaries b,
+    ∂T/∂n = 0 on every other boundary,   T(0) = T₀,
+
+q = μ p ‖v*‖ the frictional power per unit area, η the body's share (:func:`ngwear.model.thermal.partition`),
+ρc, k per region (:mod:`ngwear.model.thermal`).  P1 on the body's mesh, every region (the heat enters through
+Γ_C and spreads smoothly; a temperature that is linear on each element is second order at the nodes, and the
+contact points sit on its vertices or edge midpoints), backward Euler on the steps of the wear:
+
+    (M + Δt (A + R)) T^{n+1} = M T^n + Δt (F^{n+1} + T_∞ r),
+
+M = ∫ ρc φ_i φ_j dx, A = ∫ k ∇φ_i·∇φ_j dx, R = Σ_b h_b ∫_b φ_i φ_j da, r = R 1, and the frictional heat the
+contact's nodal quadrature gives, F = Eᵀ (η m ∘ q^{n+1}), with the contact points' weights m_i and
+E_ij = φ_j(x_i) (1 at a point's own vertex; ½ at both ends of the edge whose midpoint a P2 point is).  The
+surface temperature at the points is E T.  Since Σ_j φ_j = 1, 1ᵀ M (T − T₀) = ∫ ρc (T − T₀) dx and A 1 = 0, so
+
+    ∫ ρc (T^{n+1} − T^n) dx = Δt (η Σ_i m_i q_i^{n+1} − r·(T^{n+1} − T_∞)),
+
+the energy balance, holds to the round-off of the solve (:meth:`Heat.balance`).  The matrix is factorised
+(PARDISO) once per step size; the last :data:`FACTORS` sizes are kept (adaptive steps change it).
+"""
+from __future__ import annotations
+
+from collections import OrderedDict
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+import scipy.sparse as sp
+from ngsolve.fem import NODE_TYPE
+
+from ..model.thermal import partition, region_properties
+from .counterface import counterface
+from .pardiso import Pardiso
+from .stiffness import assembled
+
+FACTORS = 4
+"""Factorisations kept, one per step size (the most recently used)."""
+
+
+@dataclass(frozen=True)
+class Balance:
+    """The body's heat so far: ``stored`` ∫ ρc (T − T₀) dx = ``supplied`` Σ Δt η Q − ``convected`` Σ Δt r·(T − T_∞)."""
+
+    stored: float
+    supplied: float
+    convected: float
+
+    @property
+    def residual(self) -> float:
+        """The balance's defect, stored − (supplied − convected): zero to round-off."""
+        return self.stored - (self.supplied - self.convected)
+
+
+class Heat:
+    """The temperature of the body on the scene's mesh, one step at a time (:meth:`advance`).
+
+    Parameters
+    ----------
+    scene : Scene
+        With ``heat.model = "conduction"``: k, ρ, c per region, ``heat.*``, the counterface's keys.
+    mesh : ngsolve.Mesh
+        The body's mesh (every region).
+    points : ContactPoints
+        The contact points x_i and their weights m_i (:func:`ngwear.numerics.forms.contact_points`).
+
+    Attributes
+    ----------
+    space : ngsolve.FESpace
+        P1 on the mesh.
+    temperature : numpy.ndarray
+        T at the nodes (the space's DOFs), now.
+    time : float
+        The time of ``temperature`` (the sum of the steps so far).
+    partition : float
+        η, the body's share of the frictional heat.
+    power : float
+        Q = Σ_i m_i q_i, the frictional power of the last step (body and counterface).
+    counterface : Given or Lumped
+        The counterface's temperature (:mod:`ngwear.numerics.counterface`).
+    """
+
+    def __init__(self, scene, mesh: ngs.Mesh, points):
+        if scene.heat.model != "conduction":
+            raise ValueError(f"heat: the scene has no temperature (heat.model = {scene.heat.model!r})")
+        props, heat = region_properties(scene), scene.heat
+        self.space = ngs.H1(mesh, order=1)
+        u, v = self.space.TnT()
+        capacity = mesh.MaterialCF({name: p.capacity for name, p in props.items()})
+        conductivity = mesh.MaterialCF({name: p.conductivity for name, p in props.items()})
+        self.mass = assembled(ngs.BilinearForm(capacity * u * v * ngs.dx, symmetric=True))
+        self.stiffness = assembled(ngs.BilinearForm(conductivity * ngs.grad(u) * ngs.grad(v) * ngs.dx, symmetric=True))
+        self.convection = sp.csr_matrix(self.mass.shape)
+        for entry in heat.convection:
+            form = ngs.BilinearForm(entry.coefficient * u * v * ngs.ds(entry.boundary), symmetric=True)
+            self.convection = self.convection + assembled(form)
+        self.capacity = self.mass @ np.ones(self.space.ndof)           # ∫ ρc φ_j dx
+        self.exchange = self.convection @ np.ones(self.space.ndof)     # r = R 1 = Σ_b h_b ∫_b φ_j da
+        self.evaluation = _evaluation(self.space, points)
+        self.weights = points.weights
+        touching = mesh.Boundaries("contact").Neighbours(ngs.VOL).Mask()
+        self.partition = partition(scene, [name for i, name in enumerate(mesh.GetMaterials()) if touching[i]])
+        self.ambient, self.start = heat.ambient, heat.start
+        self.temperature = np.full(self.space.ndof, self.start)
+        self.counterface = counterface(scene)
+        self.time = self.power = self.supplied = self.convected = 0.0
+        self._factors: OrderedDict[float, Pardiso] = OrderedDict()
+
+    def advance(self, dt: float, generated: np.ndarray) -> np.ndarray:
+        """T at the end of a step of length ``dt`` (backward Euler), the counterface's too; returns T (nodal).
+
+        ``generated``: q_i = μ_i p_i ‖v*_i‖ at the contact points at the step's end, the frictional power per unit
+        area; the body takes η q_i, the counterface (1 − η) Σ_i m_i q_i.
+        """
+        q = np.asarray(generated, dtype=float)
+        if q.shape != self.weights.shape:
+            raise ValueError(f"heat: one frictional power per contact point ({len(self.weights)}) (got {q.shape})")
+        self.power = float(self.weights @ q)
+        load = self.evaluation.T @ (self.partition * self.weights * q) + self.ambient * self.exchange
+        self.temperature = self._factor(dt).solve(self.mass @ self.temperature + dt * load)
+        self.time += dt
+        self.supplied += dt * self.partition * self.power
+        self.convected += dt * float(self.exchange @ (self.temperature - self.ambient))
+        self.counterface.advance(self.time, dt, (1 - self.partition) * self.power)
+        return self.temperature
+
+    def _factor(self, dt: float) -> Pardiso:
+        """The factorisation of M + Δt (A + R), made on the first step of this size."""
+        if dt in self._factors:
+            self._factors.move_to_end(dt)
+        else:
+            if len(self._factors) == FACTORS:
+                self._factors.popitem(last=False)
+            self._factors[dt] = Pardiso(self.mass + dt * (self.stiffness + self.convection))
+        return self._factors[dt]
+
+    def surface_temperature(self) -> np.ndarray:
+        """T(x_i) at the contact points, shape (n,)."""
+        return self.evaluation @ self.temperature
+
+    def max_temperature(self) -> float:
+        """The body's highest temperature (a P1 field's is at a node)."""
+        return float(self.temperature.max())
+
+    @property
+    def heat_flux(self) -> float:
+        """η Q, the frictional power into the body over the last step."""
+        return self.partition * self.power
+
+    def foundation_temperature(self) -> float:
+        """T_f, the counterface's temperature now."""
+        return self.counterface.temperature(self.time)
+
+    def balance(self) -> Balance:
+        """The body's heat so far: what it stores, what friction supplied, what convection took."""
+        stored = float(self.capacity @ (self.temperature - self.start))
+        return Balance(stored, self.supplied, self.convected)
+
+    @property
+    def state(self) -> dict[str, np.ndarray]:
+        """What a checkpoint keeps: T, (time, Q, supplied, convected) and the counterface's state."""
+        return {"temperature": self.temperature.copy(),
+                "heat": np.array([self.time, self.power, self.supplied, self.convected]),
+                "counterface": np.array(self.counterface.state, dtype=float)}
+
+    def restore(self, state: dict[str, np.ndarray]) -> None:
+        """Go on from a :attr:`state` (of a heat on the same mesh)."""
+        self.temperature = np.array(state["temperature"], dtype=float)
+        self.time, self.power, self.supplied, self.convected = (float(v) for v in state["heat"])
+        self.counterface.state = state["counterface"]
+
+
+def frictional_power(friction: np.ndarray, pressure: np.ndarray, speed: np.ndarray) -> np.ndarray:
+    """q_i = μ_i p_i ‖v*_i‖, the power per unit area friction turns into heat at the contact points."""
+    return friction * pressure * speed
+
+
+def _evaluation(space: ngs.FESpace, points) -> sp.csr_matrix:
+    """E (n × ndof): E_ij = φ_j(x_i) of the P1 basis at the contact points (vertices, or P2's edge midpoints)."""
+    mesh, rows, cols, vals = space.mesh, [], [], []
+
+    def dof(vertex: int) -> int:
+        return space.GetDofNrs(ngs.NodeId(NODE_TYPE.VERTEX, vertex))[0]
+
+    for i, (vertex, edge) in enumerate(zip(points.vertices, points.edges)):
+        ends = [int(vertex)] if vertex >= 0 else [v.nr for v in mesh[ngs.NodeId(NODE_TYPE.EDGE, int(edge))].vertices]
+        rows += [i] * len(ends)
+        cols += [dof(v) for v in ends]
+        vals += [1.0 / len(ends)] * len(ends)
+    return sp.csr_matrix((vals, (rows, cols)), shape=(points.n, space.ndof))
