@@ -13,8 +13,9 @@ from ngwear.model.geometry import build_mesh
 from ngwear.model.keys import SceneError
 from ngwear.model.scene import Scene
 from ngwear.model.thermal import partition
-from ngwear.numerics.forms import contact_points, displacement_space
+from ngwear.numerics.forms import displacement_space
 from ngwear.numerics.heat import Heat, frictional_power
+from ngwear.numerics.points import contact_points
 
 FINAL = 0.02       # the column's time: the heat has gone 4√(κT) = 0.57 of its height 1 deep
 THERMAL = {"conductivity": 1.0, "density": 1.0, "heat_capacity": 1.0}

@@ -1,6 +1,4 @@
-"""The README's examples: the Python one runs verbatim and prints the numbers shown beside it; the first CLI one is
-right as printed.
-"""
+"""The README's examples: the Python one prints the numbers shown beside it, the first CLI one is right as printed."""
 import re
 import shlex
 

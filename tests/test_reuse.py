@@ -117,6 +117,7 @@ CHANGES = {
     "mesh.zone_center": lambda s: {"mesh.zone_center": [0.05, 0.0]} if s.geometry.kind == "half_disk" else
     {"mesh.contact_zone": 0.002, "mesh.zone_center": [0.031, 0.0, 0.0]} if s.geometry.kind == "pin" else None,
     "mesh.grading": lambda s: {"mesh.grading": 0.5} if s.mesh.maxh else None,
+    "mesh.max_elements": lambda s: {"mesh.max_elements": 1_000_000},
     "material.lame_lambda": lambda s: {"material.lame_lambda": 2.0} if s.material.lame_lambda is not None else None,
     "material.lame_mu": lambda s: {"material.lame_mu": 1.5} if s.material.lame_mu is not None else None,
     "material.regions": lambda s: {"material.regions": {"body": {"lame_mu": 2.0} if s.material.lame_mu else
@@ -165,6 +166,7 @@ CHANGES = {
     "solver.tolerance": lambda s: {"solver.tolerance": 1e-9},
     "solver.max_iterations": lambda s: {"solver.max_iterations": 40},
     "output.every": lambda s: {"output.every": s.time.T / 2},
+    "output.max_frames": lambda s: {"output.max_frames": 5_000},
     "output.times": lambda s: {"output.times": [0.0, s.time.T]},
     "output.checkpoint_seconds": lambda s: {"output.checkpoint_seconds": 0.0},
     "material.conductivity": heated(**{"material.conductivity": 2.0}),

@@ -21,7 +21,6 @@ import numpy as np
 
 from . import mandel
 from .keys import SceneError
-from .materials import Isotropic, TransverselyIsotropic, _iso_stiffness
 
 
 @dataclass(frozen=True)
@@ -69,17 +68,6 @@ def thermal_stress(law, alpha: float) -> np.ndarray:
     the 3D C acting on the 3D thermal strain (plane strain).
     """
     linear = law.tangent_at_zero()
-    stress = mandel.from_mandel(_stiffness_3d(linear) @ (alpha * mandel.to_mandel(np.eye(3))))
+    stress = mandel.from_mandel(linear.stiffness_3d @ (alpha * mandel.to_mandel(np.eye(3))))
     return stress[:linear.dim, :linear.dim]
 
-
-def _stiffness_3d(law) -> np.ndarray:
-    """The 3D Mandel stiffness of a linear law (in 2D the one whose plane-strain block the law is)."""
-    if isinstance(law, Isotropic):
-        return _iso_stiffness(law.lam, law.eta, 3)
-    if isinstance(law, TransverselyIsotropic):
-        return mandel.rotated(np.linalg.inv(law.compliance_local), mandel.frame(law.axis))
-    if law.dim == 3:
-        return law.matrix
-    raise SceneError(f"{law.key}.expansion: a 2D law given by its in-plane stiffness alone has no plane-strain "
-                     "thermal stress")

@@ -14,7 +14,7 @@ the time constant C_d / H_d (the discrete factor per step 1 / (1 + Δt H_d / C_d
 """
 from __future__ import annotations
 
-from ..model.laws import piecewise_linear
+from ..model.keys import piecewise_linear
 
 
 class Given:

@@ -63,7 +63,7 @@ class Heat:
     mesh : ngsolve.Mesh
         The body's mesh (every region).
     points : ContactPoints
-        The contact points x_i and their weights m_i (:func:`ngwear.numerics.forms.contact_points`).
+        The contact points x_i and their weights m_i (:func:`ngwear.numerics.points.contact_points`).
 
     Attributes
     ----------

@@ -82,6 +82,14 @@ class _Linear(Law):
         return self
 
     @property
+    def stiffness_3d(self) -> np.ndarray:
+        """The 3D Mandel stiffness (in 2D the one whose plane-strain block the law is): a thermal strain's stress."""
+        if self.dim == 3:
+            return self.matrix
+        raise SceneError(f"{self.key}.expansion: a 2D law given by its in-plane stiffness alone has no plane-strain "
+                         "thermal stress")
+
+    @property
     def monotonicity(self) -> float:
         return float(np.linalg.eigvalsh(self.matrix)[0])
 
@@ -117,6 +125,10 @@ class Isotropic(_Linear):
     @cached_property
     def matrix(self) -> np.ndarray:
         return iso_stiffness(self.lam, self.eta, self.dim)
+
+    @property
+    def stiffness_3d(self) -> np.ndarray:
+        return iso_stiffness(self.lam, self.eta, 3)
 
     def stress(self, eps):
         return 2 * self.eta * eps + self.lam * ngs.Trace(eps) * ngs.Id(self.dim)
@@ -245,8 +257,12 @@ class TransverselyIsotropic(_Linear):
         S[5, 5] = (1 + nu_p) / Ep
         return S
 
+    @property
+    def stiffness_3d(self) -> np.ndarray:
+        return mandel.rotated(np.linalg.inv(self.compliance_local), mandel.frame(self.axis))
+
     @cached_property
     def matrix(self) -> np.ndarray:
-        C = mandel.rotated(np.linalg.inv(self.compliance_local), mandel.frame(self.axis))
+        C = self.stiffness_3d
         C = 0.5 * (C + C.T)
         return mandel.plane_strain(C) if self.dim == 2 else C
