@@ -25,6 +25,7 @@ def check(scene) -> None:
     _check_motion(scene)
     _check_loads(scene)
     _check_time(scene)
+    _check_programme(scene)
     if scene.solver.method == "full" and scene.wear.integrator != "explicit":
         raise SceneError(f"solver.method: 'full' supports only wear.integrator = 'explicit' "
                          f"(got {scene.wear.integrator!r}; use solver.method = 'condensed')")
@@ -251,3 +252,18 @@ def _check_time(scene) -> None:
             raise SceneError(f"output.times: must be increasing times in [0, time.T] = [0, {t.T}] (got {list(o.times)})")
     elif not 0 < o.every <= t.T:
         raise SceneError(f"output.every: must be a time in (0, time.T] = (0, {t.T}] (got {o.every!r})")
+
+
+def _check_programme(scene) -> None:
+    """A programme's factors replace the time tables; a body held by the plate alone is never pulled off."""
+    if scene.programme is None:
+        return
+    for name in ("foundation.speed_table", "loads.time_table"):
+        if _value(scene, name):
+            raise SceneError(f"{name}: not with a [programme] (its stops' speed and load factors replace the time "
+                             "tables); leave it out")
+    if not scene.geometry.dirichlet:
+        for i, block in enumerate(scene.programme.blocks, start=1):
+            if min(block.load) < 0:
+                raise SceneError(f"programme.stops: block {i}: load: factors must be >= 0 when only the plate holds "
+                                 f"the body (got {list(block.load)})")
