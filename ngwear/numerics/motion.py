@@ -1,0 +1,243 @@
+"""Wear that removes material: the body's mesh moved by the accumulated wear of Γ_C, its quality, and a remesh.
+
+The accumulated wear W (one value per vertex of Γ_C) moves the vertices of the regions that carry Γ_C from
+their reference positions X₀ (the mesh as built, or as last remeshed) along −ν, into the body:
+
+    X = X₀ − φ ν,    −div(∇φ) = 0 in Ω_w,   φ = W on Γ_C,   φ = 0 on the held faces,   ∂φ/∂n = 0 on the others,
+
+Ω_w the regions that carry Γ_C.  A face is held unless it is parallel to ν (|n·ν| ≤ :data:`PARALLEL` on average): the sides
+of a pad or a pin slide along themselves, while the back, a plate's face and the interface to a backing stay
+where they are, as every vertex of the other regions does.  Every vertex moves along ν only, so a face parallel to
+ν keeps its vertices (the part keeps its shape but for the worn layer), and the vector Laplace (harmonic)
+extension reduces to one scalar problem, its matrix factorised once per reference mesh: an update is one
+back-substitution, and X is a function of W alone (a resumed run recomputes it to the bit).  With P1 φ the map
+X₀ ↦ X is affine on each element, J = I − ν ⊗ ∇φ, det J = 1 − ν·∇φ: an element stays valid while ν·∇φ < 1, and
+over a worn region of thickness H the harmonic φ keeps ν·∇φ near W/H everywhere, the least any extension can
+(benchmarks/motion.py compares it with a stiffened one and with an elastic extension).
+
+:func:`quality` measures the elements (mean ratio, volume against the reference); below :data:`QUALITY` the body
+is remeshed from its worn geometry (:func:`remeshed`: Netgen's volume mesher on the moved surface mesh in 3D, its
+2D mesher on the moved boundary in 2D), or the run stops with :attr:`Quality.reason`.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+import scipy.sparse as sp
+
+from .pardiso import Pardiso
+
+PARALLEL = 0.05
+"""A boundary whose unit normal n has |n·ν| at most this on average (sin 3°) is parallel to ν: its vertices slide
+along it (by up to this fraction of the wear off a face drafted so much)."""
+QUALITY = 0.1
+"""The smallest mean ratio of an element a moved mesh may keep (1: a regular simplex; see :func:`quality`)."""
+
+
+def simplices(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
+    """(Vertices of each volume element (from 0), its region's index into ``mesh.GetMaterials()``)."""
+    elements = (mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()).NumPy()
+    return elements["nodes"][:, :mesh.dim + 1] - 1, elements["index"] - 1
+
+
+def facets(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
+    """(Vertices of each boundary element (from 0), its boundary's name)."""
+    elements = list(mesh.Elements(ngs.BND))
+    return np.array([[v.nr for v in el.vertices] for el in elements]), np.array([el.mat for el in elements])
+
+
+def coordinates(mesh: ngs.Mesh) -> np.ndarray:
+    """The vertices' coordinates, nv × d (a copy)."""
+    return np.array(mesh.ngmesh.Coordinates()[:, :mesh.dim])
+
+
+def place(mesh: ngs.Mesh, coords: np.ndarray) -> None:
+    """Move the mesh's vertices to ``coords`` (nv × d); Netgen's and NGSolve's point searches follow."""
+    mesh.ngmesh.Coordinates()[:, :mesh.dim] = coords
+    mesh.ngmesh.Update()
+
+
+def tilted(coords: np.ndarray, faces: np.ndarray, names: np.ndarray, nu: np.ndarray) -> tuple[str, ...]:
+    """The boundaries but Γ_C that are not parallel to ν: their mean |n·ν| over their area exceeds :data:`PARALLEL`.
+
+    The mean over a boundary, not each facet: a facet of a curved face parallel to ν (a cylinder's chord) tilts by
+    up to h/R, while the face, and a vertex moved along ν on it, does not.
+    """
+    edges = coords[faces[:, 1:]] - coords[faces[:, :1]]
+    if coords.shape[1] == 2:
+        normal = np.column_stack([-edges[:, 0, 1], edges[:, 0, 0]])            # |normal| = the segment's length
+    else:
+        normal = 0.5 * np.cross(edges[:, 0], edges[:, 1])                       # |normal| = the triangle's area
+    area = np.linalg.norm(normal, axis=1)
+    return tuple(str(name) for name in np.unique(names) if name != "contact" and
+                 np.abs(normal[names == name] @ nu).sum() > PARALLEL * area[names == name].sum())
+
+
+class Extension:
+    """The harmonic extension φ of Γ_C's wear into the regions that carry it, on the mesh as it is now (X₀).
+
+    Parameters
+    ----------
+    mesh : ngsolve.Mesh
+        The body; its present vertices are the reference X₀ of every later move.
+    nu : array_like
+        ν, the contact direction.
+    held : tuple of str
+        Boundaries held besides those not parallel to ν (e.g. a plate's face).
+    """
+
+    def __init__(self, mesh: ngs.Mesh, nu, held: tuple[str, ...] = ()):
+        self.mesh, self.nu = mesh, np.asarray(nu, dtype=float)
+        self.reference = coordinates(mesh)
+        nodes, regions = simplices(mesh)
+        faces, names = facets(mesh)
+        carrying = np.unique(regions[np.isin(nodes, faces[names == "contact"]).any(axis=1)])
+        self.contact = np.unique(faces[names == "contact"])
+        moving = np.zeros(mesh.nv, bool)
+        moving[nodes[np.isin(regions, carrying)]] = True
+        fixed = np.zeros(mesh.nv, bool)
+        fixed[faces[np.isin(names, held + tilted(self.reference, faces, names, self.nu))]] = True
+        self.free = np.flatnonzero(moving & ~fixed & ~np.isin(np.arange(mesh.nv), self.contact))
+        laplacian = _laplacian(mesh, [mesh.GetMaterials()[r] for r in carrying])
+        self._coupling = laplacian[self.free][:, self.contact]
+        self._factor = Pardiso(laplacian[self.free][:, self.free]) if len(self.free) else None
+
+    def __call__(self, wear: np.ndarray) -> np.ndarray:
+        """φ at every vertex (nv,) for W at the vertices of Γ_C (:attr:`contact`, in that order)."""
+        phi = np.zeros(self.mesh.nv)
+        phi[self.contact] = wear
+        if self._factor is not None:
+            phi[self.free] = -self._factor.solve(self._coupling @ wear)
+        return phi
+
+    def moved(self, wear: np.ndarray) -> np.ndarray:
+        """X = X₀ − φ ν for W at the vertices of Γ_C (nv × d)."""
+        return self.reference - np.outer(self(wear), self.nu)
+
+
+def _laplacian(mesh: ngs.Mesh, regions: list[str]) -> sp.csr_matrix:
+    """∫ ∇φ·∇ψ dx over ``regions`` for the P1 hat functions of the vertices (vertex i is DOF i)."""
+    fes = ngs.H1(mesh, order=1)
+    u, v = fes.TnT()
+    form = ngs.BilinearForm(ngs.grad(u) * ngs.grad(v) * ngs.dx(definedon=mesh.Materials("|".join(regions))),
+                            symmetric=True)
+    form.Assemble()
+    rows, cols, values = form.mat.COO()
+    return sp.csr_matrix((values.NumPy(), (rows.NumPy(), cols.NumPy())), shape=(mesh.nv, mesh.nv))
+
+
+@dataclass(frozen=True)
+class Quality:
+    """The elements of a moved mesh against its reference: the worst mean ratio, the most squeezed, the inverted.
+
+    ``worst``: min over the elements of the mean ratio q = d (d! |V|)^(2/d) / Σ l² · c_d (1 for a regular simplex,
+    → 0 as it degenerates; c_2 = 2/√3·…, see :func:`mean_ratio`); ``squeezed``: min V/V₀; ``inverted``: the number of
+    elements whose volume changed sign; ``where``: the centroid of the worst element (of an inverted one first).
+    """
+
+    worst: float
+    squeezed: float
+    inverted: int
+    where: np.ndarray
+
+    @property
+    def acceptable(self) -> bool:
+        """No element inverted, and none below :data:`QUALITY`."""
+        return self.inverted == 0 and self.worst >= QUALITY
+
+    @property
+    def reason(self) -> str | None:
+        """One line saying why the mesh cannot be used (None when it can)."""
+        at = ", ".join(f"{x:.4g}" for x in self.where)
+        if self.inverted:
+            return f"the worn mesh has {self.inverted} inverted elements (one at ({at}))"
+        if self.worst < QUALITY:
+            return (f"the worn mesh's worst element (at ({at})) has the mean ratio {self.worst:.3g} < {QUALITY} "
+                    f"(squeezed to {self.squeezed:.2g} of its volume)")
+        return None
+
+
+def signed_volumes(coords: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+    """Signed volumes (areas in 2D) of simplices."""
+    edges = coords[nodes[:, 1:]] - coords[nodes[:, :1]]
+    return np.linalg.det(edges) / math.factorial(coords.shape[1])
+
+
+def mean_ratio(coords: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+    """q = 4√3 |A| / Σ l² (triangles), 12 (3|V|)^(2/3) / Σ l² (tetrahedra): 1 for a regular simplex."""
+    d = coords.shape[1]
+    pairs = [(a, b) for a in range(d + 1) for b in range(a)]
+    lengths = sum(np.sum((coords[nodes[:, a]] - coords[nodes[:, b]]) ** 2, axis=1) for a, b in pairs)
+    size = np.abs(signed_volumes(coords, nodes))
+    return 4 * math.sqrt(3) * size / lengths if d == 2 else 12 * (3 * size) ** (2 / 3) / lengths
+
+
+def quality(coords: np.ndarray, reference: np.ndarray, nodes: np.ndarray) -> Quality:
+    """The :class:`Quality` of the simplices ``nodes`` at ``coords`` against their ``reference`` positions."""
+    before, after = signed_volumes(reference, nodes), signed_volumes(coords, nodes)
+    ratio = after / before
+    q = np.where(ratio > 0, mean_ratio(coords, nodes), 0.0)
+    flipped = ratio <= 0
+    worst = int(np.argmax(flipped)) if flipped.any() else int(np.argmin(q))
+    return Quality(float(q.min()), float(ratio.min()), int(flipped.sum()), coords[nodes[worst]].mean(axis=0))
+
+
+class RemeshError(RuntimeError):
+    """Netgen could not mesh the worn geometry (the message is one line)."""
+
+
+def remeshed(mesh: ngs.Mesh, maxh: float) -> ngs.Mesh:
+    """A new mesh of the body as it is now: its regions and named boundaries, elements of at most ``maxh``.
+
+    3D: the moved surface mesh (its triangles, regions and names) is kept and Netgen meshes the volume anew.
+    2D: the moved boundary (its segments, regions on either side, names) becomes a geometry Netgen meshes anew.
+    """
+    try:
+        return ngs.Mesh(_remesh3d(mesh, maxh) if mesh.dim == 3 else _remesh2d(mesh, maxh))
+    except Exception as err:  # noqa: BLE001 - Netgen raises its own types, with its message
+        reason = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
+        raise RemeshError(f"Netgen cannot remesh the worn body ({reason})") from None
+
+
+def _remesh3d(mesh: ngs.Mesh, maxh: float):
+    import netgen.meshing as meshing
+
+    old, new = mesh.ngmesh, meshing.Mesh(dim=3)
+    for point in old.Coordinates():
+        new.Add(meshing.MeshPoint(meshing.Pnt(*point)))
+    for i in range(1, old.GetNFaceDescriptors() + 1):
+        face = old.FaceDescriptor(i)
+        new.Add(meshing.FaceDescriptor(surfnr=face.surfnr, domin=face.domin, domout=face.domout, bc=face.bc))
+        new.SetBCName(i - 1, face.bcname)
+    for i, name in enumerate(mesh.GetMaterials(), start=1):
+        new.SetMaterial(i, name)
+    surface = old.Elements2D().NumPy()
+    for index, vertices in zip(surface["index"], surface["nodes"]):
+        new.Add(meshing.Element2D(int(index), [meshing.PointId(int(v)) for v in vertices]))
+    new.GenerateVolumeMesh(maxh=maxh)
+    return new
+
+
+def _remesh2d(mesh: ngs.Mesh, maxh: float):
+    from netgen.geom2d import SplineGeometry
+
+    nodes, regions = simplices(mesh)
+    coords = coordinates(mesh)
+    left = {}
+    for triangle, region in zip(nodes, regions + 1):
+        orientation = np.sign(signed_volumes(coords, triangle[None])[0])
+        for a, b in zip(triangle, np.roll(triangle, -1)):
+            left[(a, b) if orientation > 0 else (b, a)] = region          # the triangle lies left of a → b
+    geometry, points = SplineGeometry(), {}
+    for a, b, name in ((*v, n) for v, n in zip(*facets(mesh))):
+        for v in (a, b):
+            if v not in points:
+                points[v] = geometry.AppendPoint(*coords[v])
+        geometry.Append(["line", points[a], points[b]], leftdomain=left.get((a, b), 0),
+                        rightdomain=left.get((b, a), 0), bc=name)
+    for i, name in enumerate(mesh.GetMaterials(), start=1):
+        geometry.SetMaterial(i, name)
+    return geometry.GenerateMesh(maxh=maxh)
