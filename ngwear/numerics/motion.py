@@ -133,9 +133,9 @@ def _laplacian(mesh: ngs.Mesh, regions: list[str]) -> sp.csr_matrix:
 class Quality:
     """The elements of a moved mesh against its reference: the worst mean ratio, the most squeezed, the inverted.
 
-    ``worst``: min over the elements of the mean ratio q = d (d! |V|)^(2/d) / Σ l² · c_d (1 for a regular simplex,
-    → 0 as it degenerates; c_2 = 2/√3·…, see :func:`mean_ratio`); ``squeezed``: min V/V₀; ``inverted``: the number of
-    elements whose volume changed sign; ``where``: the centroid of the worst element (of an inverted one first).
+    ``worst``: the smallest mean ratio (:func:`mean_ratio`: 1 for a regular simplex, → 0 as it degenerates; 0 for
+    an inverted one); ``squeezed``: the smallest V/V₀; ``inverted``: the number of elements whose volume changed
+    sign; ``where``: the centroid of the worst element (of an inverted one first).
     """
 
     worst: float
@@ -167,7 +167,7 @@ def signed_volumes(coords: np.ndarray, nodes: np.ndarray) -> np.ndarray:
 
 
 def mean_ratio(coords: np.ndarray, nodes: np.ndarray) -> np.ndarray:
-    """q = 4√3 |A| / Σ l² (triangles), 12 (3|V|)^(2/3) / Σ l² (tetrahedra): 1 for a regular simplex."""
+    """The mean ratio 4√3 |A| / Σ l² (triangles), 12 (3|V|)^(2/3) / Σ l² (tetrahedra): 1 for a regular simplex."""
     d = coords.shape[1]
     pairs = [(a, b) for a in range(d + 1) for b in range(a)]
     lengths = sum(np.sum((coords[nodes[:, a]] - coords[nodes[:, b]]) ** 2, axis=1) for a, b in pairs)
