@@ -12,7 +12,8 @@ ratio, the most squeezed element (V/V₀), inverted elements, how far a vertex m
 from which an element is inverted or its mean ratio below ``motion.QUALITY``.
 
 ``--part bound``: the same pad, tapered, against a fresh Netgen mesh of the same worn body (its volume meshed anew
-on the moved surface mesh, so both have the same contact points): the normal displacement s = H m of Γ_C under a
+on the moved surface mesh, so both have the same contact points; the worst mean ratio of ngwear's remesh, the part
+cut by the worn face, beside): the normal displacement s = H m of Γ_C under a
 unit pressure (H = ν·P K⁻¹ Pᵀ·ν, what the contact problem sees of the body) on both, as L max|s − s_fresh|, the
 change of the pressure, relative to it, that the difference causes through the layer; the unworn pad's row is the
 difference between two volume meshes of one surface, the discretisation's own.
@@ -33,6 +34,7 @@ import numpy as np
 import scipy.sparse as sp
 
 import ngwear
+from ngwear.model.kinds import KINDS
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.motion import QUALITY, Extension, coordinates, mean_ratio, place, quality, remeshed, simplices
 from ngwear.numerics.pardiso import Pardiso
@@ -157,6 +159,26 @@ def difference(scene, mesh, other) -> float:
     return scene.contact.stiffness * np.abs(s - t[matched(points, others)]).max()
 
 
+def volume_remeshed(mesh, maxh):
+    """The worn body with its moved surface mesh kept and its volume meshed anew by Netgen (the same contact points)."""
+    import netgen.meshing as meshing
+
+    old, new = mesh.ngmesh, meshing.Mesh(dim=3)
+    for point in old.Coordinates():
+        new.Add(meshing.MeshPoint(meshing.Pnt(*point)))
+    for i in range(1, old.GetNFaceDescriptors() + 1):
+        face = old.FaceDescriptor(i)
+        new.Add(meshing.FaceDescriptor(surfnr=face.surfnr, domin=face.domin, domout=face.domout, bc=face.bc))
+        new.SetBCName(i - 1, face.bcname)
+    for i, name in enumerate(mesh.GetMaterials(), start=1):
+        new.SetMaterial(i, name)
+    surface = old.Elements2D().NumPy()
+    for index, vertices in zip(surface["index"], surface["nodes"]):
+        new.Add(meshing.Element2D(int(index), [meshing.PointId(int(v)) for v in vertices]))
+    new.GenerateVolumeMesh(maxh=maxh)
+    return ngs.Mesh(new)
+
+
 def bound_rows(args) -> list[dict]:
     scene, rows = pad(), []
     for mean in (0.0, 3e-3, 5e-3, 6e-3, 7e-3, 7.5e-3):
@@ -167,10 +189,13 @@ def bound_rows(args) -> list[dict]:
         moved = extension.moved(wear)
         q = quality(moved, extension.reference, nodes)
         place(mesh, moved)
-        fresh = remeshed(mesh, scene.mesh.maxh)
+        fresh = volume_remeshed(mesh, scene.mesh.maxh)
         fresh_nodes, _ = simplices(fresh)
+        new = remeshed(mesh, scene.mesh.maxh, NU, KINDS["pad"].build(scene.geometry, scene.mesh))
+        new_nodes, _ = simplices(new)
         rows.append({"mean_wear_mm": 1e3 * mean, "deepest_mm": 1e3 * wear.max(), "q_moved": q.worst,
                      "q_fresh": float(mean_ratio(coordinates(fresh), fresh_nodes).min()),
+                     "q_remeshed": float(mean_ratio(coordinates(new), new_nodes).min()),
                      "pressure_change": difference(scene, mesh, fresh)})
         print(f"  {rows[-1]}", flush=True)
     return rows
@@ -235,6 +260,7 @@ def main():
             C.finish("motion_bound", "moved against fresh mesh: the contact compliance H", header, rows,
                      [("mean_wear_mm", "mean mm", ".1f"), ("deepest_mm", "deepest mm", ".2f"),
                       ("q_moved", "q moved", ".3f"), ("q_fresh", "q fresh volume", ".3f"),
+                      ("q_remeshed", "q remeshed", ".3f"),
                       ("pressure_change", "L max|s - s_fresh|", ".2e")],
                      quick=args.quick)
         if "cost" in parts:

@@ -16,8 +16,8 @@ over a worn region of thickness H the harmonic φ keeps ν·∇φ near W/H every
 (benchmarks/motion.py compares it with a stiffened one and with an elastic extension).
 
 :func:`quality` measures the elements (mean ratio, volume against the reference); below :data:`QUALITY` the body
-is remeshed from its worn geometry (:func:`remeshed`: Netgen's volume mesher on the moved surface mesh in 3D, its
-2D mesher on the moved boundary in 2D), or the run stops with :attr:`Quality.reason`.
+is remeshed from its worn geometry (:func:`remeshed`: in 3D the part's solids cut by a B-spline surface through the
+worn Γ_C, in 2D the moved boundary, meshed anew by Netgen), or the run stops with :attr:`Quality.reason`.
 """
 from __future__ import annotations
 
@@ -189,36 +189,68 @@ class RemeshError(RuntimeError):
     """Netgen could not mesh the worn geometry (the message is one line)."""
 
 
-def remeshed(mesh: ngs.Mesh, maxh: float) -> ngs.Mesh:
-    """A new mesh of the body as it is now: its regions and named boundaries, elements of at most ``maxh``.
+def remeshed(mesh: ngs.Mesh, maxh: float, nu=None, shape=None, contact_maxh: float | None = None) -> ngs.Mesh:
+    """A new Netgen mesh of the body as it is now: its regions and named boundaries, elements of at most ``maxh``.
 
-    3D: the moved surface mesh (its triangles, regions and names) is kept and Netgen meshes the volume anew.
-    2D: the moved boundary (its segments, regions on either side, names) becomes a geometry Netgen meshes anew.
+    2D: the moved boundary (its segments, the regions on either side, the names) becomes a geometry Netgen meshes.
+    3D: the part as built (``shape``, its OpenCASCADE solids with named faces) cut by the worn Γ_C: a B-spline
+    surface through the moved Γ_C's height over the plane ⟂ ν (``nu``; Γ_C must be a graph over it), swept along
+    −ν through the part; the cut face is ``contact`` (with ``contact_maxh``).  A part without a shape (a mesh file)
+    cannot be remeshed in 3D.
+
+    Raises
+    ------
+    RemeshError
+        One line: Netgen or OpenCASCADE failed, or a 3D part has no shape.
     """
+    if mesh.dim == 3 and shape is None:
+        raise RemeshError("a part given as a mesh (no geometry) cannot be remeshed in 3D")
     try:
-        return ngs.Mesh(_remesh3d(mesh, maxh) if mesh.dim == 3 else _remesh2d(mesh, maxh))
-    except Exception as err:  # noqa: BLE001 - Netgen raises its own types, with its message
+        return ngs.Mesh(_remesh3d(mesh, maxh, np.asarray(nu, dtype=float), shape, contact_maxh) if mesh.dim == 3
+                        else _remesh2d(mesh, maxh))
+    except Exception as err:  # noqa: BLE001 - Netgen and OpenCASCADE raise their own types, with their message
         reason = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
         raise RemeshError(f"Netgen cannot remesh the worn body ({reason})") from None
 
 
-def _remesh3d(mesh: ngs.Mesh, maxh: float):
-    import netgen.meshing as meshing
+def _remesh3d(mesh: ngs.Mesh, maxh: float, nu: np.ndarray, shape, contact_maxh: float | None):
+    from netgen.occ import OCCGeometry, SplineSurfaceApproximation, Vec
+    from scipy.interpolate import LinearNDInterpolator
 
-    old, new = mesh.ngmesh, meshing.Mesh(dim=3)
-    for point in old.Coordinates():
-        new.Add(meshing.MeshPoint(meshing.Pnt(*point)))
-    for i in range(1, old.GetNFaceDescriptors() + 1):
-        face = old.FaceDescriptor(i)
-        new.Add(meshing.FaceDescriptor(surfnr=face.surfnr, domin=face.domin, domout=face.domout, bc=face.bc))
-        new.SetBCName(i - 1, face.bcname)
-    for i, name in enumerate(mesh.GetMaterials(), start=1):
-        new.SetMaterial(i, name)
-    surface = old.Elements2D().NumPy()
-    for index, vertices in zip(surface["index"], surface["nodes"]):
-        new.Add(meshing.Element2D(int(index), [meshing.PointId(int(v)) for v in vertices]))
-    new.GenerateVolumeMesh(maxh=maxh)
-    return new
+    faces, names = facets(mesh)
+    coords = coordinates(mesh)
+    top = coords[np.unique(faces[names == "contact"])]
+    plane = np.linalg.svd(nu[None, :])[2][1:]
+    flat, height = top @ plane.T, -(top @ nu)
+    low, high = flat.min(axis=0), flat.max(axis=0)
+    margin = 0.05 * (high - low)
+    size = contact_maxh or maxh
+    n = int(np.clip(2 * (high - low).max() / size, 8, 120))
+    axes = [np.linspace(a - m, b + m, n) for a, b, m in zip(low, high, margin)]
+    grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 2)
+    heights = LinearNDInterpolator(flat, height)(grid)
+    outside = np.flatnonzero(np.isnan(heights))
+    heights[outside] = _extrapolated(flat, height, grid[outside])
+    points = (grid @ plane - np.outer(heights, nu)).reshape(n, n, 3)
+    worn = SplineSurfaceApproximation(points, deg_min=1, deg_max=3, tol=1e-3 * size)
+    worn.name = "contact"
+    if contact_maxh is not None:
+        worn.maxh = contact_maxh
+    reach = 2 * np.ptp(coords, axis=0).max()
+    cut = shape * worn.Extrude(reach, Vec(*(-nu)))
+    return OCCGeometry(cut, dim=3).GenerateMesh(maxh=maxh)
+
+
+def _extrapolated(points: np.ndarray, values: np.ndarray, at: np.ndarray, near: int = 8) -> np.ndarray:
+    """Values beyond the points' hull: the plane fitted to the ``near`` nearest points (exact for an affine field)."""
+    from scipy.spatial import cKDTree
+
+    _, nearest = cKDTree(points).query(at, k=near)
+    out = np.empty(len(at))
+    for i, (x, k) in enumerate(zip(at, nearest)):
+        design = np.column_stack([np.ones(near), points[k] - x])
+        out[i] = np.linalg.lstsq(design, values[k], rcond=None)[0][0]
+    return out
 
 
 def _remesh2d(mesh: ngs.Mesh, maxh: float):
