@@ -21,6 +21,7 @@ from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.motion import (
     QUALITY,
     Extension,
+    Recession,
     RemeshError,
     coordinates,
     facets,
@@ -141,3 +142,24 @@ def test_thickness_along_nu_under_each_contact_point(name, changes, expected):
     disc = Discretization(scene)
     measured = thickness(disc.mesh, disc.points.coords, scene.contact.direction)
     assert np.abs(measured - expected(disc.points.coords)).max() < 1e-12 * measured.max()
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_an_update_realises_the_wear_at_the_vertices_and_keeps_the_rest_in_the_layer(order):
+    """P1: the whole wear since the update moves Γ_C; P2 (3D: the edge midpoints) keeps a rest in the layer.
+
+    A vertex takes the least wear of the points at it, so the move never exceeds a point's wear; the rest is ≤ h|∇w|.
+    """
+    scene = BOX.replace(**{"mesh.order": order})
+    disc = Discretization(scene)
+    nu = np.array(scene.contact.direction)
+    x = disc.points.coords[:, 0]
+    for wear in (np.full(disc.points.n, 0.1), 0.05 + 0.05 * x, 0.1 - 0.05 * x ** 2):
+        recession = Recession(build_mesh(scene), disc.points, nu)
+        coords, q = recession.trial(wear)
+        assert q.acceptable
+        rest = wear - recession.accept(coords, wear)
+        assert rest.min() >= 0 and rest.max() <= (1e-15 if order == 1 or np.ptp(wear) == 0 else 0.05 * 0.2)
+        assert np.allclose(coordinates(recession.mesh)[recession.extension.contact],
+                           recession.extension.reference[recession.extension.contact]
+                           - np.outer(recession.wear, nu), atol=1e-15)

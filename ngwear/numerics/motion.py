@@ -118,6 +118,61 @@ class Extension:
         return self.reference - np.outer(self(wear), self.nu)
 
 
+class Recession:
+    """A body's mesh as its accumulated wear moves it: the wear at Γ_C's vertices, the moves, their quality.
+
+    The wear since the last update is nodal at the contact points (``points``, a
+    :class:`~ngwear.numerics.forms.ContactPoints`); the mesh is straight-sided, so a move realises it at the
+    vertices of Γ_C and, in between, their linear interpolation.  A vertex takes the least wear of the points at it
+    (its own, and P2's midpoints of its edges on Γ_C): the interpolation then never exceeds a point's wear, and
+    what a point keeps (P2: up to h |∇w| of it) stays in the layer, w ≥ 0, for the next update.  P1: the whole.
+
+    Parameters
+    ----------
+    mesh : ngsolve.Mesh
+        The body as built (or as last remeshed): the reference of the moves.
+    points : ContactPoints
+        Its contact points.
+    nu : array_like
+        ν.
+    held : tuple of str
+        Boundaries held besides those not parallel to ν.
+    """
+
+    def __init__(self, mesh: ngs.Mesh, points, nu, held: tuple[str, ...] = ()):
+        self.mesh, self.extension = mesh, Extension(mesh, nu, held)
+        self.nodes = simplices(mesh)[0]
+        contact = self.extension.contact
+        column = {int(v): j for j, v in enumerate(contact)}
+        rows, cols = [], []
+        for i, (vertex, edge) in enumerate(zip(points.vertices, points.edges)):
+            ends = [int(vertex)] if vertex >= 0 else [v.nr for v in mesh[ngs.NodeId(ngs.EDGE, int(edge))].vertices]
+            rows += [i] * len(ends)
+            cols += [column[end] for end in ends]
+        rows, cols = np.array(rows), np.array(cols)
+        self.scatter = sp.csr_matrix((1.0 / np.bincount(rows)[rows], (rows, cols)),
+                                     shape=(points.n, len(contact)))            # points ← vertices: interpolation
+        order = np.argsort(cols, kind="stable")
+        self._incident, self._starts = rows[order], np.searchsorted(cols[order], np.arange(len(contact)))
+        self.wear = np.zeros(len(contact))                                      # W at Γ_C's vertices, since X₀
+
+    def at_vertices(self, since: np.ndarray) -> np.ndarray:
+        """The wear a move realises at Γ_C's vertices: the least of the points at each."""
+        return np.minimum.reduceat(since[self._incident], self._starts)
+
+    def trial(self, since: np.ndarray) -> tuple[np.ndarray, Quality]:
+        """(The vertices' coordinates, their quality) of the move by the wear ``since`` the last update (at the points)."""
+        coords = self.extension.moved(self.wear + self.at_vertices(since))
+        return coords, quality(coords, self.extension.reference, self.nodes)
+
+    def accept(self, coords: np.ndarray, since: np.ndarray) -> np.ndarray:
+        """Move the mesh to ``coords`` (from :meth:`trial` of ``since``); the wear it realised at the points."""
+        step = self.at_vertices(since)
+        place(self.mesh, coords)
+        self.wear += step
+        return self.scatter @ step
+
+
 def _laplacian(mesh: ngs.Mesh, regions: list[str]) -> sp.csr_matrix:
     """∫ ∇φ·∇ψ dx over ``regions`` for the P1 hat functions of the vertices (vertex i is DOF i)."""
     fes = ngs.H1(mesh, order=1)
