@@ -179,6 +179,15 @@ def volume_remeshed(mesh, maxh):
     return ngs.Mesh(new)
 
 
+def measures(mesh, other) -> float:
+    """The largest relative difference of the regions' volumes and the boundaries' measures of two meshes."""
+    def of(m):
+        regions = {r: ngs.Integrate(ngs.CF(1.0), m, definedon=m.Materials(r)) for r in m.GetMaterials()}
+        return regions | {b: ngs.Integrate(ngs.CF(1.0) * ngs.ds(b), m) for b in set(m.GetBoundaries())}
+    a, b = of(mesh), of(other)
+    return max(abs(b[k] / a[k] - 1) for k in a)
+
+
 def bound_rows(args) -> list[dict]:
     scene, rows = pad(), []
     for mean in (0.0, 3e-3, 5e-3, 6e-3, 7e-3, 7.5e-3):
@@ -191,11 +200,12 @@ def bound_rows(args) -> list[dict]:
         place(mesh, moved)
         fresh = volume_remeshed(mesh, scene.mesh.maxh)
         fresh_nodes, _ = simplices(fresh)
-        new = remeshed(mesh, scene.mesh.maxh, NU, KINDS["pad"].build(scene.geometry, scene.mesh))
+        seconds, new = C.timed(remeshed, mesh, scene.mesh.maxh, NU, KINDS["pad"].build(scene.geometry, scene.mesh))
         new_nodes, _ = simplices(new)
         rows.append({"mean_wear_mm": 1e3 * mean, "deepest_mm": 1e3 * wear.max(), "q_moved": q.worst,
                      "q_fresh": float(mean_ratio(coordinates(fresh), fresh_nodes).min()),
-                     "q_remeshed": float(mean_ratio(coordinates(new), new_nodes).min()),
+                     "q_remeshed": float(mean_ratio(coordinates(new), new_nodes).min()), "remesh_s": seconds,
+                     "measures": measures(mesh, new),
                      "pressure_change": difference(scene, mesh, fresh)})
         print(f"  {rows[-1]}", flush=True)
     return rows
@@ -260,7 +270,8 @@ def main():
             C.finish("motion_bound", "moved against fresh mesh: the contact compliance H", header, rows,
                      [("mean_wear_mm", "mean mm", ".1f"), ("deepest_mm", "deepest mm", ".2f"),
                       ("q_moved", "q moved", ".3f"), ("q_fresh", "q fresh volume", ".3f"),
-                      ("q_remeshed", "q remeshed", ".3f"),
+                      ("q_remeshed", "q remeshed", ".3f"), ("remesh_s", "remesh s", ".1f"),
+                      ("measures", "measures", ".1e"),
                       ("pressure_change", "L max|s - s_fresh|", ".2e")],
                      quick=args.quick)
         if "cost" in parts:

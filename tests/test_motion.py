@@ -23,6 +23,7 @@ from ngwear.numerics.motion import (
     Extension,
     Recession,
     RemeshError,
+    contact_height,
     coordinates,
     facets,
     mean_ratio,
@@ -163,3 +164,13 @@ def test_an_update_realises_the_wear_at_the_vertices_and_keeps_the_rest_in_the_l
         assert np.allclose(coordinates(recession.mesh)[recession.extension.contact],
                            recession.extension.reference[recession.extension.contact]
                            - np.outer(recession.wear, nu), atol=1e-15)
+
+
+def test_the_height_of_the_smallest_element_at_the_contact():
+    """On the strip's flat Γ_C (y = 0) an element's height over its contact edge is its third vertex's y."""
+    mesh = build_mesh(STRIP)
+    nodes, _ = simplices(mesh)
+    y = coordinates(mesh)[:, 1]
+    touching = (np.abs(y[nodes]) < 1e-14).sum(axis=1) == 2
+    assert contact_height(mesh) == pytest.approx(np.where(touching[:, None], y[nodes], 0).max(axis=1)[touching].min())
+    assert 0 < contact_height(build_mesh(BOX)) <= BOX.mesh.maxh

@@ -21,6 +21,7 @@ worn Γ_C, in 2D the moved boundary, meshed anew by Netgen), or the run stops wi
 """
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -213,6 +214,29 @@ class Quality:
             return (f"the worn mesh's worst element (at ({at})) has the mean ratio {self.worst:.3g} < {QUALITY} "
                     f"(squeezed to {self.squeezed:.2g} of its volume)")
         return None
+
+
+def contact_height(mesh: ngs.Mesh) -> float:
+    """The height of the smallest element at Γ_C: min over the elements with a facet on Γ_C of d |T| / |facet|.
+
+    An update moves Γ_C once the wear since the last reaches ``wear.update`` × this (on the mesh as it is now).
+    """
+    nodes, _ = simplices(mesh)
+    faces, names = facets(mesh)
+    contact = faces[names == "contact"]
+    coords = coordinates(mesh)
+    on = {tuple(sorted(face)) for face in contact}
+    d = mesh.dim
+    heights = []
+    for facet in itertools.combinations(range(d + 1), d):
+        touching = np.array([tuple(sorted(row)) in on for row in nodes[:, facet]])
+        if touching.any():
+            elements = nodes[touching]
+            sides = coords[elements[:, list(facet)[1:]]] - coords[elements[:, [facet[0]]]]
+            area = np.linalg.norm(np.cross(sides[:, 0], sides[:, 1]), axis=1) / 2 if d == 3 else \
+                np.linalg.norm(sides[:, 0], axis=1)
+            heights.append(d * np.abs(signed_volumes(coords, elements)) / area)
+    return float(np.concatenate(heights).min())
 
 
 def signed_volumes(coords: np.ndarray, nodes: np.ndarray) -> np.ndarray:
