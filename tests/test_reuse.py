@@ -90,6 +90,26 @@ def heated(**change):
     return lambda s: {**base, **change} if s.geometry.kind == "strip" else None
 
 
+def strip_only(fn):
+    return lambda s: fn(s) if s.geometry.kind == "strip" else None
+
+
+def programme(s, count=1, **keys) -> dict:
+    """A programme of ``count`` stops filling the scene's time with its steps (``time.T``, ``time.steps`` kept)."""
+    stops = [{"count": count, "duration": s.time.T / count}]
+    return {"programme": {"stops": stops, "steps_per_stop": s.time.steps // count, **keys}}
+
+
+def programme_file(s) -> Path:
+    """The programme of :func:`programme` as a CSV file (beside the base scenes' part files)."""
+    path = FOLDER["parts"] / "programme.csv"
+    path.write_text(f"count,duration\n1,{s.time.T!r}\n")
+    return path
+
+
+FOLDER = {}
+
+
 # key → the overrides that change it in a scene (None: not for that scene)
 CHANGES = {
     "name": lambda s: {"name": "other"},
@@ -187,6 +207,18 @@ CHANGES = {
     "heat.convection": heated(**{"heat.convection": [{"boundary": "top", "coefficient": 2.0}]}),
     "heat.ambient": heated(**{"heat.ambient": 20.0}),
     "heat.initial": heated(**{"heat.initial": 30.0}),
+
+
+    # a part's life: read by the time loop alone (a strip shows it; the time grid kept: T and the steps alike)
+    "wear.geometry": strip_only(lambda s: {"wear.geometry": "surface"}),
+    "wear.update": strip_only(lambda s: {"wear.update": 0.5}),
+    "wear.limit": strip_only(lambda s: {"wear.limit": 0.5 * s.geometry.size[1]}),
+    "programme.stops": strip_only(lambda s: programme(s)),
+    "programme.file": strip_only(lambda s: {**programme(s), "programme.stops": [],
+                                            "programme.file": str(programme_file(s))}),
+    "programme.steps_per_stop": strip_only(lambda s: programme(s, count=STEPS, steps_per_stop=1)),
+    "programme.jump": strip_only(lambda s: programme(s, jump=True)),
+    "programme.jump_tolerance": strip_only(lambda s: programme(s, jump_tolerance=0.01)),
 }
 
 
@@ -200,7 +232,7 @@ def test_every_declared_key_has_a_level_and_a_change():
 @pytest.fixture(scope="module")
 def base(tmp_path_factory):
     """The base scene of each kind and a discretization that has run it (mesh kind: the strip's mesh as a file)."""
-    folder = tmp_path_factory.mktemp("parts")
+    folder = FOLDER["parts"] = tmp_path_factory.mktemp("parts")
     for path in (folder / "cad_pad.step", copy_of(folder / "cad_pad.step")):   # geometry.file's change: same content
         shutil.copy(SHIPPED / "cad_pad.step", path)
     cache = {}

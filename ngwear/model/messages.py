@@ -64,14 +64,20 @@ def json_schema(scene_model: type[BaseModel]) -> dict[str, Any]:
 
 
 def reference_table() -> str:
-    """The scene reference: one Markdown row per key, from the declarations."""
+    """The scene reference: one Markdown row per key, from the declarations; a list of tables, then its entries' keys."""
     rows = ["| key | meaning | default | allowed |", "|---|---|---|---|"]
     for name, info in declared_keys():
-        extra = info.json_schema_extra or {}
-        cells = (f"`{name}`", info.description, extra.get("shown", _plain(info.default)),
-                 extra.get("allowed") or _allowed(info))
-        rows.append(markdown_row(cells))
+        rows.append(_reference_row(name, info))
+        entry = get_args(_base_type(info.annotation))[:1]
+        if entry and isinstance(entry[0], type) and issubclass(entry[0], BaseModel):
+            rows += [_reference_row(f"{name}[].{key}", field) for key, field in entry[0].model_fields.items()]
     return "\n".join(rows)
+
+
+def _reference_row(name: str, info: FieldInfo) -> str:
+    extra = info.json_schema_extra or {}
+    return markdown_row((f"`{name}`", info.description, extra.get("shown", _plain(info.default)),
+                         extra.get("allowed") or _allowed(info)))
 
 
 def markdown_row(cells) -> str:

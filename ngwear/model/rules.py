@@ -26,6 +26,7 @@ def check(scene) -> None:
     _check_loads(scene)
     _check_time(scene)
     _check_heat(scene)
+    _check_programme(scene)
     if scene.solver.method == "full" and scene.wear.integrator != "explicit":
         raise SceneError(f"solver.method: 'full' supports only wear.integrator = 'explicit' "
                          f"(got {scene.wear.integrator!r}; use solver.method = 'condensed')")
@@ -347,3 +348,18 @@ def _check_counterface(f, T: float) -> None:
         raise SceneError("foundation.cooling: only with foundation.thermal_mass (a lumped counterface)")
     if isinstance(f.temperature, tuple):
         _check_table(f.temperature, "foundation.temperature", T)
+
+
+def _check_programme(scene) -> None:
+    """A programme's factors replace the time tables; a body held by the plate alone is never pulled off."""
+    if scene.programme is None:
+        return
+    for name in ("foundation.speed_table", "loads.time_table"):
+        if _value(scene, name):
+            raise SceneError(f"{name}: not with a [programme] (its stops' speed and load factors replace the time "
+                             "tables); leave it out")
+    if not scene.geometry.dirichlet:
+        for i, block in enumerate(scene.programme.blocks, start=1):
+            if min(block.load) < 0:
+                raise SceneError(f"programme.stops: block {i}: load: factors must be >= 0 when only the plate holds "
+                                 f"the body (got {list(block.load)})")

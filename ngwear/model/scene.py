@@ -1,15 +1,14 @@
 """Scenes: plain frozen data describing one contact-with-wear simulation.
 
 A scene is read from TOML with nested tables (``[geometry]``, ``[mesh]``, ``[material]``, ``[contact]``,
-``[foundation]``, ``[loads]``, ``[time]``, ``[wear]``, ``[heat]``, ``[solver]``, ``[output]``) and two top-level keys
-(``name``, ``units``), each key declared once
-in :mod:`ngwear.model.sections`.  :meth:`Scene.from_dict` first prepares the raw tables (a part given in
-Python becomes a cached file, a part file is read, the defaults that depend on the kind and on other keys
-are filled), then pydantic validates every key against its declaration and :mod:`ngwear.model.rules` checks
-the rules across keys; the first violation is one :class:`SceneError` line naming the dotted key.
-``Scene.replace(**{"time.steps": 10})`` overrides fields with the dotted keys that
-``ngwear run --set time.steps=10`` accepts.  :meth:`Scene.changed_from` tells what a change of scene
-invalidates, from the levels the keys declare.
+``[foundation]``, ``[loads]``, ``[time]``, ``[wear]``, ``[heat]``, ``[solver]``, ``[output]``, ``[programme]``) and
+two top-level keys (``name``, ``units``), each key declared once in :mod:`ngwear.model.sections`.
+:meth:`Scene.from_dict` first prepares the raw tables (a part given in Python becomes a cached file, a part file is read, the defaults that depend on the kind and on other keys
+are filled; a programme sets ``time.T`` and ``time.steps``), then pydantic validates every key against its
+declaration and :mod:`ngwear.model.rules` checks the rules across keys; the first violation is one
+:class:`SceneError` line naming the dotted key.  ``Scene.replace(**{"time.steps": 10})`` overrides fields with
+the dotted keys that ``ngwear run --set time.steps=10`` accepts.  :meth:`Scene.changed_from` tells what a change
+of scene invalidates, from the levels the keys declare.
 """
 from __future__ import annotations
 
@@ -24,6 +23,7 @@ from . import cad, examples, functions, messages, rules
 from .keys import MAX_ROWS, Level, SceneError, level_of
 from .kinds import KINDS
 from .materials import default_constants
+from .programme import MAX_STEPS
 from .sections import (
     Contact,
     Foundation,
@@ -33,6 +33,7 @@ from .sections import (
     Material,
     MeshSpec,
     Output,
+    Programme,
     SolverSpec,
     TimeGrid,
     TopLevel,
@@ -57,6 +58,8 @@ class Scene(TopLevel):
         The unit system of its numbers (None: dimensionless).
     geometry, mesh, material, contact, foundation, loads, time, wear, heat, solver, output : Section
         The scene file's tables, with their keys as attributes (``scene.contact.friction``).
+    programme : Programme or None
+        A braking programme (``[programme]``), which sets ``time.T`` and ``time.steps``.
     dim : int
         2 or 3.
     dt : float
@@ -76,6 +79,7 @@ class Scene(TopLevel):
     heat: HeatSpec = HeatSpec()
     solver: SolverSpec = SolverSpec()
     output: Output = Output()
+    programme: Programme | None = None
 
     @property
     def dim(self) -> int:
@@ -103,11 +107,18 @@ class Scene(TopLevel):
         data = self.model_dump(mode="json", exclude_none=True)
         if "integrator" not in self.wear.model_fields_set:
             data["wear"].pop("integrator")
+        if self.programme is not None:
+            _follow_programme(data)
         return data
 
     def replace(self, **dotted: Any) -> Scene:
-        """A new scene with fields overridden by dotted keys, e.g. ``replace(**{"time.steps": 10})``."""
+        """A new scene with fields overridden by dotted keys, e.g. ``replace(**{"time.steps": 10})``.
+
+        A programme given here sets ``time.T`` and ``time.steps`` (unless they are given too: that is refused).
+        """
         data = self.to_dict()
+        if any(name.split(".")[0] == "programme" for name in dotted):
+            _follow_programme(data)
         for name, value in dotted.items():
             set_dotted(data, name, value)
         return Scene.from_dict(data)
@@ -180,6 +191,9 @@ def load_scene(path: str | Path) -> Scene:
     geometry = data.get("geometry")
     if isinstance(geometry, dict) and isinstance(geometry.get("file"), str):
         geometry["file"] = str(path.parent / Path(geometry["file"]).expanduser())   # relative to the scene file
+    programme = data.get("programme")
+    if isinstance(programme, dict) and isinstance(programme.get("file"), str):
+        programme["file"] = str(path.parent / Path(programme["file"]).expanduser())
     return Scene.from_dict(data)
 
 
@@ -265,6 +279,7 @@ def _prepared(data: dict[str, Any]) -> dict[str, Any]:
     if isinstance(material, dict) and not material.get("regions"):
         for name, value in default_constants(material).items():     # the paper's dimensionless λ = η = 1
             _default(data, "material", name, value)
+    _time_of_programme(data)
     time = data.get("time", {}) if isinstance(data.get("time", {}), dict) else {}
     final = time.get("T", 1.0)
     if isinstance(final, (int, float)) and not isinstance(final, bool) and final > 0:
@@ -274,6 +289,39 @@ def _prepared(data: dict[str, Any]) -> dict[str, Any]:
             _default(data, "time", "min_step", final * 1e-8)
             _default(data, "time", "max_step", final / 10)
     return data
+
+
+def _follow_programme(data: dict[str, Any]) -> None:
+    """Leave ``time.T`` and ``time.steps`` to the programme (a scene's dict as :meth:`Scene.to_dict` writes it)."""
+    for name in ("T", "steps"):
+        data.get("time", {}).pop(name, None)
+
+
+def _time_of_programme(data: dict[str, Any]) -> None:
+    """A programme's file resolved, and ``time.T`` and ``time.steps`` set from it (refused when given too).
+
+    A programme that does not validate is left as it is: validation names its key.
+    """
+    table = data.get("programme")
+    if not isinstance(table, dict):
+        return
+    if isinstance(table.get("file"), str):
+        table["file"] = str(Path(table["file"]).expanduser().resolve())
+    time = data.setdefault("time", {})
+    if not isinstance(time, dict):
+        return
+    for name, instead in (("T", "the sum of its stops and dwells"), ("steps", "programme.steps_per_stop per stop")):
+        if name in time:
+            raise SceneError(f"time.{name}: set by the programme ({instead}); leave time.{name} out "
+                             f"(got {time[name]!r})")
+    try:
+        programme = Programme.model_validate(table)
+    except ValidationError:
+        return
+    if programme.steps > MAX_STEPS:
+        raise SceneError(f"programme.steps_per_stop: the programme's stops take {programme.steps} steps "
+                         f"(stops × steps_per_stop), more than {MAX_STEPS}; use fewer steps per stop or stops")
+    time["T"], time["steps"] = programme.end, programme.steps
 
 
 def _default(data: dict, section: str, name: str, value: Any) -> None:

@@ -1,7 +1,8 @@
 """The tables of a scene file and their keys, each declared once: type, range, documentation, what it invalidates.
 
 The top-level keys ``name`` and ``units``, then ``[geometry]``, ``[mesh]``, ``[material]``, ``[contact]``,
-``[foundation]``, ``[loads]`` (with ``plate``), ``[time]``, ``[wear]``, ``[heat]``, ``[solver]``, ``[output]``.  Ranges
+``[foundation]``, ``[loads]`` (with ``plate``), ``[time]``, ``[wear]``, ``[heat]``, ``[solver]``, ``[output]``
+and ``[programme]`` (its blocks of stops, :class:`Stop`).  Ranges
 that depend on other keys are rules of :mod:`ngwear.model.rules`; the kinds of ``geometry.kind`` come from the registry
 (:mod:`ngwear.model.kinds`).
 """
@@ -10,7 +11,7 @@ from __future__ import annotations
 import math
 from typing import Literal, get_args, get_origin
 
-from pydantic import Field, create_model, field_validator
+from pydantic import Field, ValidationError, create_model, field_validator, model_validator
 
 from . import cad, shapes  # noqa: F401 - they register the part kinds
 from .coefficients import normalised
@@ -18,6 +19,7 @@ from .compliance import COMPLIANCES
 from .keys import Flag, Level, Number, SceneError, Section, Table, Vector, Whole, key
 from .kinds import KINDS, ordered
 from .materials import LAWS, constants, groups, lame
+from .programme import MAX_STEPS, read_rows
 
 KindName = Literal[tuple(kind.name for kind in ordered())]
 Coefficient = float | str | tuple[float, ...] | Table
@@ -299,8 +301,9 @@ class Loads(Section):
 class TimeGrid(Section):
     """Time steps: uniform, t_j = j T / steps, or chosen by an error controller (``adaptive``)."""
 
-    T: Number = key(1.0, "final time", reuse=Level.NOTHING, gt=0)
-    steps: Whole = key(100, "number of steps N (k = T/N); with `time.adaptive` the first step is T/N",
+    T: Number = key(1.0, "final time (set by a `[programme]`: its end)", reuse=Level.NOTHING, gt=0)
+    steps: Whole = key(100, "number of steps N (k = T/N); with `time.adaptive` the first step is T/N (set by a "
+                       "`[programme]`: its stops' steps)",
                        reuse=Level.NOTHING, ge=1, le=1_000_000)
     adaptive: Flag = key(False, "choose the steps by an error estimate of the wear (see `time.tolerance`)",
                          reuse=Level.NOTHING)
@@ -321,6 +324,15 @@ class WearSpec(Section):
     allow_unstable: Flag = key(False, "run an explicit update known to diverge (k·α·L > 2 at the uniform step, α "
                                "the largest κ‖v*‖, L the largest slope of p on [0, g]) instead of refusing it",
                                reuse=Level.NOTHING)
+    geometry: Literal["layer", "surface"] = key(
+        "layer", "`layer`: the paper's model, the wear removes the soft layer of a body whose shape never changes; "
+        "`surface`: the worn material leaves the body, its contact surface recedes along ν (the layer keeps its "
+        "thickness g)", reuse=Level.NOTHING)
+    update: Number = key(0.25, "`surface`: the wear since the last geometry update, relative to the height of the "
+                         "smallest element at Γ_C, that moves the surface", reuse=Level.NOTHING, gt=0, le=1)
+    limit: Number | None = key(None, "the smallest remaining thickness of the worn region (along ν, e.g. a pad's "
+                               "2 mm): reaching it ends the run as worn out", reuse=Level.NOTHING, shown="none",
+                               allowed="> 0", gt=0)
 
 
 class Convection(Section):
@@ -410,9 +422,111 @@ class Output(Section):
                             "the run", reuse=Level.NOTHING, ge=1, le=1_000_000)
 
 
+Ramp = Number | tuple[Number, Number]
+
+
+class Stop(Section):
+    """One block of a programme: ``count`` identical stops, each ``duration`` long and followed by its ``dwell``."""
+
+    count: Whole = key(1, "the number of identical stops of the block", reuse=Level.NOTHING, ge=1, le=MAX_STEPS)
+    duration: Number = key(..., "the time of one stop (sliding, loaded)", reuse=Level.NOTHING, shown="— (required)",
+                           gt=0)
+    speed: Ramp = key((1.0, 1.0), "the factor of the foundation's velocity: a number, or [start, end] linear over "
+                      "the stop (a stop to rest: [1, 0])", reuse=Level.NOTHING, shown="1",
+                      allowed="a number or [start, end]")
+    load: Ramp = key((1.0, 1.0), "the factor of the loads (plate force, tractions, body force): a number or "
+                     "[start, end]", reuse=Level.NOTHING, shown="1", allowed="numbers >= 0 when only a plate holds "
+                     "the body")
+    dwell: Number = key(0.0, "the time after each stop with no load and no wear", reuse=Level.NOTHING, ge=0)
+
+    @field_validator("speed", "load")
+    @classmethod
+    def _ramp(cls, value: Ramp) -> tuple[float, float]:
+        """A number v is the constant factor [v, v]."""
+        return (value, value) if isinstance(value, float) else value
+
+    @property
+    def period(self) -> float:
+        """The time of one stop and its dwell."""
+        return self.duration + self.dwell
+
+
+def block(entry, where: str) -> Stop:
+    """One block from a table (or a file's row), or one SceneError line starting with ``where``."""
+    if not isinstance(entry, (dict, Stop)):
+        raise SceneError(f"{where}: must be a table {{count, duration, speed, load, dwell}} (got {entry!r})")
+    try:
+        return Stop.model_validate(entry)
+    except ValidationError as err:
+        from .messages import message  # messages reads the declarations of this module
+        first = sorted(err.errors(), key=lambda e: e["type"] != "extra_forbidden")[0]
+        name = first["loc"][0] if first["loc"] else "block"
+        if first["type"] == "extra_forbidden":
+            text = f"{name}: unknown (allowed: {', '.join(Stop.model_fields)})"
+        elif name in ("speed", "load"):
+            text = f"{name}: must be a number or [start, end] (got {entry.get(name)!r})"
+        else:
+            text = message(first, entry, Stop)
+        raise SceneError(f"{where}: {text}") from None
+
+
+class Programme(Section):
+    """A braking programme: blocks of identical stops, run one after the other (see :mod:`ngwear.model.programme`)."""
+
+    stops: tuple[Stop, ...] = key((), "the blocks, one after the other, each `{ count, duration, speed, load, "
+                                  "dwell }` (the keys `programme.stops[].…`)", reuse=Level.NOTHING, shown="—",
+                                  allowed="one block or more")
+    file: str | None = key(None, "a CSV file of the blocks (instead of `stops`; relative to the scene file): a header "
+                           "naming the columns `count`, `duration` and any of `speed`, `load`, `dwell`, then one row "
+                           "a block (a [start, end] factor quoted: `\"[1.0, 0.0]\"`)", reuse=Level.NOTHING, shown="—",
+                           allowed="an existing CSV file")
+    steps_per_stop: Whole = key(20, "time steps of one stop (with `time.adaptive`: its first step is a stop's "
+                                "duration over this)",
+                                reuse=Level.NOTHING, ge=1, le=10_000)
+    jump: Flag = key(False, "apply stops of a block at once (cycle jumps) once their wear increments settle",
+                     reuse=Level.NOTHING)
+    jump_tolerance: Number = key(1e-3, "`jump`: the change of the wear increment between consecutive simulated "
+                                 "stops, relative to the increment (max over Γ_C), below which stops are jumped",
+                                 reuse=Level.NOTHING, gt=0, lt=1)
+
+    @field_validator("stops", mode="before")
+    @classmethod
+    def _blocks(cls, value):
+        """Each block checked on its own: one line naming the block and its key."""
+        if not isinstance(value, (list, tuple)):
+            raise SceneError(f"programme.stops: must be a list of blocks {{count, duration, speed, load, dwell}} "
+                             f"(got {value!r})")
+        return tuple(block(entry, f"programme.stops: block {i}") for i, entry in enumerate(value, start=1))
+
+    @model_validator(mode="after")
+    def _one_source(self) -> Programme:
+        if (not self.stops) == (self.file is None):
+            raise SceneError("programme.stops: give the blocks either as programme.stops or in programme.file "
+                             f"(got {'both' if self.stops else 'neither'})")
+        self.blocks       # a file is read (and its rows checked) with the scene
+        return self
+
+    @property
+    def blocks(self) -> tuple[Stop, ...]:
+        """The blocks: ``stops``, or the rows of ``file``."""
+        if self.file is None:
+            return self.stops
+        return tuple(block(row, f"programme.file: {where}") for where, row in read_rows(self.file))
+
+    @property
+    def end(self) -> float:
+        """T: the time of every stop and dwell."""
+        return math.fsum(b.count * b.period for b in self.blocks)
+
+    @property
+    def steps(self) -> int:
+        """The time steps of the programme's stops, one after the other (its dwells take none)."""
+        return sum(b.count for b in self.blocks) * self.steps_per_stop
+
+
 SECTIONS = {"geometry": Geometry, "mesh": MeshSpec, "material": Material, "contact": Contact,
             "foundation": Foundation, "loads": Loads, "time": TimeGrid, "wear": WearSpec, "heat": HeatSpec,
-            "solver": SolverSpec, "output": Output}
+            "solver": SolverSpec, "output": Output, "programme": Programme}
 
 
 def nested_table(info) -> type[Section] | None:

@@ -1,0 +1,192 @@
+"""Braking programmes: blocks of identical stops, compiled into what a run needs.
+
+A programme (``[programme]``, :class:`~ngwear.model.sections.Programme`) is a list of blocks, each ``count``
+identical stops of ``duration`` followed by a ``dwell``.  Stop i of the whole programme starts at
+
+    t_i = T_b + k (d_b + D_b),     T_b = Σ_{c < b} n_c (d_c + D_c),
+
+for the k-th stop of block b (n_b stops of duration d_b and dwell D_b), so the stops of a block are the same
+problem shifted in time (their grids agree to the last bit relative to their start) and the programme ends at
+T = Σ_b n_b (d_b + D_b).  During a stop the foundation's velocity and the loads are scaled by
+
+    s_v(t) = v₀ + (v₁ − v₀) τ/d,   s_F(t) = f₀ + (f₁ − f₀) τ/d,    τ = t − t_i ∈ [0, d],
+
+([v₀, v₁] = ``speed``, [f₀, f₁] = ``load``; a number is [v, v]); in a dwell s_v = s_F = 0.  These factors
+replace ``foundation.speed_table`` and ``loads.time_table`` (a scene gives either the tables or a programme):
+their product with a table over [0, T] would scale the stops by where they fall in the programme, which a block
+of identical stops cannot be.
+
+**The time grid.**  A stop takes ``steps_per_stop`` = m uniform steps, t_i + d j/m (j = 0 … m), and begins with
+a solve at t_i, as step 0 of a run does: its first wear step then starts from the loaded rate α p at t_i.  A
+dwell needs no solve at all: without load and sliding the quasistatic state is the unloaded one (u = 0, p = 0, no
+wear, w unchanged; a body held by a plate alone is not even located), so the time loop steps over it as one
+interval whose end state is known, not m steps: one, not none, so that the record and a heat solver's cooling see
+it.  The factors by time alone are right-continuous at the jumps (the stop's end into its dwell, the next stop's
+start), exactly as :func:`~ngwear.model.keys.piecewise_linear` through :meth:`Schedule.table` gives them; a stop's
+own grid, its end included, takes its factors from :meth:`Schedule.factors`.
+"""
+from __future__ import annotations
+
+import csv
+import math
+import tomllib
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+
+import numpy as np
+
+from .keys import SceneError
+
+MAX_STEPS = 1_000_000
+"""Most time steps of a programme's stops, one after the other (as ``time.steps``): the bound of its grid."""
+COLUMNS = ("count", "duration", "speed", "load", "dwell")
+REQUIRED = ("count", "duration")
+MAX_BYTES = 10_000_000
+"""The largest programme file read (a million blocks of short rows)."""
+
+
+def read_rows(path) -> list[tuple[str, dict]]:
+    """(Where, raw block) of each row of a programme's CSV file; SceneError lines name ``programme.file``.
+
+    The header names the columns (:data:`COLUMNS`; ``count`` and ``duration`` required); a cell is read as a TOML
+    value (a number, or ``[start, end]`` quoted); an empty cell takes the key's default.
+    """
+    path = Path(path)
+    try:
+        if path.stat().st_size > MAX_BYTES:
+            raise SceneError(f"programme.file: {path.name} is larger than {MAX_BYTES // 1_000_000} MB")
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as err:
+        raise SceneError(f"programme.file: cannot read {path} ({err})") from None
+    lines = csv.reader(text.splitlines())
+    header = [name.strip() for name in next(lines, [])]
+    missing = [name for name in REQUIRED if name not in header]
+    unknown = [name for name in header if name not in COLUMNS]
+    if missing or unknown or len(set(header)) < len(header):
+        problem = f"has no column {missing[0]!r}" if missing else f"has an unknown or repeated column " \
+            f"{(unknown or [n for n in header if header.count(n) > 1])[0]!r}"
+        raise SceneError(f"programme.file: {path.name} {problem} (its header: {', '.join(header) or 'none'}; "
+                         f"the columns: {', '.join(COLUMNS)}, of them {' and '.join(REQUIRED)} required)")
+    rows = []
+    for number, cells in enumerate(lines, start=2):
+        if not any(cell.strip() for cell in cells):
+            continue
+        where = f"{path.name} line {number}"
+        if len(cells) != len(header):
+            raise SceneError(f"programme.file: {where}: has {len(cells)} cells, the header {len(header)}")
+        rows.append((where, {name: _cell(cell, f"{where}: {name}") for name, cell in zip(header, cells)
+                             if cell.strip()}))
+    if not rows:
+        raise SceneError(f"programme.file: {path.name} has no blocks (one row a block below the header)")
+    return rows
+
+
+def _cell(text: str, where: str):
+    try:
+        return tomllib.loads(f"v = {text.strip()}")["v"]
+    except tomllib.TOMLDecodeError:
+        raise SceneError(f"programme.file: {where}: must be a number or [start, end] (got {text.strip()!r})") from None
+
+
+@dataclass(frozen=True, eq=False)
+class Schedule:
+    """A programme compiled: its stops one after the other, their grids and their factors s_v, s_F.
+
+    Attributes
+    ----------
+    block, start, duration, dwell : ndarray, shape (S,)
+        Of each stop i of the programme: its block (from 0), t_i, d and the dwell after it.
+    speed, load : ndarray, shape (S, 2)
+        The factors' values at the stop's start and end.
+    steps : int
+        m, the steps of one stop.
+    first : ndarray, shape (B + 1,)
+        The first stop of each block, then S: block b's stops are ``first[b]:first[b + 1]``.
+    """
+
+    block: np.ndarray
+    start: np.ndarray
+    duration: np.ndarray
+    dwell: np.ndarray
+    speed: np.ndarray
+    load: np.ndarray
+    steps: int
+    first: np.ndarray
+
+    @classmethod
+    def of(cls, programme) -> Schedule:
+        """The schedule of a ``[programme]`` table (:class:`~ngwear.model.sections.Programme`)."""
+        blocks = programme.blocks
+        counts = np.array([b.count for b in blocks])
+        block = np.repeat(np.arange(len(blocks)), counts)
+        first = np.concatenate([[0], np.cumsum(counts)])
+        begins = [math.fsum(b.count * b.period for b in blocks[:i]) for i in range(len(blocks))]
+        within = np.arange(first[-1]) - first[block]
+        field = lambda name: np.array([getattr(b, name) for b in blocks], dtype=float)[block]  # noqa: E731
+        period = np.array([b.period for b in blocks])
+        return cls(block, np.array(begins)[block] + within * period[block], field("duration"), field("dwell"),
+                   field("speed"), field("load"), programme.steps_per_stop, first)
+
+    @property
+    def count(self) -> int:
+        """S, the number of stops."""
+        return len(self.block)
+
+    @property
+    def end(self) -> float:
+        """T, the end of the last stop's dwell."""
+        return float(self.start[-1] + self.duration[-1] + self.dwell[-1])
+
+    def last_of_block(self, i: int) -> int:
+        """The last stop of stop i's block."""
+        return int(self.first[self.block[i] + 1]) - 1
+
+    def local(self, i: int) -> np.ndarray:
+        """Stop i's grid from its start, d j/m (j = 0 … m): the same bits for every stop of a block.
+
+        Steps k taken as its differences, not as those of :meth:`times`, keep a block's stops one problem.
+        """
+        return self.duration[i] * np.arange(self.steps + 1) / self.steps
+
+    def times(self, i: int) -> np.ndarray:
+        """Stop i's grid t_i + d j/m, j = 0 … m (its start, a solve without a wear step, included)."""
+        return self.start[i] + self.local(i)
+
+    def factors(self, i: int) -> tuple[np.ndarray, np.ndarray]:
+        """(s_v, s_F) at stop i's grid :meth:`times`, its end included (the stop's values, not the dwell's)."""
+        phase = np.arange(self.steps + 1) / self.steps
+        return tuple(ends[i, 0] + (ends[i, 1] - ends[i, 0]) * phase for ends in (self.speed, self.load))
+
+    def speed_at(self, t) -> np.ndarray:
+        """s_v(t) by time: the stop's ramp, 0 in a dwell (right-continuous at the jumps)."""
+        table = self.table("speed")
+        return np.interp(t, table[:, 0], table[:, 1])
+
+    def load_at(self, t) -> np.ndarray:
+        """s_F(t) by time: the stop's ramp, 0 in a dwell (right-continuous at the jumps)."""
+        table = self.table("load")
+        return np.interp(t, table[:, 0], table[:, 1])
+
+    def table(self, which: str) -> np.ndarray:
+        """[[t, s], …] of s_v (``"speed"``) or s_F (``"load"``): the piecewise-linear table of the factor.
+
+        Non-decreasing times, repeated at the jumps (a stop's end into its dwell, the next stop's start), so that
+        :func:`~ngwear.model.keys.piecewise_linear` through it is right-continuous there, as :meth:`speed_at` is: it
+        stands where ``foundation.speed_table`` (``loads.time_table``) did.
+        """
+        return self._tables[which]
+
+    @cached_property
+    def _tables(self) -> dict[str, np.ndarray]:
+        following = np.append(self.start[1:], self.end)
+        stop_end = np.minimum(self.start + self.duration, following)     # no later than the next start, by an ulp
+        rest = np.zeros(self.count)
+        keep = np.ones((self.count, 4), bool)
+        keep[:, 2:] = (self.dwell > 0)[:, None]
+        tables = {}
+        for which, ends in (("speed", self.speed), ("load", self.load)):
+            rows = np.stack([np.column_stack(pair) for pair in ((self.start, ends[:, 0]), (stop_end, ends[:, 1]),
+                                                                 (stop_end, rest), (following, rest))], axis=1)
+            tables[which] = rows[keep]
+        return tables
