@@ -25,8 +25,8 @@ from scipy.special import erfc
 from ngwear.model.geometry import build_mesh
 from ngwear.model.scene import Scene
 from ngwear.numerics.forms import displacement_space
-from ngwear.numerics.points import contact_points
 from ngwear.numerics.heat import Heat
+from ngwear.numerics.points import contact_points
 
 FINAL, FLUX = 0.02, 1.0
 

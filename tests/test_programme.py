@@ -7,9 +7,9 @@ piecewise-linear tables read by :func:`~ngwear.model.keys.piecewise_linear` as t
 import numpy as np
 import pytest
 from conftest import PAPER
-from ngwear.model.keys import piecewise_linear
 
 import ngwear
+from ngwear.model.keys import piecewise_linear
 from ngwear.model.programme import Schedule
 from ngwear.model.scene import SceneError, parse_override
 
