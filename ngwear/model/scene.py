@@ -3,12 +3,12 @@
 A scene is read from TOML with nested tables (``[geometry]``, ``[mesh]``, ``[material]``, ``[contact]``,
 ``[foundation]``, ``[loads]``, ``[time]``, ``[wear]``, ``[heat]``, ``[solver]``, ``[output]``, ``[programme]``) and
 two top-level keys (``name``, ``units``), each key declared once in :mod:`ngwear.model.sections`.
-:meth:`Scene.from_dict` first prepares the raw tables (a part given in Python becomes a cached file, a part file is read, the defaults that depend on the kind and on other keys
-are filled; a programme sets ``time.T`` and ``time.steps``), then pydantic validates every key against its
-declaration and :mod:`ngwear.model.rules` checks the rules across keys; the first violation is one
-:class:`SceneError` line naming the dotted key.  ``Scene.replace(**{"time.steps": 10})`` overrides fields with
-the dotted keys that ``ngwear run --set time.steps=10`` accepts.  :meth:`Scene.changed_from` tells what a change
-of scene invalidates, from the levels the keys declare.
+:meth:`Scene.from_dict` first prepares the raw tables (a part given in Python becomes a cached file, a part file is
+read, the defaults that depend on the kind and on other keys are filled; a programme sets ``time.T`` and
+``time.steps``), then pydantic validates every key against its declaration and :mod:`ngwear.model.rules` checks the
+rules across keys; the first violation is one :class:`SceneError` line naming the dotted key.
+``Scene.replace(**{"time.steps": 10})`` overrides fields with the dotted keys that ``ngwear run --set time.steps=10``
+accepts. :meth:`Scene.changed_from` tells what a change of scene invalidates, from the levels the keys declare.
 """
 from __future__ import annotations
 
