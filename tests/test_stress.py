@@ -93,7 +93,7 @@ def test_catalogue_covers_regions_laws_and_fields():
     fields = {}
     for sc in scenes.values():
         if isinstance(sc.contact.friction, str) or isinstance(sc.contact.wear, str):
-            coefficients = Discretization(sc).coefficients
+            coefficients = Discretization(sc).contact.coefficients
             fields[sc.name] = coefficients.friction, coefficients.wear
     assert any(mu.max() == 2 and (mu == 0).any() for mu, _ in fields.values())
     assert any(math.isclose((kappa == 0).mean(), 0.5, abs_tol=0.05) and kappa.max() > 0 for _, kappa in fields.values())

@@ -43,16 +43,9 @@ from .compare import Comparison, nearest_step
 from .plots import Dashboard
 from .render import Canvas
 from .sliders import sliders_for
+from .widget import RunError
 
 log = logging.getLogger(__name__)
-
-
-class RunError(RuntimeError):
-    """A run stopped part-way (Newton failure); ``result`` holds the steps it completed."""
-
-    def __init__(self, message: str, result):
-        super().__init__(message)
-        self.result = result
 
 
 @dataclass
