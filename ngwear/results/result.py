@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from scipy.integrate import cumulative_trapezoid
 
 from ..model.kinematics import Slip
 from ..model.scene import Scene
@@ -43,8 +44,10 @@ from ..numerics.solver import NewtonRecord
 from .folder import replacing
 from .material_summary import region_materials
 from .mesh_file import keep_mesh, saved_discretization
+from .provenance import canonical
 from .records import records_from_arrays, records_to_arrays
 from .step_fields import DERIVED, RECORDED
+from .table import to_dataframe, write_history
 from .units import units
 
 ARRAYS = tuple(f.name for f in RECORDED)
@@ -109,6 +112,7 @@ class Result:
     discretization: object = field(default=None, repr=False)
     recording: object = field(default=None, repr=False)          # the run's Recording: its rows, to go on from
     mesh_digest: str | None = field(default=None, repr=False)   # SHA-256 of the mesh.vol written for it
+    provenance: dict | None = field(default=None, repr=False)    # versions and scene hash (None: an older file's)
 
     @property
     def completed(self) -> bool:
@@ -136,16 +140,47 @@ class Result:
     @property
     def torque(self) -> np.ndarray:
         """Friction moment about the counterface's axis per step (negative when it brakes a rotation)."""
-        slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
-        signs = np.sign([slip.factor(t) for t in self.times])
-        return signs * (self.pressure @ (self.friction_coefficient * slip.moment_arms() * self.weights))
+        slip, factors = self._slip()
+        return np.sign(factors) * (self.pressure @ (self.friction_coefficient * slip.moment_arms() * self.weights))
 
     @property
     def tangential_force(self) -> np.ndarray:
         """F_t = Σ m_i μ_i p_i n*_i per step, shape (steps + 1, d): the friction force on the foundation."""
+        slip, factors = self._slip()
+        return np.sign(factors)[:, None] * ((self.pressure * self.friction_coefficient * self.weights) @ slip.direction)
+
+    def _slip(self) -> tuple[Slip, np.ndarray]:
+        """The foundation's slip at the contact points and its factor s_v(t_j) at each step."""
         slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
-        signs = np.sign([slip.factor(t) for t in self.times])
-        return signs[:, None] * ((self.pressure * self.friction_coefficient * self.weights) @ slip.direction)
+        return slip, np.array([slip.factor(t) for t in self.times], dtype=float)
+
+    @property
+    def max_wear(self) -> np.ndarray:
+        """max_i w_i per step."""
+        return self.wear.max(axis=1, initial=0.0)
+
+    @property
+    def max_pressure(self) -> np.ndarray:
+        """max_i p_i per step."""
+        return self.pressure.max(axis=1, initial=0.0)
+
+    @property
+    def mean_pressure(self) -> np.ndarray:
+        """Normal force / contact area per step (0 where nothing touches)."""
+        area = self.contact_area
+        return np.divide(self.normal_force, area, out=np.zeros_like(area), where=area > 0)
+
+    @property
+    def friction_power(self) -> np.ndarray:
+        """P = Σ m_i μ_i p_i ‖v*_i(t)‖ = |s_v(t)| Σ m_i μ_i p_i ‖v*_i‖₁ per step (‖v*_i‖₁ at s_v = 1)."""
+        slip, factors = self._slip()
+        return np.abs(factors) * (self.pressure @ (self.friction_coefficient * slip.speed * self.weights))
+
+    @property
+    def dissipated_energy(self) -> np.ndarray:
+        """∫₀^{t_j} P dt per step, by the trapezoidal rule over the steps."""
+        power = self.friction_power
+        return cumulative_trapezoid(power, self.times, initial=0.0) if len(power) else power
 
     @property
     def friction_force(self) -> np.ndarray:
@@ -242,6 +277,15 @@ class Result:
                if self.scene.units else {}),
         }
 
+    def to_dataframe(self):
+        """The run's per-step numbers, one row per step, as a pandas DataFrame: the table of ``history.csv``.
+
+        Its columns (:mod:`ngwear.results.table`): ``step``, ``times``, every per-step number (``torque``, …), the
+        components of the short vectors, ``newton_iterations``; with the unit in their names in a scene in SI
+        (``torque [N m]``).
+        """
+        return to_dataframe(self)
+
     def arrays(self) -> dict[str, np.ndarray]:
         """Everything of the run as named arrays (``result.npz``): its steps and :meth:`header`."""
         return {**self.header(), **{name: getattr(self, name) for name in ARRAYS}}
@@ -252,10 +296,11 @@ class Result:
                 **{name: getattr(self, name) for name in COEFFICIENTS}, **records_to_arrays(self.newton),
                 "status": np.array(self.status), "wall_time": np.array(self.wall_time),
                 "solve_time": np.array(self.solve_time),
-                "rejected": np.array(self.rejected), "warnings": np.array(self.warnings, dtype=str)}
+                "rejected": np.array(self.rejected), "warnings": np.array(self.warnings, dtype=str),
+                **({"provenance": np.array(canonical(self.provenance))} if self.provenance else {})}
 
     def save(self, directory) -> Path:
-        """Write result.npz, scene.json, mesh.vol, summary.json and a VTU/PVD series of the frames."""
+        """Write result.npz, scene.json, mesh.vol, history.csv, summary.json and a VTU/PVD series of the frames."""
         out = Path(directory)
         out.mkdir(parents=True, exist_ok=True)
         steps = self.stored_steps
@@ -270,6 +315,7 @@ class Result:
 
         with replacing(out / "scene.json") as tmp:
             tmp.write_text(json.dumps(self.scene.to_dict(), indent=2))
+        write_history(self, out / "history.csv")
         with replacing(out / "summary.json") as tmp:
             tmp.write_text(json.dumps(self.summary(), indent=2, ensure_ascii=False), encoding="utf-8")
         if self.discretization is not None:
@@ -337,7 +383,7 @@ def from_arrays(scene: Scene, data, disc, rows: dict[str, np.ndarray] | None = N
                   status=str(data["status"]), wall_time=float(data["wall_time"]),
                   solve_time=float(data["solve_time"]) if "solve_time" in data else 0.0,
                   warnings=[str(w) for w in data["warnings"]], rejected=int(data["rejected"]),
-                  discretization=disc)
+                  discretization=disc, provenance=json.loads(str(data["provenance"])) if "provenance" in data else None)
 
 
 for _field in RECORDED:     # result.times, result.wear, …: the recorded rows, as declared

@@ -1,0 +1,31 @@
+"""Where a result comes from: the versions that computed it and the identity of its scene.
+
+``{"ngwear": …, "ngsolve": …, "python": …, "scene_sha256": …}``, the SHA-256 of the scene's canonical JSON (its
+:meth:`~ngwear.model.scene.Scene.to_dict`, keys sorted, no spaces, UTF-8): two runs of equal scenes share it, and
+``scene.json`` beside a result gives it again.  ``summary.json``, ``result.npz`` (as JSON) and each row of a study's
+table record it.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import platform
+
+
+def provenance(scene) -> dict[str, str]:
+    """The ngwear, NGSolve and Python versions of this process and the hash of ``scene``."""
+    import ngsolve
+
+    from .. import __version__
+    return {"ngwear": __version__, "ngsolve": ngsolve.__version__, "python": platform.python_version(),
+            "scene_sha256": scene_hash(scene)}
+
+
+def scene_hash(scene) -> str:
+    """SHA-256 of the scene's canonical JSON."""
+    return hashlib.sha256(canonical(scene.to_dict()).encode()).hexdigest()
+
+
+def canonical(data: dict) -> str:
+    """JSON with sorted keys and no spaces (the text :func:`scene_hash` hashes)."""
+    return json.dumps(data, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
