@@ -46,6 +46,8 @@ from .material_summary import region_materials
 from .mesh_file import keep_mesh, saved_discretization
 from .provenance import canonical
 from .records import records_from_arrays, records_to_arrays
+from .run_summary import QUANTITIES as RUN
+from .run_summary import whole_run
 from .step_fields import DERIVED, RECORDED
 from .table import to_dataframe, write_history
 from .units import units
@@ -53,7 +55,11 @@ from .units import units
 ARRAYS = tuple(f.name for f in RECORDED)
 """The rows a run records (:data:`~ngwear.results.step_fields.RECORDED`)."""
 PART = tuple(f.name for f in DERIVED if not f.shape)
-"""What the summary reports of a part at the last step: the derived per-step numbers."""
+"""The derived per-step numbers of a part."""
+LAST = tuple(name for name in PART if name not in RUN and name != "max_wear")
+"""What the summary reports of the last step: the derived per-step numbers the whole run's part does not hold."""
+LAST_STEP = (*LAST, "plate_displacement", "contact_fraction", "active_fraction")
+"""The summary's keys of the last step (the plate's only with a plate)."""
 COEFFICIENTS = ("friction_coefficient", "wear_coefficient", "contact_stiffness")
 
 
@@ -244,28 +250,33 @@ class Result:
         return self.discretization
 
     def summary(self) -> dict:
-        """Key numbers of the run (what ``ngwear run`` prints); ``materials``: each region's law, constants, m_F, L_F.
+        """Key numbers of the run (what ``ngwear run`` prints), in three parts.
 
-        See :func:`ngwear.results.material_summary.region_materials` (an energy law's moduli estimated over the frames).
+        The whole run (:func:`ngwear.results.run_summary.whole_run`: peaks and means of the torque, the friction
+        force and the pressure, the dissipated energy, the worn volume and mass, when wear reached g, with the
+        largest wear and penetration); the last step's values (:data:`LAST_STEP`); the solver's counts, times,
+        ``materials`` (each region's law, constants, m_F, L_F: see
+        :func:`ngwear.results.material_summary.region_materials`, an energy law's moduli estimated over the frames)
+        and ``provenance`` (:mod:`ngwear.results.provenance`).
         """
-        g = self.scene.contact.gap
         its = [r.iterations for r in self.newton if r.converged]
         # the paper's "penetration": how far Γ_C has moved into the layer, u_ν − d₀ ≤ g
         pen = self.normal_displacement - self.d0[None, :] if len(self.times) else np.zeros((1, 1))
-        last = -1
-        part = {name: float(getattr(self, name)[last]) if len(self.times) else 0.0 for name in PART}
-        return {
+        stepped = len(self.times) > 0
+        last = {name: float(getattr(self, name)[-1]) + 0.0 if stepped else 0.0 for name in LAST}
+        if self.plate_displacement.shape[1] and stepped:
+            last["plate_displacement"] = float(self.plate_displacement[-1, 0]) + 0.0
+        last["contact_fraction"] = float((self.pressure[-1] > 0).mean()) if stepped else 0.0
+        last["active_fraction"] = float((self.reaction[-1] > 0).mean()) if stepped else 0.0
+        summary = {
             "status": self.status,
             "steps": self.steps,
             "contact_points": len(self.weights),
+            **whole_run(self),
             "max_wear": float(self.wear.max(initial=0.0)),
             "max_penetration": float(pen.max(initial=0.0)),
-            "gap": g,
-            **part,
-            **({"plate_displacement": float(self.plate_displacement[last, 0])}
-               if self.plate_displacement.shape[1] and len(self.times) else {}),
-            "contact_fraction": float((self.pressure[last] > 0).mean()) if len(self.times) else 0.0,
-            "active_fraction": float((self.reaction[last] > 0).mean()) if len(self.times) else 0.0,
+            "gap": self.scene.contact.gap,
+            **last,
             **({"rejected_steps": self.rejected} if self.scene.time.adaptive else {}),
             "newton_iterations_total": int(sum(its)),
             "newton_iterations_max": int(max(its, default=0)),
@@ -273,9 +284,12 @@ class Result:
             "solve_time_s": round(self.solve_time, 3),
             "materials": region_materials(self.scene, self.discretization,
                                           [self.fields[s] for s in self.stored_steps if s in self.fields]),
-            **({"units": units(self.scene, ("gap", "max_wear", "max_penetration", "plate_displacement", *PART))}
-               if self.scene.units else {}),
+            **({"provenance": self.provenance} if self.provenance else {}),
         }
+        if self.scene.units:
+            summary["units"] = units(self.scene, [name for name, value in summary.items() if isinstance(value, float)
+                                                  or name == "gap_reached_at"])
+        return summary
 
     def to_dataframe(self):
         """The run's per-step numbers, one row per step, as a pandas DataFrame: the table of ``history.csv``.
