@@ -60,8 +60,10 @@ CONTACT_FIELDS = (
 
 @dataclass(frozen=True)
 class Surface:
-    """Γ_C as cells: ``points`` (m, 3), ``cells`` {VTK type: (k, nodes)}, ``extend`` ((m − n) × n: the added
-    vertices' values from the points')."""
+    """Γ_C as cells: ``points`` (m, 3), ``cells`` {VTK type: (k, nodes)}, ``extend`` (m − n) × n.
+
+    ``extend`` gives the values at the added vertices from those at the contact points.
+    """
 
     points: np.ndarray
     cells: dict[int, np.ndarray]

@@ -3,7 +3,7 @@
 ``{"ngwear": …, "ngsolve": …, "python": …, "scene_sha256": …}``, the SHA-256 of the scene's canonical JSON (its
 :meth:`~ngwear.model.scene.Scene.to_dict`, keys sorted, no spaces, UTF-8): two runs of equal scenes share it, and
 ``scene.json`` beside a result gives it again.  ``summary.json``, ``result.npz`` (as JSON) and each row of a study's
-table record it.
+table (:func:`columns`: ``ngwear_version``, ``ngsolve_version``, ``python_version``, ``scene_sha256``) record it.
 """
 from __future__ import annotations
 
@@ -19,6 +19,15 @@ def provenance(scene) -> dict[str, str]:
     from .. import __version__
     return {"ngwear": __version__, "ngsolve": ngsolve.__version__, "python": platform.python_version(),
             "scene_sha256": scene_hash(scene)}
+
+
+COLUMNS = ("ngwear_version", "ngsolve_version", "python_version", "scene_sha256")
+"""The provenance's columns in a study's table."""
+
+
+def columns(scene) -> dict[str, str]:
+    """:func:`provenance` as a study table's :data:`COLUMNS`."""
+    return dict(zip(COLUMNS, provenance(scene).values()))
 
 
 def scene_hash(scene) -> str:
