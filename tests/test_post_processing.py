@@ -18,7 +18,7 @@ from netgen.geom2d import unit_square
 import ngwear
 from ngwear.cli import main
 from ngwear.model.materials import Compaction, Energy, Isotropic, TransverselyIsotropic, strain
-from ngwear.results.bulk_stress import full_tensor, stress_fields, von_mises
+from ngwear.results.bulk_stress import BulkStress, full_tensor, von_mises
 from ngwear.results.provenance import COLUMNS
 from ngwear.results.result import load_result
 from ngwear.studies.sweep import simulate_case
@@ -114,9 +114,11 @@ def test_each_region_has_its_own_laws_stress(backed_p2):
     mesh, a = backed_p2.discretization.mesh, 0.01
     u = ngs.GridFunction(backed_p2.discretization.fes)
     u.Set(ngs.CF((a * ngs.x, 0, 0)))
-    _, vm = stress_fields(backed_p2.scene, mesh, u)
+    stress = BulkStress(backed_p2.scene, mesh, u)
+    stress.update()
     body, backing = mesh(0.5, 0.25, 0.05), mesh(0.5, 0.25, 0.35)
-    assert vm(body) == pytest.approx(2 * 0.8 * a, rel=1e-12) and vm(backing) == pytest.approx(2 * 15.0 * a, rel=1e-12)
+    for vm in (von_mises(stress.exact), stress.von_mises):                  # exact, and projected on P1 (exact too)
+        assert vm(body) == pytest.approx(2 * 0.8 * a, rel=1e-10) and vm(backing) == pytest.approx(2 * 15 * a, rel=1e-10)
 
 
 # ---------------------------------------------------------------- VTU: the contact face
@@ -212,7 +214,7 @@ def test_a_stop_to_rest_is_summed_over_the_run(stop):
 
 def test_first_time_wear_reached_the_gap(paper_scene):
     result = ngwear.simulate(paper_scene.replace(**{"mesh.maxh": 0.25, "time.steps": 20}), progress=False)
-    reached = result.wear.max(axis=1) >= 0.999 * result.scene.contact.gap          # w → g only asymptotically
+    reached = result.wear.max(axis=1) >= 0.99 * result.scene.contact.gap           # w → g only asymptotically
     assert reached.any() and not reached[0]
     assert result.summary()["gap_reached_at"] == result.times[np.argmax(reached)]
 

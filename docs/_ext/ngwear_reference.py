@@ -76,7 +76,7 @@ MEANING = {
                                   "on a translating one)"),
         "wear_volume": ("", "the worn volume at the end (an area in 2D)"),
         "wear_mass": ("", "ρ × the worn volume, only where `material.density` of the regions carrying Γ_C gives one ρ"),
-        "gap_reached_at": ("", "the first step time at which max w reached g (to 0.1 %: w approaches g only "
+        "gap_reached_at": ("", "the first step time at which max w reached g (to 1 %: w approaches g only "
                                "asymptotically); null: never"),
         "max_wear": ("", "max over the run of w"),
         "max_penetration": ("", "max over the run of u_ν − d₀ (≤ g)"),

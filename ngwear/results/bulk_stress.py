@@ -1,13 +1,16 @@
 """The stress in the body for a frame: σ = F(ε(u)) of each region's law and its von Mises value.
 
-σ is written as a 3 × 3 tensor (ParaView's nine components): in 2D (plane strain, ε₃₃ = ε₁₃ = ε₂₃ = 0) the in-plane
-block of the law's σ with σ₃₃ from the law (:meth:`~ngwear.model.materials.Law.out_of_plane`: C₃₃ₖ ε_k of a linear
-law, λ tr ε + β min(tr ε, 0) of the compaction law) and σ₁₃ = σ₂₃ = 0.  The von Mises stress of the 3 × 3 tensor is
+σ is a 3 × 3 tensor (ParaView's nine components): in 2D (plane strain, ε₃₃ = ε₁₃ = ε₂₃ = 0) the in-plane block of
+the law's σ with σ₃₃ from the law (:meth:`~ngwear.model.materials.Law.out_of_plane`: C₃₃ₖ ε_k of a linear law,
+λ tr ε + β min(tr ε, 0) of the compaction law) and σ₁₃ = σ₂₃ = 0; a 2D ``energy`` law ψ(ε) of the in-plane strain
+does not define σ₃₃, and its regions get σ₃₃ = 0 (:func:`unknown_normal` names them).  The von Mises stress is
 
     σ_vM = √(3/2 s : s),      s = σ − (tr σ / 3) I.
 
-A 2D ``energy`` law ψ(ε) of the in-plane strain does not define σ₃₃: its regions get σ₃₃ = 0 (:func:`unknown_normal`
-names them).  NGSolve evaluates both where VTKOutput asks (the frames' points): the cost is the frames' only.
+For the frames, :class:`BulkStress` projects σ element by element onto the polynomials of degree p − 1 (L², one
+local solve per element): exact for linear laws, whose σ of u ∈ P_p is in P_{p−1}, and for any law on P1 elements
+(ε constant), the L² best fit of a nonlinear law's σ on P2.  NGSolve evaluates the law at the elements' integration
+points all at once; σ_vM is that of the projected tensor.  It is computed for the frames alone: no step pays for it.
 """
 from __future__ import annotations
 
@@ -16,11 +19,22 @@ import ngsolve as ngs
 from ..model.materials import region_laws, strain
 
 
-def stress_fields(scene, mesh: ngs.Mesh, u: ngs.GridFunction) -> tuple[ngs.CoefficientFunction, ngs.CoefficientFunction]:
-    """(σ as a 3 × 3 CoefficientFunction, σ_vM) of displacement ``u``, each region's law on its elements."""
-    eps = strain(u)
-    sigma = mesh.MaterialCF({region: full_tensor(law, eps) for region, law in region_laws(scene).items()})
-    return sigma, von_mises(sigma)
+class BulkStress:
+    """σ of displacement ``u`` (a GridFunction the frames change) in ``tensor``, and ``von_mises`` of it.
+
+    :meth:`update` projects σ of the current ``u``; ``exact`` is σ itself (a CoefficientFunction, each region's law
+    on its elements).
+    """
+
+    def __init__(self, scene, mesh: ngs.Mesh, u: ngs.GridFunction):
+        eps = strain(u)
+        self.exact = mesh.MaterialCF({region: full_tensor(law, eps) for region, law in region_laws(scene).items()})
+        self.tensor = ngs.GridFunction(ngs.MatrixValued(ngs.L2(mesh, order=scene.mesh.order - 1), dim=3))
+        self.von_mises = von_mises(self.tensor)
+
+    def update(self) -> None:
+        """Project σ of the current displacement."""
+        self.tensor.Set(self.exact)
 
 
 def full_tensor(law, eps: ngs.CoefficientFunction) -> ngs.CoefficientFunction:

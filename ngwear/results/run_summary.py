@@ -18,7 +18,7 @@ QUANTITIES = {"end_time": "time", "torque_peak": "torque", "torque_mean": "torqu
               "dissipated_energy": "energy", "wear_volume": "volume", "wear_mass": "mass",
               "gap_reached_at": "time"}
 """The whole run's numbers (in the order of the summary) and their quantities (:mod:`ngwear.results.units`)."""
-WORN_THROUGH = 1e-3
+WORN_THROUGH = 1e-2
 """The layer counts as worn through where w ≥ (1 − this) g."""
 
 

@@ -25,7 +25,7 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 
-from .bulk_stress import stress_fields, unknown_normal
+from .bulk_stress import BulkStress, unknown_normal
 from .contact_file import surface, write_contact
 
 log = logging.getLogger(__name__)
@@ -45,8 +45,8 @@ def write_series(result, directory: Path) -> Path:
     wear = ngs.GridFunction(ngs.H1(mesh, order=result.scene.mesh.order))     # the contact points' space: 0 off Γ_C
     regions = element_regions(mesh)
     uniform = len({el.type for el in mesh.Elements(ngs.VOL)}) == 1
-    stress, von_mises = stress_fields(result.scene, mesh, u)
-    coefs, names = [u, wear, stress, von_mises], ["displacement", "wear", "stress", "von_mises"]
+    stress = BulkStress(result.scene, mesh, u)
+    coefs, names = [u, wear, stress.tensor, stress.von_mises], ["displacement", "wear", "stress", "von_mises"]
     if not uniform:
         coefs.append(mesh.MaterialCF({name: k for k, name in enumerate(mesh.GetMaterials())}))
         names.append("region")
@@ -60,6 +60,7 @@ def write_series(result, directory: Path) -> Path:
         for step in result.stored_steps:
             u.vec.FV().NumPy()[:] = result.displacement(step)
             disc.set_nodal(wear, result.wear[step])
+            stress.update()
             name, contact, t = f"fields_{frame_name(step)}", f"contact_{frame_name(step)}", float(result.times[step])
             ngs.VTKOutput(mesh, coefs=coefs, names=names, filename=str(Path(scratch) / name),
                           subdivision=result.scene.mesh.order - 1).Do()
