@@ -212,8 +212,26 @@ def test_a_stop_to_rest_is_summed_over_the_run(stop):
     assert re.search(r"^torque +0 N·m$", printed, re.M) and re.search(r"^gap_reached_at +never$", printed, re.M)
 
 
-def test_first_time_wear_reached_the_gap(paper_scene):
-    result = ngwear.simulate(paper_scene.replace(**{"mesh.maxh": 0.25, "time.steps": 20}), progress=False)
+@pytest.fixture(scope="module")
+def strip(paper_scene):
+    """The paper's strip (2D, P1, Hooke λ = η = 1), coarse."""
+    return ngwear.simulate(paper_scene.replace(**{"mesh.maxh": 0.25, "time.steps": 20}), progress=False)
+
+
+def test_a_2d_frame_has_the_plane_strain_stress_and_a_contact_line(strip, tmp_path):
+    """Hooke in plane strain: σ₃₃ = ν (σ₁₁ + σ₂₂), ν = λ / (2(λ + η)) = 1/4; Γ_C as segments of total length Σ m_i."""
+    strip.save(tmp_path)
+    sigma = pv.read(tmp_path / "fields_step020.vtu").point_data["stress"].reshape(-1, 3, 3)
+    assert np.abs(sigma).max() > 0.05
+    assert np.allclose(sigma[:, 2, 2], 0.25 * (sigma[:, 0, 0] + sigma[:, 1, 1]), rtol=0, atol=1e-12)
+    assert np.all(sigma[:, :2, 2] == 0) and np.all(sigma[:, 2, :2] == 0)
+    face = pv.read(tmp_path / "contact_step020.vtu")
+    assert set(face.celltypes) == {pv.CellType.LINE} and np.array_equal(face.point_data["wear"], strip.wear[20])
+    assert face.compute_cell_sizes()["Length"].sum() == pytest.approx(strip.weights.sum(), rel=1e-12)
+
+
+def test_first_time_wear_reached_the_gap(strip):
+    result = strip
     reached = result.wear.max(axis=1) >= 0.99 * result.scene.contact.gap           # w → g only asymptotically
     assert reached.any() and not reached[0]
     assert result.summary()["gap_reached_at"] == result.times[np.argmax(reached)]
