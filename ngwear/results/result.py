@@ -84,6 +84,8 @@ class Result:
     normal_force, torque, friction_force, apparent_friction, contact_area, wear_volume : ndarray
         Per step (N,): Σ m (p + λ), the friction moment about the counterface's axis, ‖F_t‖, ‖F_t‖ / normal force,
         the area in contact and the worn volume (properties; ``tangential_force`` is F_t itself, (N, d)).
+    max_wear, max_pressure, mean_pressure, friction_power, dissipated_energy : ndarray
+        Per step (N,): max w, max p, normal force / contact area, P = Σ m μ p ‖v*‖ and ∫₀ᵗ P dt (properties).
     newton : list of NewtonRecord
         Each step's Newton iterations, residuals, active set, cut-backs.
     status : str
@@ -99,6 +101,9 @@ class Result:
     recording : Recording or None
         How the run recorded itself (its rows' storage and its warm start: a checkpoint needs them); None when read
         from files.
+    provenance : dict or None
+        ``ngwear``, ``ngsolve``, ``python``: the versions that computed it; ``scene_sha256``: the SHA-256 of its
+        scene's canonical JSON (:mod:`ngwear.results.provenance`).  None for a file written before they were kept.
     """
 
     scene: Scene
@@ -178,7 +183,7 @@ class Result:
 
     @property
     def friction_power(self) -> np.ndarray:
-        """P = Σ m_i μ_i p_i ‖v*_i(t)‖ = |s_v(t)| Σ m_i μ_i p_i ‖v*_i‖₁ per step (‖v*_i‖₁ at s_v = 1)."""
+        """P = Σ m_i μ_i p_i ‖v*_i(t)‖ per step (‖v*_i(t)‖: the slip speed at s_v = 1 times the factor's size)."""
         slip, factors = self._slip()
         return np.abs(factors) * (self.pressure @ (self.friction_coefficient * slip.speed * self.weights))
 
