@@ -256,22 +256,31 @@ def _write(result, out: Path, pictures: bool, check: tuple[str, str] | None = No
         STAGES.info("%s: drawing the pictures", result.scene.name)
         written = write_pictures(result, out)
     from .results.material_summary import describe
+    from .results.result import LAST_STEP
     from .results.units import unit as unit_of
 
     summary = result.summary()
     unit, materials = summary.pop("units", {}), summary.pop("materials")
+    provenance = summary.pop("provenance", None)
     width = max(map(len, summary))
     for key, value in summary.items():
-        text = f"{value:.4g}" if isinstance(value, float) else f"{value}"
-        print(f"{key:<{width}}  {text} {unit[key]}" if key in unit else f"{key:<{width}}  {text}")
+        if key == LAST_STEP[0] and "end_time" in summary:   # the whole run's numbers first, then the last step's
+            print(f"{'last step':<{width}}  t = {summary['end_time']:.4g}" + (f" {unit['end_time']}" if unit else ""))
+        text = "never" if key == "gap_reached_at" and value is None else (
+            f"{value + 0.0:.4g}" if isinstance(value, float) else f"{value}")       # + 0.0: never −0
+        print(f"{key:<{width}}  {text} {unit[key]}" if key in unit and value is not None else f"{key:<{width}}  {text}")
     for region, entry in materials.items():         # m_F, L_F of each law beside (H_S)
         print(f"{'material':<{width}}  {region}: {describe(entry, unit_of(result.scene, 'pressure'))}")
     if check is not None:
         print(f"{check[0]:<{width}}  {check[1]}")
     for warning in result.warnings:
         print(f"{'warning':<{width}}  {warning}")
+    if provenance:
+        print(f"{'provenance':<{width}}  ngwear {provenance['ngwear']}, NGSolve {provenance['ngsolve']}, Python "
+              f"{provenance['python']}, scene {provenance['scene_sha256'][:12]}")
     frames = len(result.stored_steps)
-    print(f"{'written':<{width}}  {out}/ (result.npz, fields.pvd with {frames} frames, {len(written)} PNG)")
+    print(f"{'written':<{width}}  {out}/ (result.npz, history.csv, fields.pvd with {frames} frames, {len(written)} "
+          "PNG)")
 
 
 def examples(args) -> int:

@@ -58,20 +58,37 @@ MEANING = {
         "fields": ("(F, DOFs)", "the displacement's DOF vector at each frame"),
         "units": ("()", "only for a scene with `units = \"SI\"`: the unit of each key, as JSON (`{\"torque\": "
                         "\"N·m\", …}`)"),
+        "provenance": ("()", "the ngwear, NGSolve and Python versions that computed it and the SHA-256 of its scene's "
+                             "canonical JSON, as JSON (`{\"ngwear\": \"0.1.0\", …, \"scene_sha256\": …}`)"),
     },
     "summary.json": {
         "status": ("", "as in result.npz"),
         "steps": ("", "index of the last completed step"),
         "contact_points": ("", "n"),
+        "end_time": ("", "t of the last step"),
+        "torque_peak": ("", "the whole run's torque of the largest magnitude (its sign kept: negative brakes)"),
+        "torque_mean": ("", "the torque's mean over the run's time, 1/(t_N − t_0) ∫ T dt (trapezoidal rule)"),
+        "friction_force_peak": ("", "the largest |F_t| of the run"),
+        "friction_force_mean": ("", "the mean of |F_t| over the run's time"),
+        "pressure_peak": ("", "the largest p of the run (over the points and steps)"),
+        "pressure_mean": ("", "the mean over the run's time of the mean contact pressure (normal force / contact area)"),
+        "dissipated_energy": ("", "∫ P dt, P = Σ m_i μ_i p_i ‖v*_i‖ (∫ |T ω| dt on a turning counterface, ∫ F_t·v dt "
+                                  "on a translating one)"),
+        "wear_volume": ("", "the worn volume at the end (an area in 2D)"),
+        "wear_mass": ("", "ρ × the worn volume, only where `material.density` of the regions carrying Γ_C gives one ρ"),
+        "gap_reached_at": ("", "the first step time at which max w reached g (to 1 %: w approaches g only "
+                               "asymptotically); null: never"),
         "max_wear": ("", "max over the run of w"),
         "max_penetration": ("", "max over the run of u_ν − d₀ (≤ g)"),
         "gap": ("", "g"),
         "normal_force": ("", "at the last step"),
-        "torque": ("", "at the last step"),
+        "torque": ("", "at the last step (0 where the counterface is at rest)"),
         "friction_force": ("", "|F_t| at the last step"),
         "apparent_friction": ("", "|F_t| / normal force at the last step"),
         "contact_area": ("", "at the last step"),
-        "wear_volume": ("", "at the last step"),
+        "max_pressure": ("", "max p at the last step"),
+        "mean_pressure": ("", "normal force / contact area at the last step"),
+        "friction_power": ("", "P at the last step"),
         "plate_displacement": ("", "δ at the last step (only with `loads.plate`)"),
         "contact_fraction": ("", "share of the points with p > 0 at the last step"),
         "active_fraction": ("", "share of the points with λ > 0 (u_ν − d₀ = g) at the last step"),
@@ -84,6 +101,9 @@ MEANING = {
                           "their scene keys (`young`, `poisson`, `compaction_modulus`, …) and the law's `m_F` and "
                           "`L_F` (H(F)); an `energy` law's estimated over the run's frames, with `estimated`, the "
                           "number of sampled tangents"),
+        "provenance": ("", "`ngwear`, `ngsolve`, `python`: the versions that computed the run; `scene_sha256`: the "
+                           "SHA-256 of the scene's canonical JSON (keys sorted, no spaces, UTF-8), as `scene.json` "
+                           "gives it"),
         "units": ("", "only for a scene with `units = \"SI\"`: the unit of each number above (`{\"torque\": "
                       "\"N·m\", …}`)"),
     },
@@ -99,7 +119,7 @@ MEANING = {
 }
 HEADER = ("contact_points weights newton_iterations newton_converged newton_active newton_damped newton_lengths "
           "newton_residuals newton_cutbacks newton_bulk newton_tangents friction_coefficient wear_coefficient "
-          "contact_stiffness mesh_sha256 status wall_time solve_time rejected warnings").split()
+          "contact_stiffness mesh_sha256 status wall_time solve_time rejected warnings provenance").split()
 MEANING["checkpoint.npz"] = {**{k: MEANING["result.npz"][k] for k in HEADER}, **MEANING["checkpoint.npz"]}
 
 
@@ -135,6 +155,7 @@ def written_keys() -> dict[str, list[str]]:
 
     scene = ngwear.Scene.from_dict({
         "name": "reference", "units": "SI", "mesh": {"maxh": 0.5}, "contact": {"friction": 0.5, "wear": 1.0},
+        "material": {"density": 2.0},
         "loads": {"plate": {"boundary": "top", "force": [0.0, -0.3]}},
         "time": {"T": 0.2, "steps": 4, "adaptive": True}})
     with tempfile.TemporaryDirectory() as folder:

@@ -69,6 +69,11 @@ def plane_strain(stiffness: np.ndarray) -> np.ndarray:
     return stiffness[np.ix_(_PLANE, _PLANE)]
 
 
+def out_of_plane_row(stiffness: np.ndarray) -> np.ndarray:
+    """The row r of a 3D stiffness with σ₃₃ = r · ε_M under plane strain (ε_M the 2D Mandel vector)."""
+    return stiffness[2, list(_PLANE)]
+
+
 def frame(axis) -> np.ndarray:
     """A rotation R (3 × 3) with R e₃ = axis / |axis|; a 2D axis is taken in the x–y plane."""
     a = np.zeros(3)

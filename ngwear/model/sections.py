@@ -142,8 +142,8 @@ THERMAL_KEYS = {
                                         reuse=Level.NOTHING, shown="—", gt=0)),
     "heat_capacity": (Number | None, key(None, "c, the specific heat capacity (per unit mass)", reuse=Level.NOTHING,
                                          shown="—", gt=0)),
-    "density": (Number | None, key(None, "ρ, the density (the heat capacity per volume is ρc)", reuse=Level.NOTHING,
-                                   shown="—", gt=0)),
+    "density": (Number | None, key(None, "ρ, the density (the heat capacity per volume is ρc; the summary's worn "
+                                         "mass)", reuse=Level.NOTHING, shown="—", gt=0)),
     "expansion": (Number | None, key(None, "α_th, the linear thermal expansion coefficient: the thermal strain "
                                      "α_th (T − T₀) I loads the body (`heat.model = \"conduction\"`)",
                                      reuse=Level.NOTHING, shown="0", allowed="a number")),

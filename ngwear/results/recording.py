@@ -15,6 +15,7 @@ import numpy as np
 from ..numerics.solver import NewtonRecord
 from .folder import NoSpace, no_space
 from .history import History
+from .provenance import provenance
 from .result import ARRAYS, Result, output_times, row_shapes
 
 
@@ -67,7 +68,7 @@ class Recording:
                           f"({size / 1e6:.4g} MB); nothing was computed") from None
         result = Result(scene, disc.points.coords, disc.points.weights,
                         {name: np.zeros((0, *shape)) for name, shape in shapes.items()}, coefficients.friction,
-                        coefficients.wear, coefficients.stiffness, discretization=disc)
+                        coefficients.wear, coefficients.stiffness, discretization=disc, provenance=provenance(scene))
         return cls(result, history)
 
     def append(self, step: StepRecord) -> None:

@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from scipy.integrate import cumulative_trapezoid
 
 from ..model.kinematics import Slip
 from ..model.scene import Scene
@@ -43,14 +44,22 @@ from ..numerics.solver import NewtonRecord
 from .folder import replacing
 from .material_summary import region_materials
 from .mesh_file import keep_mesh, saved_discretization
+from .provenance import canonical
 from .records import records_from_arrays, records_to_arrays
+from .run_summary import QUANTITIES as RUN
+from .run_summary import whole_run
 from .step_fields import DERIVED, RECORDED
+from .table import to_dataframe, write_history
 from .units import units
 
 ARRAYS = tuple(f.name for f in RECORDED)
 """The rows a run records (:data:`~ngwear.results.step_fields.RECORDED`)."""
 PART = tuple(f.name for f in DERIVED if not f.shape)
-"""What the summary reports of a part at the last step: the derived per-step numbers."""
+"""The derived per-step numbers of a part."""
+LAST = tuple(name for name in PART if name not in RUN and name != "max_wear")
+"""What the summary reports of the last step: the derived per-step numbers the whole run's part does not hold."""
+LAST_STEP = (*LAST, "plate_displacement", "contact_fraction", "active_fraction")
+"""The summary's keys of the last step (the plate's only with a plate)."""
 COEFFICIENTS = ("friction_coefficient", "wear_coefficient", "contact_stiffness")
 
 
@@ -75,6 +84,8 @@ class Result:
     normal_force, torque, friction_force, apparent_friction, contact_area, wear_volume : ndarray
         Per step (N,): Σ m (p + λ), the friction moment about the counterface's axis, ‖F_t‖, ‖F_t‖ / normal force,
         the area in contact and the worn volume (properties; ``tangential_force`` is F_t itself, (N, d)).
+    max_wear, max_pressure, mean_pressure, friction_power, dissipated_energy : ndarray
+        Per step (N,): max w, max p, normal force / contact area, P = Σ m μ p ‖v*‖ and ∫₀ᵗ P dt (properties).
     newton : list of NewtonRecord
         Each step's Newton iterations, residuals, active set, cut-backs.
     status : str
@@ -90,6 +101,9 @@ class Result:
     recording : Recording or None
         How the run recorded itself (its rows' storage and its warm start: a checkpoint needs them); None when read
         from files.
+    provenance : dict or None
+        ``ngwear``, ``ngsolve``, ``python``: the versions that computed it; ``scene_sha256``: the SHA-256 of its
+        scene's canonical JSON (:mod:`ngwear.results.provenance`).  None for a file written before they were kept.
     """
 
     scene: Scene
@@ -109,6 +123,7 @@ class Result:
     discretization: object = field(default=None, repr=False)
     recording: object = field(default=None, repr=False)          # the run's Recording: its rows, to go on from
     mesh_digest: str | None = field(default=None, repr=False)   # SHA-256 of the mesh.vol written for it
+    provenance: dict | None = field(default=None, repr=False)    # versions and scene hash (None: an older file's)
 
     @property
     def completed(self) -> bool:
@@ -136,16 +151,47 @@ class Result:
     @property
     def torque(self) -> np.ndarray:
         """Friction moment about the counterface's axis per step (negative when it brakes a rotation)."""
-        slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
-        signs = np.sign([slip.factor(t) for t in self.times])
-        return signs * (self.pressure @ (self.friction_coefficient * slip.moment_arms() * self.weights))
+        slip, factors = self._slip()
+        return np.sign(factors) * (self.pressure @ (self.friction_coefficient * slip.moment_arms() * self.weights))
 
     @property
     def tangential_force(self) -> np.ndarray:
         """F_t = Σ m_i μ_i p_i n*_i per step, shape (steps + 1, d): the friction force on the foundation."""
+        slip, factors = self._slip()
+        return np.sign(factors)[:, None] * ((self.pressure * self.friction_coefficient * self.weights) @ slip.direction)
+
+    def _slip(self) -> tuple[Slip, np.ndarray]:
+        """The foundation's slip at the contact points and its factor s_v(t_j) at each step."""
         slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
-        signs = np.sign([slip.factor(t) for t in self.times])
-        return signs[:, None] * ((self.pressure * self.friction_coefficient * self.weights) @ slip.direction)
+        return slip, np.array([slip.factor(t) for t in self.times], dtype=float)
+
+    @property
+    def max_wear(self) -> np.ndarray:
+        """max_i w_i per step."""
+        return self.wear.max(axis=1, initial=0.0)
+
+    @property
+    def max_pressure(self) -> np.ndarray:
+        """max_i p_i per step."""
+        return self.pressure.max(axis=1, initial=0.0)
+
+    @property
+    def mean_pressure(self) -> np.ndarray:
+        """Normal force / contact area per step (0 where nothing touches)."""
+        area = self.contact_area
+        return np.divide(self.normal_force, area, out=np.zeros_like(area), where=area > 0)
+
+    @property
+    def friction_power(self) -> np.ndarray:
+        """P = Σ m_i μ_i p_i ‖v*_i(t)‖ per step (‖v*_i(t)‖: the slip speed at s_v = 1 times the factor's size)."""
+        slip, factors = self._slip()
+        return np.abs(factors) * (self.pressure @ (self.friction_coefficient * slip.speed * self.weights))
+
+    @property
+    def dissipated_energy(self) -> np.ndarray:
+        """∫₀^{t_j} P dt per step, by the trapezoidal rule over the steps."""
+        power = self.friction_power
+        return cumulative_trapezoid(power, self.times, initial=0.0) if len(power) else power
 
     @property
     def friction_force(self) -> np.ndarray:
@@ -209,28 +255,33 @@ class Result:
         return self.discretization
 
     def summary(self) -> dict:
-        """Key numbers of the run (what ``ngwear run`` prints); ``materials``: each region's law, constants, m_F, L_F.
+        """Key numbers of the run (what ``ngwear run`` prints), in three parts.
 
-        See :func:`ngwear.results.material_summary.region_materials` (an energy law's moduli estimated over the frames).
+        The whole run (:func:`ngwear.results.run_summary.whole_run`: peaks and means of the torque, the friction
+        force and the pressure, the dissipated energy, the worn volume and mass, when wear reached g, with the
+        largest wear and penetration); the last step's values (:data:`LAST_STEP`); the solver's counts, times,
+        ``materials`` (each region's law, constants, m_F, L_F: see
+        :func:`ngwear.results.material_summary.region_materials`, an energy law's moduli estimated over the frames)
+        and ``provenance`` (:mod:`ngwear.results.provenance`).
         """
-        g = self.scene.contact.gap
         its = [r.iterations for r in self.newton if r.converged]
         # the paper's "penetration": how far Γ_C has moved into the layer, u_ν − d₀ ≤ g
         pen = self.normal_displacement - self.d0[None, :] if len(self.times) else np.zeros((1, 1))
-        last = -1
-        part = {name: float(getattr(self, name)[last]) if len(self.times) else 0.0 for name in PART}
-        return {
+        stepped = len(self.times) > 0
+        last = {name: float(getattr(self, name)[-1]) + 0.0 if stepped else 0.0 for name in LAST}
+        if self.plate_displacement.shape[1] and stepped:
+            last["plate_displacement"] = float(self.plate_displacement[-1, 0]) + 0.0
+        last["contact_fraction"] = float((self.pressure[-1] > 0).mean()) if stepped else 0.0
+        last["active_fraction"] = float((self.reaction[-1] > 0).mean()) if stepped else 0.0
+        summary = {
             "status": self.status,
             "steps": self.steps,
             "contact_points": len(self.weights),
+            **whole_run(self),
             "max_wear": float(self.wear.max(initial=0.0)),
             "max_penetration": float(pen.max(initial=0.0)),
-            "gap": g,
-            **part,
-            **({"plate_displacement": float(self.plate_displacement[last, 0])}
-               if self.plate_displacement.shape[1] and len(self.times) else {}),
-            "contact_fraction": float((self.pressure[last] > 0).mean()) if len(self.times) else 0.0,
-            "active_fraction": float((self.reaction[last] > 0).mean()) if len(self.times) else 0.0,
+            "gap": self.scene.contact.gap,
+            **last,
             **({"rejected_steps": self.rejected} if self.scene.time.adaptive else {}),
             "newton_iterations_total": int(sum(its)),
             "newton_iterations_max": int(max(its, default=0)),
@@ -238,9 +289,21 @@ class Result:
             "solve_time_s": round(self.solve_time, 3),
             "materials": region_materials(self.scene, self.discretization,
                                           [self.fields[s] for s in self.stored_steps if s in self.fields]),
-            **({"units": units(self.scene, ("gap", "max_wear", "max_penetration", "plate_displacement", *PART))}
-               if self.scene.units else {}),
+            **({"provenance": self.provenance} if self.provenance else {}),
         }
+        if self.scene.units:
+            summary["units"] = units(self.scene, [name for name, value in summary.items() if isinstance(value, float)
+                                                  or name == "gap_reached_at"])
+        return summary
+
+    def to_dataframe(self):
+        """The run's per-step numbers, one row per step, as a pandas DataFrame: the table of ``history.csv``.
+
+        Its columns (:mod:`ngwear.results.table`): ``step``, ``times``, every per-step number (``torque``, …), the
+        components of the short vectors, ``newton_iterations``; with the unit in their names in a scene in SI
+        (``torque [N m]``).
+        """
+        return to_dataframe(self)
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Everything of the run as named arrays (``result.npz``): its steps and :meth:`header`."""
@@ -252,10 +315,11 @@ class Result:
                 **{name: getattr(self, name) for name in COEFFICIENTS}, **records_to_arrays(self.newton),
                 "status": np.array(self.status), "wall_time": np.array(self.wall_time),
                 "solve_time": np.array(self.solve_time),
-                "rejected": np.array(self.rejected), "warnings": np.array(self.warnings, dtype=str)}
+                "rejected": np.array(self.rejected), "warnings": np.array(self.warnings, dtype=str),
+                **({"provenance": np.array(canonical(self.provenance))} if self.provenance else {})}
 
     def save(self, directory) -> Path:
-        """Write result.npz, scene.json, mesh.vol, summary.json and a VTU/PVD series of the frames."""
+        """Write result.npz, scene.json, mesh.vol, history.csv, summary.json and a VTU/PVD series of the frames."""
         out = Path(directory)
         out.mkdir(parents=True, exist_ok=True)
         steps = self.stored_steps
@@ -270,6 +334,7 @@ class Result:
 
         with replacing(out / "scene.json") as tmp:
             tmp.write_text(json.dumps(self.scene.to_dict(), indent=2))
+        write_history(self, out / "history.csv")
         with replacing(out / "summary.json") as tmp:
             tmp.write_text(json.dumps(self.summary(), indent=2, ensure_ascii=False), encoding="utf-8")
         if self.discretization is not None:
@@ -337,7 +402,7 @@ def from_arrays(scene: Scene, data, disc, rows: dict[str, np.ndarray] | None = N
                   status=str(data["status"]), wall_time=float(data["wall_time"]),
                   solve_time=float(data["solve_time"]) if "solve_time" in data else 0.0,
                   warnings=[str(w) for w in data["warnings"]], rejected=int(data["rejected"]),
-                  discretization=disc)
+                  discretization=disc, provenance=json.loads(str(data["provenance"])) if "provenance" in data else None)
 
 
 for _field in RECORDED:     # result.times, result.wear, …: the recorded rows, as declared

@@ -4,8 +4,9 @@ A run records the rows of :data:`RECORDED` at every step (:mod:`ngwear.results.r
 output folder, :mod:`ngwear.results.history`) and computes the fields :data:`DERIVED` from them (a
 :class:`~ngwear.results.result.Result` property of the same name).  ``result.npz`` holds both, a checkpoint the
 recorded rows; the units of a scene in SI (:mod:`ngwear.results.units`) and the reference of the result files
-(``docs/reference/files.md``) read this table, and so would a table of every per-step number of a run: the fields
-whose shape per step is ``()``.  A new per-step field is one :class:`StepField` here, and the code that records or
+(``docs/reference/files.md``) read this table, and so does the table of every per-step number of a run: the fields
+whose shape per step is ``()`` and the components of the vectors (:mod:`ngwear.results.table`, ``history.csv``).
+A new per-step field is one :class:`StepField` here, and the code that records or
 derives it.
 """
 from __future__ import annotations
@@ -22,12 +23,21 @@ class StepField:
 
     ``shape`` is in the letters of :data:`SIZES` (``()`` a number per step, ``("n",)`` one per contact point);
     ``quantity`` names its unit in an SI scene (a key of :data:`ngwear.results.units.QUANTITIES`; None: a ratio).
+    ``parts`` names the components of a vector whose components differ ((name, quantity) each; default: the field's
+    name with the axis, ``tangential_force_x``).
     """
 
     name: str
     shape: tuple[str, ...]
     quantity: str | None
     doc: str
+    parts: tuple[tuple[str, str | None], ...] = ()
+
+    def columns(self, size: int) -> list[tuple[str, str | None]]:
+        """(name, quantity) of each of the ``size`` components of a vector per step (a field of shape (k,))."""
+        if self.parts:
+            return list(self.parts[:size])
+        return [(f"{self.name}_{'xyz'[k]}", self.quantity) for k in range(size)]
 
     def size(self, sizes: dict[str, int]) -> tuple[int, ...]:
         """The shape of one step's row for the sizes ``{"n": …, "d": …, "r": …}`` of a run."""
@@ -47,7 +57,8 @@ RECORDED = (
     StepField("reaction", ("n",), "pressure", "λ ≥ 0, the multiplier of u_ν − d₀ ≤ g (the rigid reaction)"),
     StepField("forces", ("n", "d"), "force", "the contact forces on the body at the points (what recovers u)"),
     StepField("plate_displacement", ("r",), "length", "δ of a rigid plate: its translation along ν, then its tilts "
-                                                      "(r = 0: none)"),
+                                                      "(r = 0: none)",
+              parts=(("plate_displacement", "length"), ("plate_tilt_1", "angle"), ("plate_tilt_2", "angle"))),
 )
 """The rows a run records at each step, in the order of ``result.npz``."""
 
@@ -63,6 +74,14 @@ DERIVED = (
     StepField("wear_volume", (), "volume", "Σ m_i w_i: the worn volume (an area in 2D)"),
     StepField("tangential_force", ("d",), "force", "F_t = Σ m_i μ p_i n*_i: the friction force on the foundation "
                                                    "(against its slip)"),
+    StepField("max_wear", (), "length", "max_i w_i, the deepest wear"),
+    StepField("max_pressure", (), "pressure", "max_i p_i, the peak of the compliance's pressure"),
+    StepField("mean_pressure", (), "pressure", "normal force / contact area: the mean traction where in contact (0 "
+                                               "without contact)"),
+    StepField("friction_power", (), "power", "P = Σ m_i μ_i p_i ‖v*_i‖: the power friction dissipates (|T ω| on a "
+                                             "turning counterface, F_t·v on a translating one)"),
+    StepField("dissipated_energy", (), "energy", "∫₀ᵗ P dt by the trapezoidal rule over the steps: the energy "
+                                                 "friction dissipated so far"),
 )
 """What an engineer reads off a part, computed from the rows (what the summary reports at the last step)."""
 

@@ -1,7 +1,10 @@
 """VTU/PVD output of a result's frames for ParaView (NGSolve's VTKOutput).
 
-Each frame is one VTU named by its step, ``fields_step050.vtu`` (:func:`frame_name`, as the pictures of the
-same step: ``fig2_step050.png``), and ``fields.pvd`` lists them with their times.  The series is written
+Each frame is one VTU of the body named by its step, ``fields_step050.vtu`` (:func:`frame_name`, as the pictures of
+the same step: ``fig2_step050.png``), with the point fields ``displacement``, ``wear``, ``stress`` (σ, 3 × 3) and
+``von_mises`` (:mod:`ngwear.results.bulk_stress`), and one surface VTU of Γ_C, ``contact_step050.vtu``, with the
+contact fields at the contact points (:mod:`ngwear.results.contact_file`).  ``fields.pvd`` lists both with their
+times, the body as part 0 and the contact face as part 1 (ParaView opens it as one multiblock series).  The series is written
 into a scratch folder and moved in when complete: an interrupted write never leaves a half series, and a
 rerun into the same folder leaves no frame of an earlier run behind.
 
@@ -13,6 +16,7 @@ vertices of each element).
 """
 from __future__ import annotations
 
+import logging
 import os
 import re
 import tempfile
@@ -21,6 +25,11 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 
+from .bulk_stress import BulkStress, unknown_normal
+from .contact_file import surface, write_contact
+
+log = logging.getLogger(__name__)
+
 
 def frame_name(step: int) -> str:
     """``step050``: how the files of a frame (its VTU, its picture) name its step."""
@@ -28,7 +37,7 @@ def frame_name(step: int) -> str:
 
 
 def write_series(result, directory: Path) -> Path:
-    """Write one VTU (displacement, wear, region) per frame, named by its step, and ``fields.pvd`` with their times."""
+    """Write each frame's VTU and contact file, named by its step, and ``fields.pvd`` listing both with their times."""
     directory = Path(directory)
     disc = result.discretization
     mesh = disc.mesh
@@ -36,25 +45,34 @@ def write_series(result, directory: Path) -> Path:
     wear = ngs.GridFunction(ngs.H1(mesh, order=result.scene.mesh.order))     # the contact points' space: 0 off Γ_C
     regions = element_regions(mesh)
     uniform = len({el.type for el in mesh.Elements(ngs.VOL)}) == 1
-    coefs, names = [u, wear], ["displacement", "wear"]
+    stress = BulkStress(result.scene, mesh, u)
+    coefs, names = [u, wear, stress.tensor, stress.von_mises], ["displacement", "wear", "stress", "von_mises"]
     if not uniform:
         coefs.append(mesh.MaterialCF({name: k for k, name in enumerate(mesh.GetMaterials())}))
         names.append("region")
+    unknown = unknown_normal(result.scene)
+    if unknown:
+        log.warning("%s: stress: σ₃₃ of region %s is written 0 (its 2D energy law does not define it)",
+                    result.scene.name, ", ".join(unknown))
+    face = surface(disc)
     with tempfile.TemporaryDirectory(dir=directory, prefix=".fields-") as scratch:
         entries = []
         for step in result.stored_steps:
             u.vec.FV().NumPy()[:] = result.displacement(step)
             disc.set_nodal(wear, result.wear[step])
-            name = f"fields_{frame_name(step)}"
+            stress.update()
+            name, contact, t = f"fields_{frame_name(step)}", f"contact_{frame_name(step)}", float(result.times[step])
             ngs.VTKOutput(mesh, coefs=coefs, names=names, filename=str(Path(scratch) / name),
                           subdivision=result.scene.mesh.order - 1).Do()
             if uniform:
                 add_cell_field(Path(scratch) / f"{name}.vtu", "region", regions)
-            entries.append(f'<DataSet timestep="{float(result.times[step])!r}" file="{name}.vtu"/>')
+            write_contact(result, step, face, Path(scratch) / f"{contact}.vtu")
+            entries += [f'<DataSet timestep="{t!r}" part="0" file="{name}.vtu"/>',
+                        f'<DataSet timestep="{t!r}" part="1" file="{contact}.vtu"/>']
         (Path(scratch) / "fields.pvd").write_text(
             '<?xml version="1.0"?>\n<VTKFile type="Collection" version="1.0" byte_order="LittleEndian">\n'
             "<Collection>\n" + "\n".join(entries) + "\n</Collection>\n</VTKFile>\n")
-        for old in directory.glob("fields*.vtu"):
+        for old in [*directory.glob("fields*.vtu"), *directory.glob("contact_step*.vtu")]:
             old.unlink()
         for new in sorted(Path(scratch).iterdir(), key=lambda f: f.suffix == ".pvd"):   # the index last
             os.replace(new, directory / new.name)       # a link there is replaced, never written through

@@ -4,9 +4,11 @@
 ``dask.distributed`` cluster — by default a ``LocalCluster`` of single-threaded worker processes, one
 per usable core — and returns a pandas table with one row per case: ``case``, the varied parameters
 under their dotted keys, the study's outputs (:mod:`ngwear.studies.outputs`), ``status``, ``error``,
-``warnings``, ``wall_time`` (seconds on the worker), ``worker`` (its address), ``factorised`` and
-``case_id``; ``table.attrs["summary"]`` says what the study did.  A varied key whose values mix text with numbers
-(``contact.friction = [0.3, "0.2 + 0.1*x"]``) is a column of text, the others written as JSON (``"0.3"``).
+``warnings``, ``wall_time`` (seconds on the worker), ``worker`` (its address), ``factorised``, ``case_id`` and the
+provenance ``ngwear_version``, ``ngsolve_version``, ``python_version`` (of the worker) and ``scene_sha256``
+(:mod:`ngwear.results.provenance`); ``table.attrs["summary"]`` says what the study did.  A varied key whose values
+mix text with numbers (``contact.friction = [0.3, "0.2 + 0.1*x"]``) is a column of text, the others written as JSON
+(``"0.3"``).
 
 Reuse.  Cases are submitted grouped by mesh and material (:attr:`Case.group`).  A worker runs its
 cases in a case process of its own (:class:`~ngwear.studies.child.Child`, one per worker thread), which
@@ -49,6 +51,8 @@ from typing import TYPE_CHECKING, Any
 from ..model.keys import Level
 from ..model.scene import SceneError
 from ..results.folder import hold, remove, replacing
+from ..results.provenance import COLUMNS as PROVENANCE
+from ..results.provenance import columns
 from ..runs.progress import bar as progress_bar
 from ..runs.simulate import simulate
 from .child import Child, ChildError
@@ -66,7 +70,7 @@ UNFINISHED = ("crashed", "interrupted")
 """Statuses of cases that a re-run runs again (``interrupted``: not run, the study was stopped)."""
 POLL = 0.1
 """Seconds between two looks for finished cases and at the stop event."""
-COLUMNS = ("status", "error", "warnings", "wall_time", "worker", "factorised", "case_id")
+COLUMNS = ("status", "error", "warnings", "wall_time", "worker", "factorised", "case_id", *PROVENANCE)
 CONNECT_TIMEOUT = 30
 
 if TYPE_CHECKING:  # pandas is imported where a table is made, not with ``import ngwear``
@@ -196,7 +200,8 @@ def simulate_case(scene, group: str, folder: str) -> dict:
         try:
             result = simulate(scene, discretization=cached, progress=False)
         except SceneError as err:
-            return _row(status="rejected", error=str(err), wall_time=perf_counter() - start, factorised=False)
+            return _row(status="rejected", error=str(err), wall_time=perf_counter() - start, factorised=False,
+                        **columns(scene))
         disc = result.discretization
         _CACHE[group] = disc
         _CACHE.move_to_end(group)
@@ -206,7 +211,7 @@ def simulate_case(scene, group: str, folder: str) -> dict:
         return _row(**outputs(result), status="completed" if result.completed else "stopped",
                     error=None if result.completed else result.status,
                     warnings="; ".join(result.warnings) or None, wall_time=perf_counter() - start,
-                    factorised=factorised)
+                    factorised=factorised, **columns(scene))
 
 
 @contextmanager
@@ -315,7 +320,8 @@ def _dashboard(client) -> str | None:
 def _row(**values) -> dict:
     """A table row: NaN outputs and empty bookkeeping, updated with ``values``."""
     row = {name: float("nan") for name in OUTPUTS}
-    row.update({"error": None, "warnings": None, "wall_time": 0.0, "worker": None, "factorised": False})
+    row.update({"error": None, "warnings": None, "wall_time": 0.0, "worker": None, "factorised": False,
+                **dict.fromkeys(PROVENANCE)})
     return row | values
 
 

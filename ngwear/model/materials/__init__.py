@@ -49,7 +49,9 @@ class Law:
     ``tangent_at_zero()`` the linear law a fixed stiffness K₀ is built from; ``is_linear`` (then ``matrix``, its
     Mandel stiffness); ``monotonicity`` m_F and ``lipschitz`` L_F in closed form, or ``estimated``: they have none and
     :mod:`ngwear.model.moduli` samples them where the run goes; ``kinked``: ψ = ψ_lin + β/2 min(tr ε, 0)², with
-    ``beta`` and ``linear_part()`` (the law of ψ_lin), which :mod:`ngwear.numerics.kink` turns into sparse algebra.
+    ``beta`` and ``linear_part()`` (the law of ψ_lin), which :mod:`ngwear.numerics.kink` turns into sparse algebra;
+    ``out_of_plane(ε)`` σ₃₃ of a 2D (plane strain) law, None where the law does not define it (a ψ of the in-plane
+    strain alone).
     """
 
     name: ClassVar[str | None] = None
@@ -70,6 +72,10 @@ class Law:
     def check(cls, table, dim: int, direction, key: str) -> None:
         """Refuse constants that make no law (not positive definite): a SceneError naming the key."""
         cls.of(table, dim, direction, key)
+
+    def out_of_plane(self, eps) -> ngs.CoefficientFunction | None:
+        """σ₃₃ = (F(ε))₃₃ of a 2D law under plane strain at the in-plane strain ε; None: not defined by the law."""
+        return None
 
     @classmethod
     def constants(cls) -> tuple[Constant, ...]:

@@ -53,6 +53,10 @@ class Compaction(Law):
         tr = ngs.Trace(eps)
         return 2 * self.eta * eps + (self.lam * tr + self.beta * ngs.IfPos(tr, 0, tr)) * ngs.Id(self.dim)
 
+    def out_of_plane(self, eps):
+        tr = ngs.Trace(eps)
+        return self.lam * tr + self.beta * ngs.IfPos(tr, 0, tr)
+
     def energy(self, eps):
         tr = ngs.Trace(eps)
         return self.eta * ngs.InnerProduct(eps, eps) + 0.5 * self.lam * tr ** 2 + 0.5 * self.beta * ngs.IfPos(
