@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model.kinematics import Slip
+from ..model.programme import Schedule
 from ..model.scene import Scene
 from ..numerics.points import initial_distance
 from ..numerics.solver import NewtonRecord
@@ -109,6 +110,8 @@ class Result:
     discretization: object = field(default=None, repr=False)
     recording: object = field(default=None, repr=False)          # the run's Recording: its rows, to go on from
     mesh_digest: str | None = field(default=None, repr=False)   # SHA-256 of the mesh.vol written for it
+    jumped: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
+    measured: np.ndarray | None = field(default=None, repr=False)   # the worn region's thickness (see thickness)
 
     @property
     def completed(self) -> bool:
@@ -133,18 +136,23 @@ class Result:
         """Σ m_i (p_i + λ_i) per step."""
         return (self.pressure + self.reaction) @ self.weights
 
+    def _signs(self) -> tuple[Slip, np.ndarray]:
+        """The slip at the points and sign s_v of each step (a programme's: of the step's place in its stop)."""
+        slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
+        if self.scene.programme is not None:
+            return slip, np.sign(Schedule.of(self.scene.programme).row_factors(self.jumped, len(self.times))[0])
+        return slip, np.sign([slip.factor(t) for t in self.times])
+
     @property
     def torque(self) -> np.ndarray:
         """Friction moment about the counterface's axis per step (negative when it brakes a rotation)."""
-        slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
-        signs = np.sign([slip.factor(t) for t in self.times])
+        slip, signs = self._signs()
         return signs * (self.pressure @ (self.friction_coefficient * slip.moment_arms() * self.weights))
 
     @property
     def tangential_force(self) -> np.ndarray:
         """F_t = Σ m_i μ_i p_i n*_i per step, shape (steps + 1, d): the friction force on the foundation."""
-        slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
-        signs = np.sign([slip.factor(t) for t in self.times])
+        slip, signs = self._signs()
         return signs[:, None] * ((self.pressure * self.friction_coefficient * self.weights) @ slip.direction)
 
     @property
@@ -167,6 +175,41 @@ class Result:
     def wear_volume(self) -> np.ndarray:
         """Σ m_i w_i per step: the worn volume (an area in 2D)."""
         return self.wear @ self.weights
+
+    @property
+    def total_wear(self) -> np.ndarray:
+        """All material removed at the contact points per step: w (``wear.geometry = "layer"``)."""
+        return self.wear
+
+    @property
+    def thickness(self) -> np.ndarray:
+        """The worn region's thickness along ν under each contact point, measured once on the mesh as built (n,).
+
+        See :func:`ngwear.numerics.thickness.thickness`; read back from ``result.npz`` (and checkpoints).
+        """
+        if self.measured is None:
+            from ..numerics.thickness import thickness
+            disc = self._disc()
+            self.measured = thickness(disc.mesh, self.contact_points, disc.condensation.nu)
+        return self.measured
+
+    def remaining_thickness_of(self, total_wear: np.ndarray) -> np.ndarray:
+        """The thickness left under each point after the wear ``total_wear`` (any leading shape)."""
+        return self.thickness - total_wear
+
+    @property
+    def remaining_thickness(self) -> np.ndarray:
+        """The worn region's thickness along ν under each contact point minus ``total_wear``, per step."""
+        return self.remaining_thickness_of(self.total_wear)
+
+    @property
+    def stops(self):
+        """One row per stop of the programme (a pandas DataFrame; None without a programme).
+
+        See :func:`ngwear.results.stops.stop_table`.
+        """
+        from .stops import stop_table
+        return stop_table(self) if self.scene.programme is not None else None
 
     @property
     def d0(self) -> np.ndarray:
@@ -232,15 +275,29 @@ class Result:
             "contact_fraction": float((self.pressure[last] > 0).mean()) if len(self.times) else 0.0,
             "active_fraction": float((self.reaction[last] > 0).mean()) if len(self.times) else 0.0,
             **({"rejected_steps": self.rejected} if self.scene.time.adaptive else {}),
+            **self._life(),
             "newton_iterations_total": int(sum(its)),
             "newton_iterations_max": int(max(its, default=0)),
             "wall_time_s": round(self.wall_time, 3),
             "solve_time_s": round(self.solve_time, 3),
             "materials": region_materials(self.scene, self.discretization,
                                           [self.fields[s] for s in self.stored_steps if s in self.fields]),
-            **({"units": units(self.scene, ("gap", "max_wear", "max_penetration", "plate_displacement", *PART))}
+            **({"units": units(self.scene, ("gap", "max_wear", "max_penetration", "plate_displacement", *PART,
+                                             *(f"remaining_thickness_{m}" for m in ("min", "mean", "max"))))}
                if self.scene.units else {}),
         }
+
+    def _life(self) -> dict:
+        """The summary's wear metrics: the remaining thickness at the last step (min, mean, max), the stops."""
+        from .metrics import thickness_range
+        remaining = self.remaining_thickness[-1] if len(self.times) else self.thickness
+        low, mean, high = thickness_range(remaining, self.weights)
+        simulated = 0
+        if self.scene.programme is not None:
+            simulated = int((Schedule.of(self.scene.programme).rows(self.jumped)[1][:len(self.times)]
+                             == self.scene.programme.steps_per_stop).sum())
+        return {"remaining_thickness_min": low, "remaining_thickness_mean": mean, "remaining_thickness_max": high,
+                "stops_simulated": simulated, "stops_jumped": len(self.jumped)}
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Everything of the run as named arrays (``result.npz``): its steps and :meth:`header`."""
@@ -252,7 +309,8 @@ class Result:
                 **{name: getattr(self, name) for name in COEFFICIENTS}, **records_to_arrays(self.newton),
                 "status": np.array(self.status), "wall_time": np.array(self.wall_time),
                 "solve_time": np.array(self.solve_time),
-                "rejected": np.array(self.rejected), "warnings": np.array(self.warnings, dtype=str)}
+                "rejected": np.array(self.rejected), "warnings": np.array(self.warnings, dtype=str),
+                "jumped": self.jumped, "thickness": self.thickness}
 
     def save(self, directory) -> Path:
         """Write result.npz, scene.json, mesh.vol, summary.json and a VTU/PVD series of the frames."""
@@ -272,6 +330,9 @@ class Result:
             tmp.write_text(json.dumps(self.scene.to_dict(), indent=2))
         with replacing(out / "summary.json") as tmp:
             tmp.write_text(json.dumps(self.summary(), indent=2, ensure_ascii=False), encoding="utf-8")
+        if self.scene.programme is not None:
+            with replacing(out / "stops.csv") as tmp:
+                self.stops.to_csv(tmp)
         if self.discretization is not None:
             from .vtk import write_series
             write_series(self, out)
@@ -337,7 +398,8 @@ def from_arrays(scene: Scene, data, disc, rows: dict[str, np.ndarray] | None = N
                   status=str(data["status"]), wall_time=float(data["wall_time"]),
                   solve_time=float(data["solve_time"]) if "solve_time" in data else 0.0,
                   warnings=[str(w) for w in data["warnings"]], rejected=int(data["rejected"]),
-                  discretization=disc)
+                  discretization=disc, jumped=np.array(data["jumped"], dtype=int) if "jumped" in data else
+                  np.zeros(0, dtype=int), measured=np.array(data["thickness"]) if "thickness" in data else None)
 
 
 for _field in RECORDED:     # result.times, result.wear, …: the recorded rows, as declared

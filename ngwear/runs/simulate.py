@@ -42,6 +42,7 @@ from ..results.invariants import StepCheck
 from ..results.recording import Recording, StepRecord
 from ..results.result import Result
 from .clock import Clock
+from .life import WORN_OUT, StopClock, worn_out
 from .progress import bar
 from .stepper import Step, Stepper
 
@@ -102,7 +103,8 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
     scene, disc, recording = start.scene, start.disc, start.recording
     result = recording.result
     stages.prepare(disc)
-    clock = Clock(scene, disc.contact.largest_rate(), result.rejected, start.step)
+    clock = (Clock(scene, disc.contact.largest_rate(), result.rejected, start.step) if scene.programme is None
+             else StopClock(scene, disc.contact, result))      # a programme's drive set where the rows end
     clock.replay(result.times, [disc.contact.alpha(t) * p for t, p in zip(result.times, result.pressure)])
     stepper = Stepper(Problem(disc), StepCheck(result))
     integrator = WearIntegrator(scene.wear.integrator, disc.contact.law, disc.points.n)
@@ -114,6 +116,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
         if result.steps < 0:
             x, lam = _first(stepper, integrator, recording, x, lam)
             recording.continuation = (x, lam, clock.next_step)
+            worn_out(result)
         while result.completed and not clock.done(result.steps, result.times[-1]):
             if stop is not None and stop.is_set():
                 recording.interrupt()
@@ -123,6 +126,8 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
                 break
             x, lam = attempt
             recording.continuation = (x, lam, clock.next_step)
+            if worn_out(result):
+                break
             if steps_bar is not None:
                 steps_bar.update(1 if not scene.time.adaptive else result.times[-1] - result.times[-2])
             if not saver.maybe(result):
@@ -145,7 +150,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
         steps_bar.close()
     if saver.full is not None:
         raise NoSpace(saver.kept(result), result, resumable=saver.rows > 0)
-    if result.status != "completed":
+    if result.status not in ("completed", WORN_OUT):
         log.warning("%s: %s", scene.name, result.status)
     return result
 
@@ -276,7 +281,7 @@ def _next(stepper, integrator, clock: Clock, recording: Recording, x, lam):
     rates = [contact.alpha(tt) * pp for tt, pp in zip(times, result.pressure[max(j - 1, 0):j + 1])]
     while True:
         t_next = clock.next_time(j, t)
-        integrator.prepare(w, p, contact.alpha(t), contact.alpha(t_next), t_next - t)
+        clock.prepare(integrator, contact, stepper.check, w, p, t, t_next)
         try:
             attempt = _solve(stepper, integrator, t_next, t, x, lam)
         except (ConvergenceError, ArithmeticError) as err:
