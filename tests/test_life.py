@@ -145,3 +145,66 @@ def test_jumps_keep_stop_by_stop():
     assert b["max_total_wear"] == pytest.approx(a["max_total_wear"], rel=0.02)
     assert stops["worn_volume"].sum() == pytest.approx(each.stops["worn_volume"].sum(), rel=0.01)
     assert b["min_remaining_thickness"] == pytest.approx(a["min_remaining_thickness"], rel=0.02)
+
+
+def taper_scene(geometry="surface", gap=0.05, T=12.0, steps=120):
+    """A 1 × 0.25 pad per unit width, μ = 0.3, under a tilting plate on its top (h = 0.25), τ = 1/(κ‖v*‖L) = 1."""
+    return ngwear.Scene.from_dict({
+        "name": "taper", "geometry": {"kind": "strip", "size": [1.0, 0.25], "dirichlet": []},
+        "mesh": {"maxh": 0.05}, "material": {"young": 100.0, "poisson": 0.3},
+        "contact": {"stiffness": 10.0, "gap": gap, "friction": 0.3, "wear": 0.1},
+        "foundation": {"velocity": [1.0, 0.0]},
+        "loads": {"plate": {"boundary": "top", "force": [0.0, -0.1], "tilt": True}},
+        "time": {"T": T, "steps": steps}, "wear": {"integrator": "trapezoidal", "geometry": geometry},
+        "output": {"every": T}})
+
+
+@pytest.fixture(scope="module")
+def surface():
+    return ngwear.simulate(taper_scene(), progress=False)
+
+
+def test_surface_is_the_layer_until_the_first_update(surface):
+    layer = ngwear.simulate(taper_scene("layer"), progress=False)
+    first = surface.removed_rows[0]
+    assert surface.geometry_updates >= 5 and 0 < first < surface.steps
+    for name in ("wear", "pressure", "normal_displacement", "plate_displacement"):
+        assert np.array_equal(getattr(surface, name)[:first], getattr(layer, name)[:first]), name
+    assert layer.wear.max() == pytest.approx(0.05, rel=1e-3), "the layer mode stops wearing at g"
+    assert surface.total_wear[-1].max() > 2 * 0.05, "the surface mode wears on, far beyond the layer"
+
+
+def test_surface_updates_keep_the_force_balance_and_the_wear(surface):
+    r = surface
+    assert r.completed
+    assert np.abs(r.normal_force - 0.1).max() < 1e-12, "Σ m (p + λ) = F at every step, the updates' weights"
+    total = r.total_wear
+    assert (np.diff(total, axis=0) >= -1e-15).all() and (r.wear >= 0).all(), "w ≥ 0; the total never decreases"
+    threshold = 0.25 * 0.05
+    assert r.wear.max() < 2 * threshold, "each update moves the wear once it passes wear.update × h"
+    assert np.allclose(r.remaining_thickness[-1], 0.25 - total[-1], atol=1e-12)
+    assert r.summary()["geometry_updates"] == r.geometry_updates
+
+
+def test_surface_keeps_the_taper_as_the_pad_shrinks(surface):
+    """Worn in beyond the layer, p = F/A + s ξ with the friction couple's balance on the worn face.
+
+    Σ m p (x − x_c) = −μ Σ m p h(x): the friction acts along the worn face, at the height h(x) = h − W(x) below the
+    plate, W = W̄ + t ξ the worn face (t its taper).  With p = F/A + s ξ this is s I = μ F (h − W̄) − μ s t I, so
+
+        s = μ F (h − W̄) / (I (1 + μ t)),
+
+    the issue's μ F h / I with h shrinking with the mean wear and the face's inclination (here 2.5 %).
+    """
+    r = surface
+    a, force, mu = 1.0, 0.1, 0.3
+    xi = a / 2 - r.contact_points[:, 0]
+    m = r.row_weights[-1]
+    design = np.column_stack([np.ones_like(xi), xi]) * np.sqrt(m)[:, None]
+    fit = lambda values: np.linalg.lstsq(design, values * np.sqrt(m), rcond=None)[0]   # noqa: E731
+    (_, slope), (mean_wear, taper) = fit(r.pressure[-1]), fit(r.total_wear[-1])
+    assert m @ r.pressure[-1] / m.sum() == pytest.approx(force / m.sum(), rel=1e-9)
+    assert taper > 0.05, "a tapered face: the leading edge wears more"
+    height = 0.25 - m @ r.total_wear[-1] / m.sum()
+    assert height < 0.25 - 2 * 0.05
+    assert slope == pytest.approx(mu * force * height / (a ** 3 / 12) / (1 + mu * taper), rel=0.01)

@@ -59,6 +59,11 @@ MEANING = {
                            "record no rows; see `stops.csv`)"),
         "thickness": ("(n,)", "the worn region's thickness along ν under each contact point, measured once on the mesh "
                               "as built (`remaining_thickness` is this minus `total_wear`)"),
+        "removed_rows": ("(U,)", "`wear.geometry = \"surface\"`: the steps after which the geometry was updated"),
+        "removed": ("(U, n)", "the wear each update moved from the layer into the body, at the contact points "
+                              "(`total_wear` = `wear` + their sum up to the step)"),
+        "moved_weights": ("(U, n)", "the contact points' weights m_i after each update (the forces' and volumes' "
+                                    "from the step after it)"),
         "field_steps": ("(F,)", "the frames: steps whose full displacement is stored"),
         "fields": ("(F, DOFs)", "the displacement's DOF vector at each frame"),
         "units": ("()", "only for a scene with `units = \"SI\"`: the unit of each key, as JSON (`{\"torque\": "
@@ -84,6 +89,7 @@ MEANING = {
         "remaining_thickness_min": ("", "the least remaining thickness over Γ_C at the last step"),
         "remaining_thickness_mean": ("", "its mean over Γ_C (weights m_i)"),
         "remaining_thickness_max": ("", "its largest value"),
+        "geometry_updates": ("", "`wear.geometry = \"surface\"`: how often the worn surface moved (0: `layer`)"),
         "stops_simulated": ("", "a `[programme]`: the stops simulated to their end (0 without a programme)"),
         "stops_jumped": ("", "the stops applied at once by cycle jumps"),
         "newton_iterations_total": ("", "all Newton iterations of the converged steps"),
@@ -109,7 +115,7 @@ MEANING = {
 }
 HEADER = ("contact_points weights newton_iterations newton_converged newton_active newton_damped newton_lengths "
           "newton_residuals newton_cutbacks newton_bulk newton_tangents friction_coefficient wear_coefficient "
-          "contact_stiffness mesh_sha256 status wall_time solve_time rejected warnings jumped thickness").split()
+          "contact_stiffness mesh_sha256 status wall_time solve_time rejected warnings jumped thickness removed_rows removed moved_weights").split()
 MEANING["checkpoint.npz"] = {**{k: MEANING["result.npz"][k] for k in HEADER}, **MEANING["checkpoint.npz"]}
 
 

@@ -112,6 +112,9 @@ class Result:
     mesh_digest: str | None = field(default=None, repr=False)   # SHA-256 of the mesh.vol written for it
     jumped: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
     measured: np.ndarray | None = field(default=None, repr=False)   # the worn region's thickness (see thickness)
+    removed_rows: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
+    removed: np.ndarray | None = field(default=None, repr=False)      # (U, n): each geometry update's W at the points
+    moved_weights: np.ndarray | None = field(default=None, repr=False)  # (U, n): m_i after each update
 
     @property
     def completed(self) -> bool:
@@ -134,7 +137,7 @@ class Result:
     @property
     def normal_force(self) -> np.ndarray:
         """Σ m_i (p_i + λ_i) per step."""
-        return (self.pressure + self.reaction) @ self.weights
+        return _weighted(self.pressure + self.reaction, self.row_weights)
 
     def _signs(self) -> tuple[Slip, np.ndarray]:
         """The slip at the points and sign s_v of each step (a programme's: of the step's place in its stop)."""
@@ -147,13 +150,13 @@ class Result:
     def torque(self) -> np.ndarray:
         """Friction moment about the counterface's axis per step (negative when it brakes a rotation)."""
         slip, signs = self._signs()
-        return signs * (self.pressure @ (self.friction_coefficient * slip.moment_arms() * self.weights))
+        return signs * _weighted(self.pressure, self.friction_coefficient * slip.moment_arms() * self.row_weights)
 
     @property
     def tangential_force(self) -> np.ndarray:
         """F_t = Σ m_i μ_i p_i n*_i per step, shape (steps + 1, d): the friction force on the foundation."""
         slip, signs = self._signs()
-        return signs[:, None] * ((self.pressure * self.friction_coefficient * self.weights) @ slip.direction)
+        return signs[:, None] * ((self.pressure * self.friction_coefficient * self.row_weights) @ slip.direction)
 
     @property
     def friction_force(self) -> np.ndarray:
@@ -169,17 +172,59 @@ class Result:
     @property
     def contact_area(self) -> np.ndarray:
         """Σ m_i over the points in contact (p_i + λ_i > 0) per step."""
-        return (self.pressure + self.reaction > 0) @ self.weights
+        return _weighted(self.pressure + self.reaction > 0, self.row_weights)
 
     @property
     def wear_volume(self) -> np.ndarray:
         """Σ m_i w_i per step: the worn volume (an area in 2D)."""
-        return self.wear @ self.weights
+        return _weighted(self.total_wear, self.row_weights)
 
     @property
     def total_wear(self) -> np.ndarray:
-        """All material removed at the contact points per step: w (``wear.geometry = "layer"``)."""
-        return self.wear
+        """All material removed at the contact points per step: w plus what the geometry updates moved into the body.
+
+        ``wear.geometry = "layer"``: w.  ``"surface"``: w (the wear since the last update) + Σ W of the updates at or
+        before the step (:attr:`removed`, at :attr:`removed_rows`).
+        """
+        if not len(self.removed_rows):
+            return self.wear
+        moved = np.zeros_like(self.wear)
+        np.add.at(moved, self.removed_rows, self.removed)
+        return self.wear + np.cumsum(moved, axis=0)
+
+    def total_wear_at(self, step: int) -> np.ndarray:
+        """``total_wear`` of one step alone (O(n): what the time loop reads after each step)."""
+        step = self.step_index(step)
+        if not len(self.removed_rows):
+            return self.wear[step]
+        return self.wear[step] + self.removed[self.removed_rows <= step].sum(axis=0)
+
+    def last_total_wear(self) -> np.ndarray:
+        """``total_wear`` of the last step."""
+        return self.total_wear_at(-1)
+
+    @property
+    def row_weights(self) -> np.ndarray:
+        """m_i of each step, (N, n), or of all (n,) while the geometry never moved: an update moves them."""
+        if not len(self.removed_rows):
+            return self.weights
+        rows = np.searchsorted(self.removed_rows, np.arange(len(self.times)), side="left")   # updates before each
+        return np.vstack([self.weights, self.moved_weights])[rows]
+
+    @property
+    def geometry_updates(self) -> int:
+        """The number of geometry updates (``wear.geometry = "surface"``)."""
+        return len(self.removed_rows)
+
+    def moved(self, realised: np.ndarray, disc) -> None:
+        """A geometry update after the last step: its wear W at the points leaves the layer for the body (on ``disc``)."""
+        w = np.maximum(self.wear[-1] - realised, 0.0)
+        self.removed = np.vstack([self.removed, realised]) if len(self.removed_rows) else realised[None, :].copy()
+        self.removed_rows = np.append(self.removed_rows, self.steps)
+        self.moved_weights = np.vstack([self.moved_weights, disc.points.weights]) if self.moved_weights is not None \
+            else disc.points.weights[None, :].copy()
+        self.recording.revise("wear", w)
+        self.discretization, self.mesh_digest = disc, None
 
     @property
     def thickness(self) -> np.ndarray:
@@ -290,14 +335,15 @@ class Result:
     def _life(self) -> dict:
         """The summary's wear metrics: the remaining thickness at the last step (min, mean, max), the stops."""
         from .metrics import thickness_range
-        remaining = self.remaining_thickness[-1] if len(self.times) else self.thickness
+        remaining = self.remaining_thickness_of(self.last_total_wear()) if len(self.times) else self.thickness
         low, mean, high = thickness_range(remaining, self.weights)
         simulated = 0
         if self.scene.programme is not None:
             simulated = int((Schedule.of(self.scene.programme).rows(self.jumped)[1][:len(self.times)]
                              == self.scene.programme.steps_per_stop).sum())
         return {"remaining_thickness_min": low, "remaining_thickness_mean": mean, "remaining_thickness_max": high,
-                "stops_simulated": simulated, "stops_jumped": len(self.jumped)}
+                "geometry_updates": self.geometry_updates, "stops_simulated": simulated,
+                "stops_jumped": len(self.jumped)}
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Everything of the run as named arrays (``result.npz``): its steps and :meth:`header`."""
@@ -310,7 +356,9 @@ class Result:
                 "status": np.array(self.status), "wall_time": np.array(self.wall_time),
                 "solve_time": np.array(self.solve_time),
                 "rejected": np.array(self.rejected), "warnings": np.array(self.warnings, dtype=str),
-                "jumped": self.jumped, "thickness": self.thickness}
+                "jumped": self.jumped, "thickness": self.thickness, "removed_rows": self.removed_rows,
+                **{name: getattr(self, name) if len(self.removed_rows) else np.zeros((0, len(self.weights)))
+                   for name in ("removed", "moved_weights")}}
 
     def save(self, directory) -> Path:
         """Write result.npz, scene.json, mesh.vol, summary.json and a VTU/PVD series of the frames."""
@@ -337,6 +385,11 @@ class Result:
             from .vtk import write_series
             write_series(self, out)
         return out
+
+
+def _weighted(values: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """Σ_i values_ji m_i of each step j: ``values @ weights`` for one set of weights, row by row for (N, n)."""
+    return values @ weights if weights.ndim == 1 else np.einsum("ji,ji->j", values, weights)
 
 
 def output_times(out, times: np.ndarray, end: float) -> np.ndarray:
@@ -399,7 +452,10 @@ def from_arrays(scene: Scene, data, disc, rows: dict[str, np.ndarray] | None = N
                   solve_time=float(data["solve_time"]) if "solve_time" in data else 0.0,
                   warnings=[str(w) for w in data["warnings"]], rejected=int(data["rejected"]),
                   discretization=disc, jumped=np.array(data["jumped"], dtype=int) if "jumped" in data else
-                  np.zeros(0, dtype=int), measured=np.array(data["thickness"]) if "thickness" in data else None)
+                  np.zeros(0, dtype=int), measured=np.array(data["thickness"]) if "thickness" in data else None,
+                  removed_rows=np.array(data["removed_rows"], dtype=int) if "removed_rows" in data else
+                  np.zeros(0, dtype=int), removed=np.array(data["removed"]) if "removed" in data else None,
+                  moved_weights=np.array(data["moved_weights"]) if "moved_weights" in data else None)
 
 
 for _field in RECORDED:     # result.times, result.wear, …: the recorded rows, as declared

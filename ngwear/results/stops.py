@@ -3,7 +3,7 @@
 A simulated stop's rows are its start and its m steps (:meth:`~ngwear.model.programme.Schedule.rows`); its numbers
 are integrals over them by the trapezoidal rule on the stop's grid:
 
-* ``energy``  ∫ P dt, P = Σ m_i μ_i p_i ‖v*_i‖ (:func:`~ngwear.results.metrics.friction_power`);
+* ``energy``  ∫ P dt, P = Σ m_i μ_i p_i ‖v*_i‖ (m_i of the step: a geometry update moves them);
 * ``torque``, ``friction_force``, ``apparent_friction``  their means over the stop, (1/d) ∫ · dt;
 * ``worn_volume``  Σ m_i Δw_i, Δw the stop's wear increment (end minus start), and ``worn_mass`` ρ times it
   (with ``material.density``);
@@ -17,7 +17,6 @@ from __future__ import annotations
 import numpy as np
 
 from ..model.programme import Schedule
-from .metrics import friction_power
 
 COLUMNS = ("stop", "block", "start", "energy", "torque", "friction_force", "apparent_friction", "worn_volume",
            "worn_mass", "max_total_wear", "min_remaining_thickness", "simulated")
@@ -40,7 +39,7 @@ def stop_table(result):
     stop_of, step_of = (a[:rows] for a in schedule.rows(result.jumped))
     speed = np.abs(schedule.row_factors(result.jumped, rows)[0])
     speeds = speed[:, None] * _slip_speed(result)[None, :]
-    power = friction_power(result.weights, result.friction_coefficient, result.pressure, speeds)
+    power = np.sum(result.pressure * speeds * result.friction_coefficient * result.row_weights, axis=1)
     torque, force, apparent = result.torque, result.friction_force, result.apparent_friction
     total, remaining = result.total_wear, result.remaining_thickness
     density = scene.value("material.density")

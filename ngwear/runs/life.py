@@ -49,6 +49,7 @@ class StopClock:
         self.modes = rigid_modes(result.contact_points, scene.contact.direction, plate is not None,
                                  plate is not None and plate.tilt)
         self.target: tuple[int, int] | None = None      # (stop, step) of the step being solved
+        self.surface: Surface | None = None             # "surface": the next update bounds a jump
         self.added = 0.0                                # the wear a jump adds on the crossing being solved
         self._replay()
         self.drive.at(self.stop, self.step)            # where the rows end (a resumed run's invariants read it)
@@ -125,9 +126,9 @@ class StopClock:
 
     # ---- cycle jumps -------------------------------------------------------------------------
     def _increment(self) -> np.ndarray:
-        """Δw of the last simulated stop: the wear at its end minus at its start."""
-        wear = self.result.wear
-        return wear[-1] - wear[-1 - self.m]
+        """Δw of the last simulated stop: the total wear at its end minus at its start."""
+        result = self.result
+        return result.total_wear_at(-1) - result.total_wear_at(result.steps - self.m)
 
     def _jump_length(self) -> int:
         """N, the stops after the current one applied at once (0: simulate the next)."""
@@ -141,9 +142,9 @@ class StopClock:
         sliding = float(np.sum(np.diff(local) * 0.5 * (speed[1:] + speed[:-1]))) * contact.slip.speed
         rate = coefficients.wear * sliding * contact.law.slope(self.gap)
         wear = result.wear[-1]
-        left = [self.gap - wear]                        # "layer": the wear stays within the layer
+        left = [self.gap - wear if self.surface is None else self.surface.threshold - wear]   # the layer, an update
         if self.limit is not None:
-            left.append(result.remaining_thickness_of(wear) - self.limit)
+            left.append(result.remaining_thickness_of(result.last_total_wear()) - self.limit)
         last = s.last_of_block(stop)
         left = last - stop - (last == s.count - 1)      # the programme's last stop is simulated: its state recorded
         return self.jumps.length(left, rate, self.modes, result.weights,
@@ -155,7 +156,7 @@ def worn_out(result) -> bool:
     limit = result.scene.wear.limit
     if limit is None or not len(result.times):
         return False
-    remaining = result.remaining_thickness_of(result.wear[-1])
+    remaining = result.remaining_thickness_of(result.last_total_wear())
     if remaining.min() > limit:
         return False
     i = int(np.argmin(remaining))
@@ -179,9 +180,9 @@ def stops_left(result) -> float:
     ends = np.flatnonzero(Schedule.of(result.scene.programme).rows(result.jumped)[1][:result.steps + 1] == m)
     if not len(ends):
         return math.inf
-    wear = result.wear
-    return stops_to_limit(result.remaining_thickness_of(wear[-1]), result.scene.wear.limit,
-                          wear[ends[-1]] - wear[ends[-1] - m])
+    total = result.total_wear
+    return stops_to_limit(result.remaining_thickness_of(total[-1]), result.scene.wear.limit,
+                          total[ends[-1]] - total[ends[-1] - m])
 
 
 class Surface:
@@ -231,3 +232,16 @@ class Surface:
         self.updates += 1
         result.moved(realised, self.disc)
         return self.disc
+
+    def apply(self, result, clock):
+        """The update after the last step (:meth:`update`) with what the loop solves on: a new Stepper, or None."""
+        from ..numerics.problem import Problem
+        from ..results.invariants import StepCheck
+        from .stepper import Stepper
+
+        disc = self.update(result, result.wear[-1])
+        if disc is None:
+            return None
+        if isinstance(clock, StopClock):
+            clock.contact, clock.drive = disc.contact, disc.contact.drive
+        return Stepper(Problem(disc), StepCheck(result))

@@ -42,7 +42,7 @@ from ..results.invariants import StepCheck
 from ..results.recording import Recording, StepRecord
 from ..results.result import Result
 from .clock import Clock
-from .life import WORN_OUT, StopClock, worn_out
+from .life import WORN_OUT, StopClock, Surface, worn_out
 from .progress import bar
 from .stepper import Step, Stepper
 
@@ -107,6 +107,9 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
              else StopClock(scene, disc.contact, result))      # a programme's drive set where the rows end
     clock.replay(result.times, [disc.contact.alpha(t) * p for t, p in zip(result.times, result.pressure)])
     stepper = Stepper(Problem(disc), StepCheck(result))
+    surface = Surface(scene, disc) if scene.wear.geometry == "surface" else None
+    if isinstance(clock, StopClock):
+        clock.surface = surface
     integrator = WearIntegrator(scene.wear.integrator, disc.contact.law, disc.points.n)
     saver = Saver(start.checkpoint, scene.output.checkpoint_seconds, rows=start.kept)
     steps_bar = _progress(scene, result) if progress else None
@@ -128,6 +131,10 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
             recording.continuation = (x, lam, clock.next_step)
             if worn_out(result):
                 break
+            if surface is not None and surface.due(result.wear[-1]):
+                stepper = surface.apply(result, clock)
+                if stepper is None:
+                    break
             if steps_bar is not None:
                 steps_bar.update(1 if not scene.time.adaptive else result.times[-1] - result.times[-2])
             if not saver.maybe(result):
