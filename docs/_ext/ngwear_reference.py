@@ -115,8 +115,8 @@ MEANING = {
 }
 HEADER = ("contact_points weights newton_iterations newton_converged newton_active newton_damped newton_lengths "
           "newton_residuals newton_cutbacks newton_bulk newton_tangents friction_coefficient wear_coefficient "
-          "contact_stiffness mesh_sha256 status wall_time solve_time rejected warnings jumped thickness removed_rows removed "
-          "moved_weights").split()
+          "contact_stiffness mesh_sha256 status wall_time solve_time rejected warnings jumped thickness removed_rows "
+          "removed moved_weights").split()
 MEANING["checkpoint.npz"] = {**{k: MEANING["result.npz"][k] for k in HEADER}, **MEANING["checkpoint.npz"]}
 
 
