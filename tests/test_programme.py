@@ -147,6 +147,7 @@ def test_a_missing_file_is_one_line(tmp_path):
 @pytest.mark.parametrize("changes, field", [
     ({"time": {"T": 3.0}}, "time.T"),
     ({"time": {"steps": 30}}, "time.steps"),
+    ({"time": {"adaptive": True}}, "time.adaptive"),
     ({"foundation": {"velocity": [1.0, 0.0], "speed_table": [[0.0, 1.0], [100.0, 1.0]]}}, "foundation.speed_table"),
     ({"loads": {"traction": {"top": [0.0, -0.1]}, "time_table": [[0.0, 1.0], [100.0, 1.0]]}}, "loads.time_table"),
     ({"geometry": {"kind": "strip", "dirichlet": []}, "loads": {"plate": {"boundary": "top", "force": [0.0, -0.1]}},

@@ -189,7 +189,8 @@ class Surface:
     """``wear.geometry = "surface"``: the body's contact face recedes by the wear; the discretization follows.
 
     After each recorded step: once the wear since the last update (the layer's w) reaches ``wear.update`` × h, h the
-    height of the smallest element at Γ_C (:func:`~ngwear.numerics.motion.contact_height`), the mesh of the regions
+    height of the smallest element at Γ_C (:func:`~ngwear.numerics.motion.contact_height`) or the layer's g if
+    smaller (a coarse mesh's layer must not wear through between updates), the mesh of the regions
     that carry Γ_C moves by the accumulated wear along −ν (:class:`~ngwear.numerics.motion.Recession`: a vertex of
     Γ_C by the least wear of the points at it), the wear it realised at the points, W, leaves the layer (w −= W,
     w ≥ 0) and goes to ``Result.removed`` (``total_wear`` = w + ΣW), and the discretization is rebuilt on the moved
@@ -203,8 +204,12 @@ class Surface:
     def __init__(self, scene, disc):
         self.scene, self.disc = scene, disc
         self.recession = None                          # built on a copy of the mesh at the first update
-        self.threshold = scene.wear.update * contact_height(disc.mesh)
+        self.threshold = self._threshold(disc.mesh)
         self.updates = 0
+
+    def _threshold(self, mesh) -> float:
+        """``wear.update`` × the smaller of h (the smallest element's height at Γ_C) and g: never through the layer."""
+        return self.scene.wear.update * min(contact_height(mesh), self.scene.contact.gap)
 
     def due(self, wear: np.ndarray) -> bool:
         """Whether the wear since the last update reaches the threshold somewhere."""
@@ -228,7 +233,7 @@ class Surface:
         self.disc = Discretization(scene, self.recession.mesh, disc.contact_solve)
         if drive is not None:
             self.disc.contact.drive.at(drive.stop, drive.step)
-        self.threshold = scene.wear.update * contact_height(self.recession.mesh)
+        self.threshold = self._threshold(self.recession.mesh)
         self.updates += 1
         result.moved(realised, self.disc)
         return self.disc
