@@ -208,3 +208,21 @@ def test_surface_keeps_the_taper_as_the_pad_shrinks(surface):
     height = 0.25 - m @ r.total_wear[-1] / m.sum()
     assert height < 0.25 - 2 * 0.05
     assert slope == pytest.approx(mu * force * height / (a ** 3 / 12) / (1 + mu * taper), rel=0.01)
+
+
+def test_cli_worn_out_exits_0_and_says_where(tmp_path, capsys):
+    from ngwear.cli import main
+    code = main(["run", str(PAPER), "--out", str(tmp_path / "out"), "--quiet", "--no-pictures", "--no-check",
+                 "--set", "mesh.maxh=0.2", "--set", "time.steps=20", "--set", "wear.limit=0.99"])
+    err = capsys.readouterr().err
+    assert code == 0 and "ngwear: worn out: wear.limit: the remaining thickness reached 0.99" in err
+    saved = ngwear.load_result(tmp_path / "out")
+    assert saved.status == WORN_OUT and saved.remaining_thickness[-1].min() <= 0.99 < saved.remaining_thickness[-2].min()
+
+
+def test_a_surface_run_is_not_resumed_after_an_update(tmp_path):
+    from ngwear.results.folder import FolderError
+    run = ngwear.simulate(taper_scene(T=3.0, steps=30), progress=False, checkpoint=tmp_path)
+    assert run.geometry_updates > 0
+    with pytest.raises(FolderError, match="cannot resume after a geometry update"):
+        ngwear.simulate(None, progress=False, resume=tmp_path)
