@@ -39,8 +39,9 @@ class StopClock:
     :meth:`prepare`, which sets the contact's drive and the wear law of the step.
     """
 
-    def __init__(self, scene, contact, result):
+    def __init__(self, scene, contact, result, surface=None):
         self.schedule, self.contact, self.result = Schedule.of(scene.programme), contact, result
+        self.surface = surface                          # "surface": the next update bounds a jump
         self.drive, self.m = contact.drive, scene.programme.steps_per_stop
         self.gap, self.limit = scene.contact.gap, scene.wear.limit
         self.rejected, self.unmet, self.retrying, self.next_step = 0, False, False, 0.0
@@ -49,7 +50,6 @@ class StopClock:
         self.modes = rigid_modes(result.contact_points, scene.contact.direction, plate is not None,
                                  plate is not None and plate.tilt)
         self.target: tuple[int, int] | None = None      # (stop, step) of the step being solved
-        self.surface: Surface | None = None             # "surface": the next update bounds a jump
         self.added = 0.0                                # the wear a jump adds on the crossing being solved
         self._replay()
         self.drive.at(self.stop, self.step)            # where the rows end (a resumed run's invariants read it)

@@ -13,6 +13,11 @@ the files of an earlier run there (:func:`~ngwear.results.folder.clear`).
 The run holds its folders (:func:`ngwear.results.folder.hold`); when the disk fills it stops at a step
 boundary, writes what fits and raises :class:`~ngwear.results.folder.NoSpace` saying which steps are kept.
 
+A part's life (:mod:`ngwear.runs.life`): a ``[programme]`` runs its stops through a
+:class:`~ngwear.runs.life.StopClock` (cycle jumps included), ``wear.geometry = "surface"`` moves the worn face after
+the steps that reach ``wear.update`` (:class:`~ngwear.runs.life.Surface`), and ``wear.limit`` ends the run as
+``worn_out`` (:func:`~ngwear.runs.life.worn_out`).
+
 Every step is checked against the invariants (:mod:`ngwear.results.invariants`) before it is recorded:
 the first step that breaks one stops the run (status naming the step, the invariant and by how much),
 keeping the steps before it.
@@ -103,13 +108,11 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
     scene, disc, recording = start.scene, start.disc, start.recording
     result = recording.result
     stages.prepare(disc)
+    surface = Surface(scene, disc) if scene.wear.geometry == "surface" else None
     clock = (Clock(scene, disc.contact.largest_rate(), result.rejected, start.step) if scene.programme is None
-             else StopClock(scene, disc.contact, result))      # a programme's drive set where the rows end
+             else StopClock(scene, disc.contact, result, surface))      # its drive set where the rows end
     clock.replay(result.times, [disc.contact.alpha(t) * p for t, p in zip(result.times, result.pressure)])
     stepper = Stepper(Problem(disc), StepCheck(result))
-    surface = Surface(scene, disc) if scene.wear.geometry == "surface" else None
-    if isinstance(clock, StopClock):
-        clock.surface = surface
     integrator = WearIntegrator(scene.wear.integrator, disc.contact.law, disc.points.n)
     saver = Saver(start.checkpoint, scene.output.checkpoint_seconds, rows=start.kept)
     steps_bar = _progress(scene, result) if progress else None
