@@ -226,3 +226,23 @@ def test_a_surface_run_is_not_resumed_after_an_update(tmp_path):
     assert run.geometry_updates > 0
     with pytest.raises(FolderError, match="cannot resume after a geometry update"):
         ngwear.simulate(None, progress=False, resume=tmp_path)
+
+
+def test_a_programme_with_jumps_resumes_to_the_bit(tmp_path):
+    programme = {"stops": [{"count": 60, "duration": 1.0, "speed": [1.0, 0.0], "dwell": 0.5}], "steps_per_stop": 4,
+                 "jump": True, "jump_tolerance": 1e-2}
+    scene = pressed(programme, **{"wear.integrator": "trapezoidal", "contact.wear": 0.005})
+    whole = ngwear.simulate(scene, progress=False)
+    calls = []
+
+    class Stopper:                      # stops the run after some of its jumps
+        def is_set(self):
+            calls.append(1)
+            return len(calls) > 150
+
+    first = ngwear.simulate(scene, progress=False, checkpoint=tmp_path, stop=Stopper())
+    assert first.status == "interrupted" and 0 < len(first.jumped) < len(whole.jumped)
+    resumed = ngwear.simulate(None, progress=False, resume=tmp_path)
+    assert resumed.completed and np.array_equal(resumed.jumped, whole.jumped)
+    for name in ("times", "wear", "pressure", "plate_displacement"):
+        assert np.array_equal(getattr(resumed, name), getattr(whole, name)), name
