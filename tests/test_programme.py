@@ -164,7 +164,7 @@ def test_what_a_programme_replaces_is_refused_with_it(changes, field):
 
 
 @pytest.mark.parametrize("key, value, fragment", [("wear.geometry", "worn", "layer, surface"),
-                                                  ("wear.update", 0.0, "(0, 1]"), ("wear.update", 1.5, "(0, 1]"),
+                                                  ("wear.update", 0.0, "(0, 0.5]"), ("wear.update", 0.6, "(0, 0.5]"),
                                                   ("wear.limit", -1.0, "> 0")])
 def test_life_keys_are_validated(key, value, fragment):
     with pytest.raises(SceneError) as err:

@@ -329,8 +329,8 @@ class WearSpec(Section):
         "`surface`: the worn material leaves the body, its contact surface recedes along ν (the layer keeps its "
         "thickness g)", reuse=Level.NOTHING)
     update: Number = key(0.25, "`surface`: the wear since the last geometry update, relative to the height of the "
-                         "smallest element at Γ_C (or to `contact.gap` if smaller), that moves the surface",
-                         reuse=Level.NOTHING, gt=0, le=1)
+                         "smallest element at Γ_C (or to `contact.gap` if smaller), that moves the surface (at most "
+                         "half: the layer never wears through between updates)", reuse=Level.NOTHING, gt=0, le=0.5)
     limit: Number | None = key(None, "the smallest remaining thickness of the worn region (along ν, e.g. a pad's "
                                "2 mm): reaching it ends the run as worn out", reuse=Level.NOTHING, shown="none",
                                allowed="> 0", gt=0)

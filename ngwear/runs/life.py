@@ -190,7 +190,8 @@ class Surface:
 
     After each recorded step: once the wear since the last update (the layer's w) reaches ``wear.update`` × h, h the
     height of the smallest element at Γ_C (:func:`~ngwear.numerics.motion.contact_height`) or the layer's g if
-    smaller (a coarse mesh's layer must not wear through between updates), the mesh of the regions
+    smaller (at most half of it: a coarse mesh's layer never wears through between updates, where its wear would
+    slow down towards g), the mesh of the regions
     that carry Γ_C moves by the accumulated wear along −ν (:class:`~ngwear.numerics.motion.Recession`: a vertex of
     Γ_C by the least wear of the points at it), the wear it realised at the points, W, leaves the layer (w −= W,
     w ≥ 0) and goes to ``Result.removed`` (``total_wear`` = w + ΣW), and the discretization is rebuilt on the moved
