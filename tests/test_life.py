@@ -183,6 +183,8 @@ def test_surface_updates_keep_the_force_balance_and_the_wear(surface):
     threshold = 0.25 * 0.05
     assert r.wear.max() < 2 * threshold, "each update moves the wear once it passes wear.update × h"
     assert np.allclose(r.remaining_thickness[-1], 0.25 - total[-1], atol=1e-12)
+    assert r.penetration.max() <= 0.05 and r.summary()["max_penetration"] <= 0.05, "u_ν − d₀ ≤ g of the moved face"
+    assert np.abs(r.compression[-1] - r.pressure[-1] / 10.0).max() < 1e-12, "p = L (u_ν − d₀ − w) on the moved face"
     assert r.summary()["geometry_updates"] == r.geometry_updates
 
 

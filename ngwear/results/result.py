@@ -132,7 +132,13 @@ class Result:
     @property
     def compression(self) -> np.ndarray:
         """u_ν − d₀ − w: how far the remaining (unworn) layer is compressed (p acts where > 0)."""
-        return self.normal_displacement - self.d0[None, :] - self.wear
+        return self.penetration - self.wear
+
+    @property
+    def penetration(self) -> np.ndarray:
+        """u_ν − d₀: how far Γ_C has moved into the layer (≤ g); d₀ of the face as it is (moved by the updates)."""
+        reached = self.normal_displacement - self.d0[None, :]
+        return reached - (self.total_wear - self.wear) if len(self.removed_rows) else reached
 
     @property
     def normal_force(self) -> np.ndarray:
@@ -304,7 +310,7 @@ class Result:
         g = self.scene.contact.gap
         its = [r.iterations for r in self.newton if r.converged]
         # the paper's "penetration": how far Γ_C has moved into the layer, u_ν − d₀ ≤ g
-        pen = self.normal_displacement - self.d0[None, :] if len(self.times) else np.zeros((1, 1))
+        pen = self.penetration if len(self.times) else np.zeros((1, 1))
         last = -1
         part = {name: float(getattr(self, name)[last]) if len(self.times) else 0.0 for name in PART}
         return {
