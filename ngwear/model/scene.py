@@ -87,7 +87,6 @@ class Scene(TopLevel):
 
     @property
     def dt(self) -> float:
-        """K = T/N; with a programme the longest step of a stop (its dwells take one step each, no wear)."""
         if self.programme is not None:
             return max(b.duration for b in self.programme.blocks) / self.programme.steps_per_stop
         return self.time.T / self.time.steps
