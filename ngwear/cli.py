@@ -172,6 +172,7 @@ def _run(args, scene, settings, out: Path) -> int:
 
     from .model.meshing import Stopped
     from .results.folder import NoSpace, no_space
+    from .runs.life import WORN_OUT
     from .runs.simulate import simulate
 
     if args.resume is not None and scene is None:
@@ -215,6 +216,9 @@ def _run(args, scene, settings, out: Path) -> int:
         print(f"ngwear: interrupted after step {result.steps} (t = {t:.4g}); resume with: ngwear run --resume {out}",
               file=sys.stderr)
         return 128 + (received[0] if received else signal.SIGINT)
+    if result.status == WORN_OUT:
+        print(f"ngwear: worn out: {result.warnings[-1]}", file=sys.stderr)
+        return 0
     if not result.completed:
         print(f"ngwear: run stopped early: {result.status}", file=sys.stderr)
         return 1

@@ -86,6 +86,18 @@ def trapezoidal_order(g):
     return g["orders"]["trapezoidal"], 2.0, dict(abs=0.15)
 
 
+def life_worn_in(g):
+    """A pad's life: half its friction material worn, worn in: the uniform-wear torque μF(r_i + r_o)/2 within 1 %.
+
+    Also the wear rate uniform over the face within 2 % and the volume per MJ κ/μ in every block (Archard).
+    """
+    scene, result, blocks = g["scene"], g["result"], g["blocks"]
+    assert result.completed and g["total"].max() > 0.5 * result.thickness.max()
+    assert g["spread"] < 0.02
+    assert np.allclose(blocks["volume_per_megajoule"], 1e6 * scene.contact.wear / scene.contact.friction, rtol=1e-3)
+    return -result.torque[g["start"]], g["uniform"], dict(rel=0.01)
+
+
 CHECKS = {
     "01_paper_strip": archard_identity,
     "02_convergence": p1_space_order,
@@ -96,6 +108,7 @@ CHECKS = {
     "07_explorer": explorer_run_is_a_run,
     "08_long_run": resume_is_bit_identical,
     "09_work_precision": trapezoidal_order,
+    "10_brake_pad_life": life_worn_in,
 }
 MARKS = {"07_explorer": [pytest.mark.browser]}
 

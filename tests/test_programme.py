@@ -147,6 +147,7 @@ def test_a_missing_file_is_one_line(tmp_path):
 @pytest.mark.parametrize("changes, field", [
     ({"time": {"T": 3.0}}, "time.T"),
     ({"time": {"steps": 30}}, "time.steps"),
+    ({"time": {"adaptive": True}}, "time.adaptive"),
     ({"foundation": {"velocity": [1.0, 0.0], "speed_table": [[0.0, 1.0], [100.0, 1.0]]}}, "foundation.speed_table"),
     ({"loads": {"traction": {"top": [0.0, -0.1]}, "time_table": [[0.0, 1.0], [100.0, 1.0]]}}, "loads.time_table"),
     ({"geometry": {"kind": "strip", "dirichlet": []}, "loads": {"plate": {"boundary": "top", "force": [0.0, -0.1]}},
@@ -163,7 +164,7 @@ def test_what_a_programme_replaces_is_refused_with_it(changes, field):
 
 
 @pytest.mark.parametrize("key, value, fragment", [("wear.geometry", "worn", "layer, surface"),
-                                                  ("wear.update", 0.0, "(0, 1]"), ("wear.update", 1.5, "(0, 1]"),
+                                                  ("wear.update", 0.0, "(0, 0.5]"), ("wear.update", 0.6, "(0, 0.5]"),
                                                   ("wear.limit", -1.0, "> 0")])
 def test_life_keys_are_validated(key, value, fragment):
     with pytest.raises(SceneError) as err:

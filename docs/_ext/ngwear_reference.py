@@ -48,12 +48,22 @@ MEANING = {
         "newton_tangents": ("(N,)", ("tangent stiffnesses taken in the run up to each step, factorised or low-rank "
                                    "updates (nonlinear material)")),
         "newton_cutbacks": ("(N,)", "load cut-backs each step needed before its Newton converged (0: none)"),
-        "status": ("()", "`completed`, `interrupted`, or the message of the step that failed"),
+        "status": ("()", "`completed`, `interrupted`, `worn_out` (`wear.limit` reached; a warning says when and where), "
+                         "or the message of the step that failed"),
         "wall_time": ("()", "seconds the run took: meshing, factorising and the time loop"),
         "solve_time": ("()", "seconds of the time loop alone"),
         "rejected": ("()", "rejected steps of an adaptive run"),
         "warnings": ("(·,)", "warnings of the run (e.g. the explicit update's stability)"),
         "mesh_sha256": ("()", "SHA-256 of `mesh.vol` beside it: read only with the mesh it was computed on"),
+        "jumped": ("(·,)", "a `[programme]` with `programme.jump`: the stops applied at once, not simulated (they "
+                           "record no rows; see `stops.csv`)"),
+        "thickness": ("(n,)", "the worn region's thickness along ν under each contact point, measured once on the mesh "
+                              "as built (`remaining_thickness` is this minus `total_wear`)"),
+        "removed_rows": ("(U,)", "`wear.geometry = \"surface\"`: the steps after which the geometry was updated"),
+        "removed": ("(U, n)", "the wear each update moved from the layer into the body, at the contact points "
+                              "(`total_wear` = `wear` + their sum up to the step)"),
+        "moved_weights": ("(U, n)", "the contact points' weights m_i after each update (the forces' and volumes' "
+                                    "from the step after it)"),
         "field_steps": ("(F,)", "the frames: steps whose full displacement is stored"),
         "fields": ("(F, DOFs)", "the displacement's DOF vector at each frame"),
         "units": ("()", "only for a scene with `units = \"SI\"`: the unit of each key, as JSON (`{\"torque\": "
@@ -93,6 +103,12 @@ MEANING = {
         "contact_fraction": ("", "share of the points with p > 0 at the last step"),
         "active_fraction": ("", "share of the points with λ > 0 (u_ν − d₀ = g) at the last step"),
         "rejected_steps": ("", "rejected steps (only with `time.adaptive`)"),
+        "remaining_thickness_min": ("", "the least remaining thickness over Γ_C at the last step"),
+        "remaining_thickness_mean": ("", "its mean over Γ_C (weights m_i)"),
+        "remaining_thickness_max": ("", "its largest value"),
+        "geometry_updates": ("", "`wear.geometry = \"surface\"`: how often the worn surface moved (0: `layer`)"),
+        "stops_simulated": ("", "a `[programme]`: the stops simulated to their end (0 without a programme)"),
+        "stops_jumped": ("", "the stops applied at once by cycle jumps"),
         "newton_iterations_total": ("", "all Newton iterations of the converged steps"),
         "newton_iterations_max": ("", "the most of one step"),
         "wall_time_s": ("", "seconds the run took: meshing, factorising and the time loop"),
@@ -119,7 +135,8 @@ MEANING = {
 }
 HEADER = ("contact_points weights newton_iterations newton_converged newton_active newton_damped newton_lengths "
           "newton_residuals newton_cutbacks newton_bulk newton_tangents friction_coefficient wear_coefficient "
-          "contact_stiffness mesh_sha256 status wall_time solve_time rejected warnings provenance").split()
+          "contact_stiffness mesh_sha256 status wall_time solve_time rejected warnings provenance jumped thickness "
+          "removed_rows removed moved_weights").split()
 MEANING["checkpoint.npz"] = {**{k: MEANING["result.npz"][k] for k in HEADER}, **MEANING["checkpoint.npz"]}
 
 

@@ -32,7 +32,9 @@ def cross(a, b: np.ndarray) -> np.ndarray:
 class Slip:
     """The foundation's velocity field at fixed points x_i of Γ_C (reference configuration)."""
 
-    def __init__(self, foundation, points: np.ndarray, nu):
+    def __init__(self, foundation, points: np.ndarray, nu, factor=None):
+        """``factor``: s_v(t) if not the ``speed_table``'s (a programme's :class:`~ngwear.model.programme.Drive`)."""
+        self._factor = factor
         self.points, self.nu = np.asarray(points, dtype=float), np.asarray(nu, dtype=float)
         dim = self.points.shape[1]
         self.omega = foundation.angular_velocity if foundation.angular_velocity is not None else (
@@ -51,7 +53,7 @@ class Slip:
 
     def factor(self, t: float) -> float:
         """s_v(t)."""
-        return piecewise_linear(self.table, t)
+        return piecewise_linear(self.table, t) if self._factor is None else self._factor(t)
 
     def velocity(self, t: float) -> np.ndarray:
         """v*(x_i, t), shape (n, d)."""

@@ -190,3 +190,61 @@ class Schedule:
                                                                  (stop_end, rest), (following, rest))], axis=1)
             tables[which] = rows[keep]
         return tables
+
+    def rows(self, jumped: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(Stop, step j) of each recorded row of a run of this programme with the stops ``jumped`` not simulated.
+
+        A simulated stop records m + 1 rows: its start (j = 0) and its m steps; a jumped stop records none.
+        """
+        simulated = np.setdiff1d(np.arange(self.count), jumped)
+        return np.repeat(simulated, self.steps + 1), np.tile(np.arange(self.steps + 1), len(simulated))
+
+    def row_factors(self, jumped: np.ndarray, rows: int) -> tuple[np.ndarray, np.ndarray]:
+        """(s_v, s_F) of the first ``rows`` recorded rows (see :meth:`rows`)."""
+        stop, j = (a[:rows] for a in self.rows(jumped))
+        phase = j / self.steps
+        return tuple(ends[stop, 0] + (ends[stop, 1] - ends[stop, 0]) * phase for ends in (self.speed, self.load))
+
+
+class Drive:
+    """The factors s_v, s_F a run of a programme reads: those of the step it is at, set by the time loop.
+
+    ``at(i, j)``: stop i's step j (its factors on the stop's grid, the same bits for every stop of a block, whatever
+    the time); ``resting()``: between stops (no load, no sliding).
+    """
+
+    def __init__(self, schedule: Schedule):
+        self.schedule, self.stop, self.step = schedule, 0, 0
+        self.still = False
+
+    def at(self, stop: int, step: int) -> Drive:
+        self.stop, self.step, self.still = stop, step, False
+        return self
+
+    def resting(self) -> Drive:
+        self.still = True
+        return self
+
+    def speed(self, t: float | None = None) -> float:
+        """s_v at the step set (``t`` is not read: the step decides)."""
+        return self._factor(self.schedule.speed)
+
+    def load(self, t: float | None = None) -> float:
+        """s_F at the step set."""
+        return self._factor(self.schedule.load)
+
+    def _factor(self, ends: np.ndarray) -> float:
+        if self.still:
+            return 0.0
+        start, end = ends[self.stop]
+        return float(start + (end - start) * (self.step / self.schedule.steps))
+
+    @property
+    def largest_speed(self) -> float:
+        """Max |s_v| over the programme (its ramps are linear: their ends)."""
+        return float(np.abs(self.schedule.speed).max())
+
+    @property
+    def largest_load(self) -> float:
+        """Max |s_F| over the programme."""
+        return float(np.abs(self.schedule.load).max())

@@ -358,6 +358,9 @@ def _check_programme(scene) -> None:
         if _value(scene, name):
             raise SceneError(f"{name}: not with a [programme] (its stops' speed and load factors replace the time "
                              "tables); leave it out")
+    if scene.time.adaptive:
+        raise SceneError("time.adaptive: not with a [programme] yet (a stop takes programme.steps_per_stop uniform "
+                         "steps); leave it out")
     if not scene.geometry.dirichlet:
         for i, block in enumerate(scene.programme.blocks, start=1):
             if min(block.load) < 0:

@@ -63,7 +63,7 @@ class Scene(TopLevel):
     dim : int
         2 or 3.
     dt : float
-        The uniform step T / steps.
+        The uniform step T / steps; with a programme the longest step of a stop (a dwell is one step, no wear).
     """
 
     model_config = ConfigDict(frozen=True, extra="forbid")
@@ -87,6 +87,8 @@ class Scene(TopLevel):
 
     @property
     def dt(self) -> float:
+        if self.programme is not None:
+            return max(b.duration for b in self.programme.blocks) / self.programme.steps_per_stop
         return self.time.T / self.time.steps
 
     @classmethod

@@ -329,7 +329,8 @@ class WearSpec(Section):
         "`surface`: the worn material leaves the body, its contact surface recedes along ν (the layer keeps its "
         "thickness g)", reuse=Level.NOTHING)
     update: Number = key(0.25, "`surface`: the wear since the last geometry update, relative to the height of the "
-                         "smallest element at Γ_C, that moves the surface", reuse=Level.NOTHING, gt=0, le=1)
+                         "smallest element at Γ_C (or to `contact.gap` if smaller), that moves the surface (at most "
+                         "half: the layer never wears through between updates)", reuse=Level.NOTHING, gt=0, le=0.5)
     limit: Number | None = key(None, "the smallest remaining thickness of the worn region (along ν, e.g. a pad's "
                                "2 mm): reaching it ends the run as worn out", reuse=Level.NOTHING, shown="none",
                                allowed="> 0", gt=0)
@@ -480,8 +481,7 @@ class Programme(Section):
                            "naming the columns `count`, `duration` and any of `speed`, `load`, `dwell`, then one row "
                            "a block (a [start, end] factor quoted: `\"[1.0, 0.0]\"`)", reuse=Level.NOTHING, shown="—",
                            allowed="an existing CSV file")
-    steps_per_stop: Whole = key(20, "time steps of one stop (with `time.adaptive`: its first step is a stop's "
-                                "duration over this)",
+    steps_per_stop: Whole = key(20, "uniform time steps of one stop (`time.adaptive` is refused with a programme)",
                                 reuse=Level.NOTHING, ge=1, le=10_000)
     jump: Flag = key(False, "apply stops of a block at once (cycle jumps) once their wear increments settle",
                      reuse=Level.NOTHING)

@@ -3,6 +3,7 @@
     s_F(t) (``loads.time_table``),   v*_i(t),   n*_i(t),   α_i(t) = κ_i ‖v*_i(t)‖,   μ_i n*_i(t),
     f_i = m_i (p_i (ν + μ_i n*_i) + λ_i ν)   (the contact forces),
 
+(with a ``[programme]`` s_F and the speed factor s_v are its stops', :attr:`Contact.drive`)
 with the coefficients μ_i, κ_i and the compliance's L_i at the contact points
 (:class:`~ngwear.model.coefficients.Coefficients`) and the slip of :mod:`ngwear.model.kinematics`.  Every key it
 reads invalidates nothing (:class:`~ngwear.model.keys.Level` ``NOTHING``): a :class:`Contact` is made anew for each
@@ -20,6 +21,7 @@ from ..model.coefficients import Coefficients
 from ..model.compliance import compliance_from
 from ..model.keys import SceneError, piecewise_linear
 from ..model.kinematics import Slip
+from ..model.programme import Drive, Schedule
 from ..model.rules import BIG
 
 
@@ -53,7 +55,8 @@ class Contact:
         self.scene, self.weights, self.nu = scene, points.weights, nu
         self.coefficients = Coefficients.of(scene.contact, points.coords)
         self.law = compliance_from(scene.contact, self.coefficients.stiffness)
-        self.slip = Slip(scene.foundation, points.coords, nu)
+        self.drive = None if scene.programme is None else Drive(Schedule.of(scene.programme))
+        self.slip = Slip(scene.foundation, points.coords, nu, None if self.drive is None else self.drive.speed)
         self._check_motion()
 
     def _check_motion(self) -> None:
@@ -74,8 +77,8 @@ class Contact:
         return self.coefficients
 
     def load_factor(self, t: float) -> float:
-        """s_F(t), the factor of the loads (``loads.time_table``)."""
-        return piecewise_linear(self.scene.loads.time_table, t)
+        """s_F(t), the factor of the loads (``loads.time_table``, or a programme's step: :attr:`drive`)."""
+        return piecewise_linear(self.scene.loads.time_table, t) if self.drive is None else self.drive.load(t)
 
     def velocity(self, t: float) -> np.ndarray:
         """v*(x_i, t) at the contact points, shape (n, d)."""
@@ -109,4 +112,6 @@ class Contact:
             return float((self.coefficients.wear * self.slip.speed * slopes).max(initial=0.0)) * self._largest_factor()
 
     def _largest_factor(self) -> float:
+        if self.drive is not None:
+            return self.drive.largest_speed
         return max((abs(f) for _, f in self.scene.foundation.speed_table), default=1.0)

@@ -198,7 +198,9 @@ def patch_share(problem: Problem) -> float:
     solves on the patch up to :data:`PATCH_SHARE`.
     """
     cond, n, law = problem.condensation, problem.n, problem.contact.law
-    largest = max((abs(f) for _, f in problem.scene.loads.time_table), default=1.0)
+    drive = problem.contact.drive
+    largest = drive.largest_load if drive is not None else max((abs(f) for _, f in problem.scene.loads.time_table),
+                                                                default=1.0)
     directed = None if cond.plate is None else cond.plate.directed(
         cond.nu[None, :] + problem.contact.friction_directions(0.0))
     system = PatchSystem(None, cond.compliance_estimate, problem.disc.points.weights, largest * problem.loads.s_load,

@@ -98,6 +98,10 @@ class Checkpoint:
         data = _read(folder)
         saved = _scene(data, folder / CHECKPOINT)
         self.scene = saved if scene is None else _continuing(saved, scene)
+        updates = len(data.get("removed_rows", ()))
+        if updates:
+            raise FolderError("resume", f"the run in {folder} moved its worn surface {updates} times (wear.geometry = "
+                                        "'surface'); a run cannot resume after a geometry update yet: run it again")
         disc = Discretization(self.scene, checked_mesh(folder, data, self.scene.dim, "resume"))
         _check_counts(folder / CHECKPOINT, data, disc)
         if "history" in data:

@@ -195,6 +195,11 @@ class StepCheck:
         return broken
 
 
+    def cross(self, t: float, w: np.ndarray) -> None:
+        """The next step crosses a programme's dwell to t: from the wear ``w`` (a jump's added), no wear across it."""
+        self.last = Row(t, w, np.zeros_like(w), self.last.peak)
+
+
 def overshoot(result) -> float:
     """max_j,i (w_j − max_{m≤j} (z_m)₊)₊ / g: wear past the largest penetration so far (the exact solution: 0).
 

@@ -78,6 +78,11 @@ class Recording:
             result.rows[name] = self.history.put(name, j, step.rows[name])
         result.newton.append(step.newton)
 
+    def revise(self, name: str, value: np.ndarray) -> None:
+        """Rewrite the last step's row of ``name`` (a geometry update moves its wear into the body)."""
+        result = self.result
+        result.rows[name] = self.history.put(name, len(result.times) - 1, value)
+
     def keep_field(self, u: np.ndarray) -> None:
         """Keep the displacement u of the step just recorded (a nonlinear body's: recovering it needs an iteration).
 

@@ -38,6 +38,7 @@ import numpy as np
 from scipy.integrate import cumulative_trapezoid
 
 from ..model.kinematics import Slip
+from ..model.programme import Schedule
 from ..model.scene import Scene
 from ..numerics.points import initial_distance
 from ..numerics.solver import NewtonRecord
@@ -124,6 +125,11 @@ class Result:
     recording: object = field(default=None, repr=False)          # the run's Recording: its rows, to go on from
     mesh_digest: str | None = field(default=None, repr=False)   # SHA-256 of the mesh.vol written for it
     provenance: dict | None = field(default=None, repr=False)    # versions and scene hash (None: an older file's)
+    jumped: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
+    measured: np.ndarray | None = field(default=None, repr=False)   # the worn region's thickness (see thickness)
+    removed_rows: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
+    removed: np.ndarray | None = field(default=None, repr=False)      # (U, n): each geometry update's W at the points
+    moved_weights: np.ndarray | None = field(default=None, repr=False)  # (U, n): m_i after each update
 
     @property
     def completed(self) -> bool:
@@ -141,29 +147,38 @@ class Result:
     @property
     def compression(self) -> np.ndarray:
         """u_ν − d₀ − w: how far the remaining (unworn) layer is compressed (p acts where > 0)."""
-        return self.normal_displacement - self.d0[None, :] - self.wear
+        return self.penetration - self.wear
+
+    @property
+    def penetration(self) -> np.ndarray:
+        """u_ν − d₀: how far Γ_C has moved into the layer (≤ g); d₀ of the face as it is (moved by the updates)."""
+        reached = self.normal_displacement - self.d0[None, :]
+        return reached - (self.total_wear - self.wear) if len(self.removed_rows) else reached
 
     @property
     def normal_force(self) -> np.ndarray:
         """Σ m_i (p_i + λ_i) per step."""
-        return (self.pressure + self.reaction) @ self.weights
+        return _weighted(self.pressure + self.reaction, self.row_weights)
+
+    def _factors(self) -> tuple[Slip, np.ndarray]:
+        """The slip at the points and the factor s_v of each step (a programme's: of the step's place in its stop)."""
+        slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
+        if self.scene.programme is not None:
+            return slip, np.asarray(Schedule.of(self.scene.programme).row_factors(self.jumped, len(self.times))[0],
+                                    dtype=float)
+        return slip, np.array([slip.factor(t) for t in self.times], dtype=float)
 
     @property
     def torque(self) -> np.ndarray:
         """Friction moment about the counterface's axis per step (negative when it brakes a rotation)."""
-        slip, factors = self._slip()
-        return np.sign(factors) * (self.pressure @ (self.friction_coefficient * slip.moment_arms() * self.weights))
+        slip, factors = self._factors()
+        return np.sign(factors) * _weighted(self.pressure, self.friction_coefficient * slip.moment_arms() * self.row_weights)
 
     @property
     def tangential_force(self) -> np.ndarray:
         """F_t = Σ m_i μ_i p_i n*_i per step, shape (steps + 1, d): the friction force on the foundation."""
-        slip, factors = self._slip()
-        return np.sign(factors)[:, None] * ((self.pressure * self.friction_coefficient * self.weights) @ slip.direction)
-
-    def _slip(self) -> tuple[Slip, np.ndarray]:
-        """The foundation's slip at the contact points and its factor s_v(t_j) at each step."""
-        slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
-        return slip, np.array([slip.factor(t) for t in self.times], dtype=float)
+        slip, factors = self._factors()
+        return np.sign(factors)[:, None] * ((self.pressure * self.friction_coefficient * self.row_weights) @ slip.direction)
 
     @property
     def max_wear(self) -> np.ndarray:
@@ -184,8 +199,8 @@ class Result:
     @property
     def friction_power(self) -> np.ndarray:
         """P = Σ m_i μ_i p_i ‖v*_i(t)‖ per step (‖v*_i(t)‖: the slip speed at s_v = 1 times the factor's size)."""
-        slip, factors = self._slip()
-        return np.abs(factors) * (self.pressure @ (self.friction_coefficient * slip.speed * self.weights))
+        slip, factors = self._factors()
+        return np.abs(factors) * _weighted(self.pressure, self.friction_coefficient * slip.speed * self.row_weights)
 
     @property
     def dissipated_energy(self) -> np.ndarray:
@@ -207,12 +222,89 @@ class Result:
     @property
     def contact_area(self) -> np.ndarray:
         """Σ m_i over the points in contact (p_i + λ_i > 0) per step."""
-        return (self.pressure + self.reaction > 0) @ self.weights
+        return _weighted(self.pressure + self.reaction > 0, self.row_weights)
 
     @property
     def wear_volume(self) -> np.ndarray:
         """Σ m_i w_i per step: the worn volume (an area in 2D)."""
-        return self.wear @ self.weights
+        return _weighted(self.total_wear, self.row_weights)
+
+    @property
+    def total_wear(self) -> np.ndarray:
+        """All material removed at the contact points per step: w plus what the geometry updates moved into the body.
+
+        ``wear.geometry = "layer"``: w.  ``"surface"``: w (the wear since the last update) + Σ W of the updates at or
+        before the step (:attr:`removed`, at :attr:`removed_rows`).
+        """
+        if not len(self.removed_rows):
+            return self.wear
+        moved = np.zeros_like(self.wear)
+        np.add.at(moved, self.removed_rows, self.removed)
+        return self.wear + np.cumsum(moved, axis=0)
+
+    def total_wear_at(self, step: int) -> np.ndarray:
+        """``total_wear`` of one step alone (O(n): what the time loop reads after each step)."""
+        step = self.step_index(step)
+        if not len(self.removed_rows):
+            return self.wear[step]
+        return self.wear[step] + self.removed[self.removed_rows <= step].sum(axis=0)
+
+    def last_total_wear(self) -> np.ndarray:
+        """``total_wear`` of the last step."""
+        return self.total_wear_at(-1)
+
+    @property
+    def row_weights(self) -> np.ndarray:
+        """m_i of each step, (N, n), or of all (n,) while the geometry never moved: an update moves them."""
+        if not len(self.removed_rows):
+            return self.weights
+        rows = np.searchsorted(self.removed_rows, np.arange(len(self.times)), side="left")   # updates before each
+        return np.vstack([self.weights, self.moved_weights])[rows]
+
+    @property
+    def geometry_updates(self) -> int:
+        """The number of geometry updates (``wear.geometry = "surface"``)."""
+        return len(self.removed_rows)
+
+    def moved(self, realised: np.ndarray, disc) -> None:
+        """A geometry update after the last step: its wear W at the points leaves the layer for the body (on ``disc``)."""
+        w = np.maximum(self.wear[-1] - realised, 0.0)
+        self.removed = np.vstack([self.removed, realised]) if len(self.removed_rows) else realised[None, :].copy()
+        self.removed_rows = np.append(self.removed_rows, self.steps)
+        self.moved_weights = np.vstack([self.moved_weights, disc.points.weights]) if self.moved_weights is not None \
+            else disc.points.weights[None, :].copy()
+        self.recording.revise("wear", w)
+        self.discretization, self.mesh_digest = disc, None
+
+    @property
+    def thickness(self) -> np.ndarray:
+        """The worn region's thickness along ν under each contact point, measured once on the mesh as built (n,).
+
+        See :func:`ngwear.numerics.thickness.thickness`; read back from ``result.npz`` (and checkpoints).
+        """
+        if self.measured is None:
+            from ..numerics.thickness import thickness
+            disc = self._disc()
+            self.measured = thickness(disc.mesh, self.contact_points, disc.condensation.nu)
+        return self.measured
+
+    def remaining_thickness_of(self, total_wear: np.ndarray) -> np.ndarray:
+        """The thickness left under each point after the wear ``total_wear`` (any leading shape)."""
+        return self.thickness - total_wear
+
+    @property
+    def remaining_thickness(self) -> np.ndarray:
+        """The worn region's thickness along ν under each contact point minus ``total_wear``, per step."""
+        return self.remaining_thickness_of(self.total_wear)
+
+    @property
+    def stops(self):
+        """One row per stop of the programme (a pandas DataFrame; None without a programme).
+
+        See :func:`ngwear.results.stops.stop_table`.
+        """
+        from .stops import stop_table
+        return stop_table(self) if self.scene.programme is not None else None
 
     @property
     def d0(self) -> np.ndarray:
@@ -266,7 +358,7 @@ class Result:
         """
         its = [r.iterations for r in self.newton if r.converged]
         # the paper's "penetration": how far Γ_C has moved into the layer, u_ν − d₀ ≤ g
-        pen = self.normal_displacement - self.d0[None, :] if len(self.times) else np.zeros((1, 1))
+        pen = self.penetration if len(self.times) else np.zeros((1, 1))
         stepped = len(self.times) > 0
         last = {name: float(getattr(self, name)[-1]) + 0.0 if stepped else 0.0 for name in LAST}
         if self.plate_displacement.shape[1] and stepped:
@@ -283,6 +375,7 @@ class Result:
             "gap": self.scene.contact.gap,
             **last,
             **({"rejected_steps": self.rejected} if self.scene.time.adaptive else {}),
+            **self._life(),
             "newton_iterations_total": int(sum(its)),
             "newton_iterations_max": int(max(its, default=0)),
             "wall_time_s": round(self.wall_time, 3),
@@ -305,6 +398,19 @@ class Result:
         """
         return to_dataframe(self)
 
+    def _life(self) -> dict:
+        """The summary's wear metrics: the remaining thickness at the last step (min, mean, max), the stops."""
+        from .metrics import thickness_range
+        remaining = self.remaining_thickness_of(self.last_total_wear()) if len(self.times) else self.thickness
+        low, mean, high = thickness_range(remaining, self.weights)
+        simulated = 0
+        if self.scene.programme is not None:
+            simulated = int((Schedule.of(self.scene.programme).rows(self.jumped)[1][:len(self.times)]
+                             == self.scene.programme.steps_per_stop).sum())
+        return {"remaining_thickness_min": low, "remaining_thickness_mean": mean, "remaining_thickness_max": high,
+                "geometry_updates": self.geometry_updates, "stops_simulated": simulated,
+                "stops_jumped": len(self.jumped)}
+
     def arrays(self) -> dict[str, np.ndarray]:
         """Everything of the run as named arrays (``result.npz``): its steps and :meth:`header`."""
         return {**self.header(), **{name: getattr(self, name) for name in ARRAYS}}
@@ -316,6 +422,9 @@ class Result:
                 "status": np.array(self.status), "wall_time": np.array(self.wall_time),
                 "solve_time": np.array(self.solve_time),
                 "rejected": np.array(self.rejected), "warnings": np.array(self.warnings, dtype=str),
+                "jumped": self.jumped, "thickness": self.thickness, "removed_rows": self.removed_rows,
+                **{name: getattr(self, name) if len(self.removed_rows) else np.zeros((0, len(self.weights)))
+                   for name in ("removed", "moved_weights")},
                 **({"provenance": np.array(canonical(self.provenance))} if self.provenance else {})}
 
     def save(self, directory) -> Path:
@@ -337,10 +446,18 @@ class Result:
         write_history(self, out / "history.csv")
         with replacing(out / "summary.json") as tmp:
             tmp.write_text(json.dumps(self.summary(), indent=2, ensure_ascii=False), encoding="utf-8")
+        if self.scene.programme is not None:
+            with replacing(out / "stops.csv") as tmp:
+                self.stops.to_csv(tmp)
         if self.discretization is not None:
             from .vtk import write_series
             write_series(self, out)
         return out
+
+
+def _weighted(values: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """Σ_i values_ji m_i of each step j: ``values @ weights`` for one set of weights, row by row for (N, n)."""
+    return values @ weights if weights.ndim == 1 else np.einsum("ji,ji->j", values, weights)
 
 
 def output_times(out, times: np.ndarray, end: float) -> np.ndarray:
@@ -402,7 +519,12 @@ def from_arrays(scene: Scene, data, disc, rows: dict[str, np.ndarray] | None = N
                   status=str(data["status"]), wall_time=float(data["wall_time"]),
                   solve_time=float(data["solve_time"]) if "solve_time" in data else 0.0,
                   warnings=[str(w) for w in data["warnings"]], rejected=int(data["rejected"]),
-                  discretization=disc, provenance=json.loads(str(data["provenance"])) if "provenance" in data else None)
+                  discretization=disc, provenance=json.loads(str(data["provenance"])) if "provenance" in data else None,
+                  jumped=np.array(data["jumped"], dtype=int) if "jumped" in data else
+                  np.zeros(0, dtype=int), measured=np.array(data["thickness"]) if "thickness" in data else None,
+                  removed_rows=np.array(data["removed_rows"], dtype=int) if "removed_rows" in data else
+                  np.zeros(0, dtype=int), removed=np.array(data["removed"]) if "removed" in data else None,
+                  moved_weights=np.array(data["moved_weights"]) if "moved_weights" in data else None)
 
 
 for _field in RECORDED:     # result.times, result.wear, …: the recorded rows, as declared

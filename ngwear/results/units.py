@@ -20,7 +20,8 @@ QUANTITIES = {"length": ("m", "m"), "time": ("s", "s"), "pressure": ("Pa", "Pa")
 (``Pa/m^e`` for the power law p = L r₊^e)."""
 
 NAMES = {**{f.name: f.quantity for f in STEP_FIELDS if f.quantity}, **RUN, "contact_points": "length",
-         "weights": "area", "fields": "length", "max_wear": "length", "max_penetration": "length", "gap": "length"}
+         "weights": "area", "fields": "length", "max_wear": "length", "max_penetration": "length", "gap": "length",
+         "thickness": "length", **{f"remaining_thickness_{m}": "length" for m in ("min", "mean", "max")}}
 """The quantity of each number a run writes: its per-step fields' (:mod:`ngwear.results.step_fields`) and the others
 with a unit (the rest are counts, fractions, ratios or wall-clock seconds)."""
 

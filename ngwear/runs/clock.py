@@ -78,6 +78,14 @@ class Clock:
         stretch = 0.0 if self.retrying else min(0.2 * self.step, self.ceiling - self.step)
         return mark if end >= mark - stretch else end
 
+    def prepare(self, integrator, contact, check, w: np.ndarray, p: np.ndarray, t: float, t_next: float) -> None:
+        """Prepare the wear law of the step from t to t_next (from w_j, p_j and the rates α at both ends).
+
+        ``check`` (the run's :class:`~ngwear.results.invariants.StepCheck`) is not told anything: every step is one
+        of the scheme's (a programme's clock tells it of the crossings, :class:`~ngwear.runs.life.StopClock`).
+        """
+        integrator.prepare(w, p, contact.alpha(t), contact.alpha(t_next), t_next - t)
+
     def judge(self, times: list[float], rates: list[np.ndarray]) -> bool:
         """Accept the step to ``times[-1]`` from the rates at the last (up to three) times; set the next step."""
         if not self.adaptive:

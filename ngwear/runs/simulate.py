@@ -13,6 +13,11 @@ the files of an earlier run there (:func:`~ngwear.results.folder.clear`).
 The run holds its folders (:func:`ngwear.results.folder.hold`); when the disk fills it stops at a step
 boundary, writes what fits and raises :class:`~ngwear.results.folder.NoSpace` saying which steps are kept.
 
+A part's life (:mod:`ngwear.runs.life`): a ``[programme]`` runs its stops through a
+:class:`~ngwear.runs.life.StopClock` (cycle jumps included), ``wear.geometry = "surface"`` moves the worn face after
+the steps that reach ``wear.update`` (:class:`~ngwear.runs.life.Surface`), and ``wear.limit`` ends the run as
+``worn_out`` (:func:`~ngwear.runs.life.worn_out`).
+
 Every step is checked against the invariants (:mod:`ngwear.results.invariants`) before it is recorded:
 the first step that breaks one stops the run (status naming the step, the invariant and by how much),
 keeping the steps before it.
@@ -42,6 +47,7 @@ from ..results.invariants import StepCheck
 from ..results.recording import Recording, StepRecord
 from ..results.result import Result
 from .clock import Clock
+from .life import WORN_OUT, StopClock, Surface, worn_out
 from .progress import bar
 from .stepper import Step, Stepper
 
@@ -102,7 +108,9 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
     scene, disc, recording = start.scene, start.disc, start.recording
     result = recording.result
     stages.prepare(disc)
-    clock = Clock(scene, disc.contact.largest_rate(), result.rejected, start.step)
+    surface = Surface(scene, disc) if scene.wear.geometry == "surface" else None
+    clock = (Clock(scene, disc.contact.largest_rate(), result.rejected, start.step) if scene.programme is None
+             else StopClock(scene, disc.contact, result, surface))      # its drive set where the rows end
     clock.replay(result.times, [disc.contact.alpha(t) * p for t, p in zip(result.times, result.pressure)])
     stepper = Stepper(Problem(disc), StepCheck(result))
     integrator = WearIntegrator(scene.wear.integrator, disc.contact.law, disc.points.n)
@@ -114,6 +122,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
         if result.steps < 0:
             x, lam = _first(stepper, integrator, recording, x, lam)
             recording.continuation = (x, lam, clock.next_step)
+            worn_out(result)
         while result.completed and not clock.done(result.steps, result.times[-1]):
             if stop is not None and stop.is_set():
                 recording.interrupt()
@@ -123,6 +132,12 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
                 break
             x, lam = attempt
             recording.continuation = (x, lam, clock.next_step)
+            if worn_out(result):
+                break
+            if surface is not None and surface.due(result.wear[-1]):
+                stepper = surface.apply(result, clock)
+                if stepper is None:
+                    break
             if steps_bar is not None:
                 steps_bar.update(1 if not scene.time.adaptive else result.times[-1] - result.times[-2])
             if not saver.maybe(result):
@@ -145,7 +160,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
         steps_bar.close()
     if saver.full is not None:
         raise NoSpace(saver.kept(result), result, resumable=saver.rows > 0)
-    if result.status != "completed":
+    if result.status not in ("completed", WORN_OUT):
         log.warning("%s: %s", scene.name, result.status)
     return result
 
@@ -276,7 +291,7 @@ def _next(stepper, integrator, clock: Clock, recording: Recording, x, lam):
     rates = [contact.alpha(tt) * pp for tt, pp in zip(times, result.pressure[max(j - 1, 0):j + 1])]
     while True:
         t_next = clock.next_time(j, t)
-        integrator.prepare(w, p, contact.alpha(t), contact.alpha(t_next), t_next - t)
+        clock.prepare(integrator, contact, stepper.check, w, p, t, t_next)
         try:
             attempt = _solve(stepper, integrator, t_next, t, x, lam)
         except (ConvergenceError, ArithmeticError) as err:

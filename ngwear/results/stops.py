@@ -1,0 +1,76 @@
+"""The stops of a programme's run, one row each: what ``stops.csv`` and ``Result.stops`` hold.
+
+A simulated stop's rows are its start and its m steps (:meth:`~ngwear.model.programme.Schedule.rows`); its numbers
+are integrals over them by the trapezoidal rule on the stop's grid:
+
+* ``energy``  ∫ P dt, P = Σ m_i μ_i p_i ‖v*_i‖ (m_i of the step: a geometry update moves them);
+* ``torque``, ``friction_force``, ``apparent_friction``  their means over the stop, (1/d) ∫ · dt;
+* ``worn_volume``  Σ m_i Δw_i, Δw the stop's wear increment (end minus start), and ``worn_mass`` ρ times it
+  (with ``material.density``);
+* ``max_total_wear``, ``min_remaining_thickness``  at its end.
+
+A jumped stop (``programme.jump``) repeats the last simulated stop before it: its energy and means, its increment
+(the jump adds N Δw), so the k-th jumped stop after simulated stop s ends with the wear w_s + k Δw_s.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..model.programme import Schedule
+
+COLUMNS = ("stop", "block", "start", "energy", "torque", "friction_force", "apparent_friction", "worn_volume",
+           "worn_mass", "max_total_wear", "min_remaining_thickness", "simulated")
+"""The columns of ``stops.csv`` (``worn_mass`` only with ``material.density``)."""
+
+
+def _mean(values: np.ndarray, times: np.ndarray) -> float:
+    """(1/d) ∫ v dt by the trapezoidal rule over the stop's rows."""
+    span = times[-1] - times[0]
+    return float(np.sum(0.5 * (values[1:] + values[:-1]) * np.diff(times)) / span) if span > 0 else float(values[0])
+
+
+def stop_table(result):
+    """A DataFrame, one row per stop completed (simulated or jumped) in the programme's order (see the module)."""
+    import pandas as pd
+
+    scene = result.scene
+    schedule = Schedule.of(scene.programme)
+    m, rows = schedule.steps, len(result.times)
+    stop_of, step_of = (a[:rows] for a in schedule.rows(result.jumped))
+    speed = np.abs(schedule.row_factors(result.jumped, rows)[0])
+    speeds = speed[:, None] * _slip_speed(result)[None, :]
+    power = np.sum(result.pressure * speeds * result.friction_coefficient * result.row_weights, axis=1)
+    torque, force, apparent = result.torque, result.friction_force, result.apparent_friction
+    total, remaining = result.total_wear, result.remaining_thickness
+    density = scene.value("material.density")
+    records, jumped = {}, set(result.jumped.tolist())
+    for end in np.flatnonzero(step_of == m):
+        span, stop = slice(end - m, end + 1), int(stop_of[end])
+        times = result.times[span]
+        increment = total[end] - total[end - m]
+        energy = float(np.sum(0.5 * (power[span][1:] + power[span][:-1]) * np.diff(times)))
+        row = {"energy": energy, "torque": _mean(torque[span], times), "friction_force": _mean(force[span], times),
+               "apparent_friction": _mean(apparent[span], times), "worn_volume": float(increment @ result.weights)}
+        records[stop] = {**row, "max_total_wear": float(total[end].max()),
+                         "min_remaining_thickness": float(remaining[end].min()), "simulated": True}
+        k = stop + 1
+        while k in jumped:
+            records[k] = {**row, "max_total_wear": float((total[end] + (k - stop) * increment).max()),
+                          "min_remaining_thickness": float((remaining[end] - (k - stop) * increment).min()),
+                          "simulated": False}
+            k += 1
+    order = sorted(records)
+    table = pd.DataFrame([records[i] for i in order], index=pd.Index(order, name="stop"))
+    if not len(order):
+        table = pd.DataFrame(columns=[c for c in COLUMNS if c not in ("stop", "worn_mass")])
+    table.insert(0, "block", schedule.block[order])
+    table.insert(1, "start", schedule.start[order])
+    if density is not None:
+        table.insert(table.columns.get_loc("worn_volume") + 1, "worn_mass", density * table["worn_volume"])
+    return table
+
+
+def _slip_speed(result) -> np.ndarray:
+    """‖v*_i‖ at s_v = 1 at the contact points."""
+    from ..model.kinematics import Slip
+    return Slip(result.scene.foundation, result.contact_points, result.scene.contact.direction).speed

@@ -1,0 +1,250 @@
+"""A part's life in the time loop: programmes run stop by stop, stops.csv, wear.limit, cycle jumps, resume.
+
+A programme's stops drive the run through their factors (``ngwear.runs.life``); these tests check what a run of one
+must satisfy: one stop at constant factors is the plain run; a dwell wears nothing; the stops of a block are one
+problem; with the trapezoidal rule each stop's worn volume is κ/μ times the energy it dissipates (Archard against
+the friction power, the same rule on the same rows); ``wear.limit`` ends a run as worn out where the remaining
+thickness reaches it; jumps keep the worn volume and the remaining thickness of stop by stop.
+"""
+import numpy as np
+import pandas as pd
+import pytest
+from conftest import PAPER
+
+import ngwear
+from ngwear.model.programme import Schedule
+from ngwear.runs.life import WORN_OUT
+
+
+def strip(programme, **keys):
+    """The paper's strip (coarse) running ``programme`` instead of its interval."""
+    data = ngwear.load_scene(PAPER).replace(**{"mesh.maxh": 0.2, **keys}).to_dict()
+    data.pop("time")
+    data["output"].pop("every")
+    return ngwear.Scene.from_dict({**data, "programme": programme})
+
+
+def pressed(programme, **keys):
+    """The strip held by a tilting plate on its top alone (no clamp): it wears in towards a periodic state."""
+    return strip(programme, **{"geometry.dirichlet": [], "loads.traction": {}, "contact.friction": 0.3,
+                               "contact.wear": 0.01,
+                               "loads.plate": {"boundary": "top", "force": [0.0, -0.3], "tilt": True}, **keys})
+
+
+BLOCKS = [{"count": 3, "duration": 0.2, "speed": [1.0, 0.0], "dwell": 0.1},
+          {"count": 2, "duration": 0.1, "load": [0.5, 1.5]}]
+
+
+@pytest.fixture(scope="module")
+def blocks():
+    return ngwear.simulate(strip({"stops": BLOCKS, "steps_per_stop": 4}, **{"wear.integrator": "trapezoidal"}),
+                           progress=False)
+
+
+def test_one_stop_at_constant_factors_is_the_plain_run():
+    programme = strip({"stops": [{"duration": 0.5}], "steps_per_stop": 10})
+    plain = ngwear.simulate(ngwear.load_scene(PAPER).replace(**{"mesh.maxh": 0.2, "time.T": 0.5, "time.steps": 10}),
+                            progress=False)
+    run = ngwear.simulate(programme, progress=False)
+    assert run.completed and run.steps == plain.steps == 10
+    assert np.allclose(run.times, plain.times, rtol=0, atol=1e-15)
+    for name in ("wear", "pressure", "normal_displacement"):
+        assert np.abs(getattr(run, name) - getattr(plain, name)).max() <= 1e-12 * np.abs(getattr(plain, name)).max()
+    stops = run.stops
+    assert len(stops) == 1 and bool(stops["simulated"].iloc[0])
+    assert stops["worn_volume"].iloc[0] == pytest.approx(plain.wear_volume[-1], rel=1e-12)
+
+
+def test_stops_and_dwells(blocks):
+    r, s = blocks, Schedule.of(blocks.scene.programme)
+    m = 4
+    assert r.completed and r.steps + 1 == 5 * (m + 1)
+    for i in range(1, 5):                                  # the crossing to stop i wears nothing; its start is loaded
+        start = i * (m + 1)
+        assert r.times[start] == s.start[i]
+        assert np.array_equal(r.wear[start], r.wear[start - 1])
+        assert r.normal_force[start] > 0
+    assert r.normal_force[m] > 0.5 * r.normal_force[0]                       # a stop to rest ends loaded
+    assert r.friction_force[m] == 0 and r.torque[m] == 0                     # and at rest: no friction
+    for i in range(4):
+        assert np.array_equal(np.diff(r.times[i * (m + 1):(i + 1) * (m + 1)]) > 0, np.ones(m, bool))
+    # the second block's load ramps 0.5 → 1.5: the clamped strip's normal force follows s_F (within the layer)
+    second = r.normal_force[3 * (m + 1):4 * (m + 1)]
+    assert np.all(np.diff(second) > 0) and second[-1] / second[0] == pytest.approx(3.0, rel=0.1)
+
+
+def test_stop_table_is_archard_against_the_friction_power(blocks):
+    """Trapezoidal rule: Δw_i = ∫ κ ‖v*_i‖ p_i dt on the rows, so Σ m Δw = κ/μ ∫ P dt to round-off."""
+    r, stops = blocks, blocks.stops
+    scene = r.scene
+    assert list(stops.index) == [0, 1, 2, 3, 4] and list(stops["block"]) == [0, 0, 0, 1, 1]
+    assert stops["simulated"].all()
+    ratio = scene.contact.wear / scene.contact.friction
+    assert np.allclose(stops["worn_volume"], ratio * stops["energy"], rtol=1e-10, atol=0)
+    assert stops["worn_volume"].sum() == pytest.approx(r.wear_volume[-1], rel=1e-12)
+    assert stops["max_total_wear"].iloc[-1] == r.total_wear[-1].max()
+    assert stops["min_remaining_thickness"].iloc[-1] == pytest.approx(1.0 - r.wear[-1].max(), rel=1e-12)
+    assert (stops["apparent_friction"] <= scene.contact.friction + 1e-12).all()
+
+
+def test_cli_writes_stops_csv(tmp_path):
+    from ngwear.cli import main
+    scene = tmp_path / "life.toml"
+    text = PAPER.read_text().split("[time]")[0].replace("maxh = 0.05", "maxh = 0.2")
+    scene.write_text(text + '[programme]\nstops = [{ count = 2, duration = 0.2, speed = [1.0, 0.0], dwell = 0.1 }]\n'
+                            'steps_per_stop = 4\n[material.regions]\n'.replace("[material.regions]\n", "")
+                     + "\n[wear]\nintegrator = \"trapezoidal\"\n")
+    assert main(["run", str(scene), "--out", str(tmp_path / "out"), "--quiet", "--no-pictures", "--no-check"]) == 0
+    table = pd.read_csv(tmp_path / "out" / "stops.csv", index_col="stop")
+    saved = ngwear.load_result(tmp_path / "out")
+    assert np.allclose(table["energy"], saved.stops["energy"], rtol=1e-12) and len(table) == 2
+
+
+def test_wear_limit_ends_the_run_as_worn_out(capsys):
+    limit = 0.97
+    scene = strip({"stops": BLOCKS, "steps_per_stop": 4}, **{"wear.limit": limit})
+    r = ngwear.simulate(scene, progress=False)
+    assert r.status == WORN_OUT and not r.completed
+    remaining = r.remaining_thickness.min(axis=1)
+    assert remaining[-1] <= limit < remaining[-2], "it stops at the first step that reaches the limit"
+    assert "wear.limit" in r.warnings[-1] and f"t = {r.times[-1]:.6g}" in r.warnings[-1]
+    assert np.array_equal(r.total_wear, r.wear) and np.allclose(r.remaining_thickness, r.thickness - r.wear)
+
+
+def test_a_programme_resumes_to_the_bit(tmp_path):
+    scene = strip({"stops": BLOCKS, "steps_per_stop": 4})
+    whole = ngwear.simulate(scene, progress=False)
+    calls = []
+
+    class Stopper:                      # set the stop event after 7 rows (in the middle of stop 1)
+        def is_set(self):
+            calls.append(1)
+            return len(calls) > 7
+
+    first = ngwear.simulate(scene, progress=False, checkpoint=tmp_path, stop=Stopper())
+    assert first.status == "interrupted" and 0 < first.steps < whole.steps
+    resumed = ngwear.simulate(None, progress=False, resume=tmp_path)
+    assert resumed.completed, resumed.status
+    for name in ("times", "wear", "pressure", "normal_displacement"):
+        assert np.array_equal(getattr(resumed, name), getattr(whole, name)), name
+
+
+@pytest.mark.slow
+def test_jumps_keep_stop_by_stop():
+    """200 identical stops to rest under a tilting plate: jumps within 1 % (volume) and 2 % (thickness), far fewer."""
+    programme = {"stops": [{"count": 200, "duration": 1.0, "speed": [1.0, 0.0], "dwell": 0.5}], "steps_per_stop": 5}
+    scene = pressed(programme, **{"wear.integrator": "trapezoidal"})
+    each = ngwear.simulate(scene, progress=False)
+    jumping = ngwear.simulate(scene.replace(**{"programme.jump": True}), progress=False)
+    assert each.completed and jumping.completed
+    stops = jumping.stops
+    simulated = int(stops["simulated"].sum())
+    assert len(stops) == 200 and simulated < 100
+    assert each.wear.max() > 0.3 * scene.contact.gap, "worn well into the layer"
+    a, b = each.stops.iloc[-1], stops.iloc[-1]
+    assert b["max_total_wear"] == pytest.approx(a["max_total_wear"], rel=0.02)
+    assert stops["worn_volume"].sum() == pytest.approx(each.stops["worn_volume"].sum(), rel=0.01)
+    assert b["min_remaining_thickness"] == pytest.approx(a["min_remaining_thickness"], rel=0.02)
+
+
+def taper_scene(geometry="surface", gap=0.05, T=12.0, steps=120):
+    """A 1 × 0.25 pad per unit width, μ = 0.3, under a tilting plate on its top (h = 0.25), τ = 1/(κ‖v*‖L) = 1."""
+    return ngwear.Scene.from_dict({
+        "name": "taper", "geometry": {"kind": "strip", "size": [1.0, 0.25], "dirichlet": []},
+        "mesh": {"maxh": 0.05}, "material": {"young": 100.0, "poisson": 0.3},
+        "contact": {"stiffness": 10.0, "gap": gap, "friction": 0.3, "wear": 0.1},
+        "foundation": {"velocity": [1.0, 0.0]},
+        "loads": {"plate": {"boundary": "top", "force": [0.0, -0.1], "tilt": True}},
+        "time": {"T": T, "steps": steps}, "wear": {"integrator": "trapezoidal", "geometry": geometry},
+        "output": {"every": T}})
+
+
+@pytest.fixture(scope="module")
+def surface():
+    return ngwear.simulate(taper_scene(), progress=False)
+
+
+def test_surface_is_the_layer_until_the_first_update(surface):
+    layer = ngwear.simulate(taper_scene("layer"), progress=False)
+    first = surface.removed_rows[0]
+    assert surface.geometry_updates >= 5 and 0 < first < surface.steps
+    for name in ("wear", "pressure", "normal_displacement", "plate_displacement"):
+        assert np.array_equal(getattr(surface, name)[:first], getattr(layer, name)[:first]), name
+    assert layer.wear.max() == pytest.approx(0.05, rel=1e-3), "the layer mode stops wearing at g"
+    assert surface.total_wear[-1].max() > 2 * 0.05, "the surface mode wears on, far beyond the layer"
+
+
+def test_surface_updates_keep_the_force_balance_and_the_wear(surface):
+    r = surface
+    assert r.completed
+    assert np.abs(r.normal_force - 0.1).max() < 1e-12, "Σ m (p + λ) = F at every step, the updates' weights"
+    total = r.total_wear
+    assert (np.diff(total, axis=0) >= -1e-15).all() and (r.wear >= 0).all(), "w ≥ 0; the total never decreases"
+    threshold = 0.25 * 0.05
+    assert r.wear.max() < 2 * threshold, "each update moves the wear once it passes wear.update × h"
+    assert np.allclose(r.remaining_thickness[-1], 0.25 - total[-1], atol=1e-12)
+    assert r.penetration.max() <= 0.05 and r.summary()["max_penetration"] <= 0.05, "u_ν − d₀ ≤ g of the moved face"
+    assert np.abs(r.compression[-1] - r.pressure[-1] / 10.0).max() < 1e-12, "p = L (u_ν − d₀ − w) on the moved face"
+    assert r.summary()["geometry_updates"] == r.geometry_updates
+
+
+def test_surface_keeps_the_taper_as_the_pad_shrinks(surface):
+    """Worn in beyond the layer, p = F/A + s ξ with the friction couple's balance on the worn face.
+
+    Σ m p (x − x_c) = −μ Σ m p h(x): the friction acts along the worn face, at the height h(x) = h − W(x) below the
+    plate, W = W̄ + t ξ the worn face (t its taper).  With p = F/A + s ξ this is s I = μ F (h − W̄) − μ s t I, so
+
+        s = μ F (h − W̄) / (I (1 + μ t)),
+
+    the issue's μ F h / I with h shrinking with the mean wear and the face's inclination (here 2.5 %).
+    """
+    r = surface
+    a, force, mu = 1.0, 0.1, 0.3
+    xi = a / 2 - r.contact_points[:, 0]
+    m = r.row_weights[-1]
+    design = np.column_stack([np.ones_like(xi), xi]) * np.sqrt(m)[:, None]
+    fit = lambda values: np.linalg.lstsq(design, values * np.sqrt(m), rcond=None)[0]   # noqa: E731
+    (_, slope), (_, taper) = fit(r.pressure[-1]), fit(r.total_wear[-1])
+    assert m @ r.pressure[-1] / m.sum() == pytest.approx(force / m.sum(), rel=1e-9)
+    assert taper > 0.05, "a tapered face: the leading edge wears more"
+    height = 0.25 - m @ r.total_wear[-1] / m.sum()
+    assert height < 0.25 - 2 * 0.05
+    assert slope == pytest.approx(mu * force * height / (a ** 3 / 12) / (1 + mu * taper), rel=0.01)
+
+
+def test_cli_worn_out_exits_0_and_says_where(tmp_path, capsys):
+    from ngwear.cli import main
+    code = main(["run", str(PAPER), "--out", str(tmp_path / "out"), "--quiet", "--no-pictures", "--no-check",
+                 "--set", "mesh.maxh=0.2", "--set", "time.steps=20", "--set", "wear.limit=0.99"])
+    err = capsys.readouterr().err
+    assert code == 0 and "ngwear: worn out: wear.limit: the remaining thickness reached 0.99" in err
+    saved = ngwear.load_result(tmp_path / "out")
+    assert saved.status == WORN_OUT and saved.remaining_thickness[-1].min() <= 0.99 < saved.remaining_thickness[-2].min()
+
+
+def test_a_surface_run_is_not_resumed_after_an_update(tmp_path):
+    from ngwear.results.folder import FolderError
+    run = ngwear.simulate(taper_scene(T=3.0, steps=30), progress=False, checkpoint=tmp_path)
+    assert run.geometry_updates > 0
+    with pytest.raises(FolderError, match="cannot resume after a geometry update"):
+        ngwear.simulate(None, progress=False, resume=tmp_path)
+
+
+def test_a_programme_with_jumps_resumes_to_the_bit(tmp_path):
+    programme = {"stops": [{"count": 60, "duration": 1.0, "speed": [1.0, 0.0], "dwell": 0.5}], "steps_per_stop": 4,
+                 "jump": True, "jump_tolerance": 1e-2}
+    scene = pressed(programme, **{"wear.integrator": "trapezoidal", "contact.wear": 0.005})
+    whole = ngwear.simulate(scene, progress=False)
+    calls = []
+
+    class Stopper:                      # stops the run after some of its jumps
+        def is_set(self):
+            calls.append(1)
+            return len(calls) > 150
+
+    first = ngwear.simulate(scene, progress=False, checkpoint=tmp_path, stop=Stopper())
+    assert first.status == "interrupted" and 0 < len(first.jumped) < len(whole.jumped)
+    resumed = ngwear.simulate(None, progress=False, resume=tmp_path)
+    assert resumed.completed and np.array_equal(resumed.jumped, whole.jumped)
+    for name in ("times", "wear", "pressure", "plate_displacement"):
+        assert np.array_equal(getattr(resumed, name), getattr(whole, name)), name
