@@ -21,13 +21,23 @@ class StepField:
     """One per-step result field: an array of shape (N, *shape), N the completed steps + 1.
 
     ``shape`` is in the letters of :data:`SIZES` (``()`` a number per step, ``("n",)`` one per contact point);
-    ``quantity`` names its unit in an SI scene (a key of :data:`ngwear.results.units.QUANTITIES`; None: a ratio).
+    ``quantity`` names its unit in an SI scene (a key of :data:`ngwear.results.units.QUANTITIES`; None: a ratio);
+    ``when`` the runs that record it: every run (None), those with a temperature (``"heat"``: ``heat.model =
+    "conduction"``) or those with a temperature or a contact coefficient of the state (``"state"``).
     """
 
     name: str
     shape: tuple[str, ...]
     quantity: str | None
     doc: str
+    when: str | None = None
+
+    def recorded_in(self, scene) -> bool:
+        """Whether a run of ``scene`` records this field."""
+        from ..model.coefficients import stateful
+
+        heat = scene.heat.model != "none"
+        return self.when is None or heat or (self.when == "state" and bool(stateful(scene.contact)))
 
     def size(self, sizes: dict[str, int]) -> tuple[int, ...]:
         """The shape of one step's row for the sizes ``{"n": …, "d": …, "r": …}`` of a run."""
@@ -48,6 +58,15 @@ RECORDED = (
     StepField("forces", ("n", "d"), "force", "the contact forces on the body at the points (what recovers u)"),
     StepField("plate_displacement", ("r",), "length", "δ of a rigid plate: its translation along ν, then its tilts "
                                                       "(r = 0: none)"),
+    StepField("surface_temperature", ("n",), "temperature", "T at the contact points at the step's end (`heat`)",
+              "heat"),
+    StepField("max_temperature", (), "temperature", "the body's highest temperature (`heat`)", "heat"),
+    StepField("foundation_temperature", (), "temperature", "T_f, the counterface's temperature (`heat`)", "heat"),
+    StepField("heat_flux", (), "power", "η Σ m_i μ_i p_i ‖v*_i‖: the frictional power into the body (`heat`)", "heat"),
+    StepField("step_friction", ("n",), None, "μ_i of the step, at the last step's state (`heat` or a coefficient of "
+                                             "T, p, v)", "state"),
+    StepField("step_wear_coefficient", ("n",), "wear coefficient", "κ_i of the step, at the last step's state "
+                                                                   "(`heat` or a coefficient of T, p, v)", "state"),
 )
 """The rows a run records at each step, in the order of ``result.npz``."""
 

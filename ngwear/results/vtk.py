@@ -28,7 +28,7 @@ def frame_name(step: int) -> str:
 
 
 def write_series(result, directory: Path) -> Path:
-    """Write one VTU (displacement, wear, region) per frame, named by its step, and ``fields.pvd`` with their times."""
+    """Write one VTU (displacement, wear, region; temperature with heat) per frame, and ``fields.pvd`` with their times."""
     directory = Path(directory)
     disc = result.discretization
     mesh = disc.mesh
@@ -37,6 +37,10 @@ def write_series(result, directory: Path) -> Path:
     regions = element_regions(mesh)
     uniform = len({el.type for el in mesh.Elements(ngs.VOL)}) == 1
     coefs, names = [u, wear], ["displacement", "wear"]
+    temperature = temperature_field(result)
+    if temperature is not None:
+        coefs.append(temperature)
+        names.append("temperature")
     if not uniform:
         coefs.append(mesh.MaterialCF({name: k for k, name in enumerate(mesh.GetMaterials())}))
         names.append("region")
@@ -45,6 +49,8 @@ def write_series(result, directory: Path) -> Path:
         for step in result.stored_steps:
             u.vec.FV().NumPy()[:] = result.displacement(step)
             disc.set_nodal(wear, result.wear[step])
+            if temperature is not None:
+                temperature.vec.FV().NumPy()[:] = result.temperatures[step]
             name = f"fields_{frame_name(step)}"
             ngs.VTKOutput(mesh, coefs=coefs, names=names, filename=str(Path(scratch) / name),
                           subdivision=result.scene.mesh.order - 1).Do()
@@ -59,6 +65,13 @@ def write_series(result, directory: Path) -> Path:
         for new in sorted(Path(scratch).iterdir(), key=lambda f: f.suffix == ".pvd"):   # the index last
             os.replace(new, directory / new.name)       # a link there is replaced, never written through
     return directory / "fields.pvd"
+
+
+def temperature_field(result) -> ngs.GridFunction | None:
+    """The frames' point field ``temperature`` (P1, as :class:`~ngwear.numerics.heat.Heat`): None without heat."""
+    if result.scene.heat.model == "none" or not all(s in result.temperatures for s in result.stored_steps):
+        return None
+    return ngs.GridFunction(ngs.H1(result.discretization.mesh, order=1))
 
 
 def element_regions(mesh: ngs.Mesh) -> np.ndarray:
