@@ -174,3 +174,18 @@ def test_no_heat_records_no_heat_rows(tmp_path):
     assert tuple(result.rows) == ARRAYS and result.heating is None
     with pytest.raises(AttributeError, match="surface_temperature: not recorded"):
         result.surface_temperature
+
+
+def test_a_study_sweeps_heat_keys_and_tabulates_the_highest_temperature():
+    """The heat keys vary like any scene key (one group: they invalidate nothing); max_temperature is an output."""
+    from ngwear.studies.outputs import outputs
+    from ngwear.studies.study import study_from_dict
+
+    study = study_from_dict({"scene": lumped_stop().to_dict(),
+                             "grid": {"heat.partition": [0.25, 0.5], "foundation.cooling": [0.5, 2.0]}})
+    assert [c.scene.heat.partition for c in study.cases] == [0.25, 0.25, 0.5, 0.5]
+    assert len({c.group for c in study.cases}) == 1 and "max_temperature" in study.outputs
+    hot, cool = (ngwear.simulate(study.cases[i].scene, progress=False) for i in (2, 0))
+    assert outputs(hot)["max_temperature"] > outputs(cool)["max_temperature"] > 1.0   # more of the heat: hotter
+    assert np.isnan(outputs(ngwear.simulate(column(**{"heat.model": "none", "time.steps": 2}),
+                                            progress=False))["max_temperature"])

@@ -56,6 +56,7 @@ MEANING = {
         "mesh_sha256": ("()", "SHA-256 of `mesh.vol` beside it: read only with the mesh it was computed on"),
         "field_steps": ("(F,)", "the frames: steps whose full displacement is stored"),
         "fields": ("(F, DOFs)", "the displacement's DOF vector at each frame"),
+        "temperature_fields": ("(F, P1 DOFs)", "only with `heat`: the nodal temperature (P1) at each frame"),
         "units": ("()", "only for a scene with `units = \"SI\"`: the unit of each key, as JSON (`{\"torque\": "
                         "\"N·m\", …}`)"),
     },
@@ -76,6 +77,10 @@ MEANING = {
         "contact_fraction": ("", "share of the points with p > 0 at the last step"),
         "active_fraction": ("", "share of the points with λ > 0 (u_ν − d₀ = g) at the last step"),
         "rejected_steps": ("", "rejected steps (only with `time.adaptive`)"),
+        "max_temperature": ("", "only with `heat`: the body's highest temperature over the run"),
+        "max_temperature_time": ("", "only with `heat`: when it was reached"),
+        "max_foundation_temperature": ("", "only with `heat`: the counterface's highest temperature over the run"),
+        "max_foundation_temperature_time": ("", "only with `heat`: when it was reached"),
         "newton_iterations_total": ("", "all Newton iterations of the converged steps"),
         "newton_iterations_max": ("", "the most of one step"),
         "wall_time_s": ("", "seconds the run took: meshing, factorising and the time loop"),
@@ -95,6 +100,13 @@ MEANING = {
         "step": ("()", "the adaptive clock's next step size"),
         "scene": ("()", "the scene, as JSON"),
         "checksums": ("()", "CRC-32 of each file of the steps' rows, as JSON: a damaged row file is refused"),
+        "heat_temperature": ("(P1 DOFs,)", "only with `heat`: the nodal temperature at the last step"),
+        "heat_heat": ("(4,)", "only with `heat`: its time, the last step's frictional power, the heat supplied and "
+                              "convected so far"),
+        "heat_counterface": ("(·,)", "only with `heat`: a lumped counterface's T_f, heat received and cooled (none: "
+                                     "given)"),
+        "temperature_steps": ("(·,)", "only with `heat`: the steps whose nodal temperature is kept for the frames"),
+        "temperature_fields": ("(·, P1 DOFs)", "only with `heat`: those temperatures"),
     },
 }
 HEADER = ("contact_points weights newton_iterations newton_converged newton_active newton_damped newton_lengths "
@@ -130,13 +142,17 @@ def scene_key_table(section: str) -> str:
 
 @cache
 def written_keys() -> dict[str, list[str]]:
-    """The keys of the files a small run writes: a strip under a rigid plate, adaptive steps, checkpointed, in SI."""
+    """The keys of the files a small run writes: a strip under a plate, adaptive, checkpointed, in SI, heated.
+
+    The keys only a run with ``heat`` writes say so in their meaning.
+    """
     import ngwear
 
     scene = ngwear.Scene.from_dict({
-        "name": "reference", "units": "SI", "mesh": {"maxh": 0.5}, "contact": {"friction": 0.5, "wear": 1.0},
-        "loads": {"plate": {"boundary": "top", "force": [0.0, -0.3]}},
-        "time": {"T": 0.2, "steps": 4, "adaptive": True}})
+        "name": "reference", "units": "SI", "mesh": {"maxh": 0.5},
+        "material": {"conductivity": 1.0, "density": 1.0, "heat_capacity": 1.0},
+        "contact": {"friction": 0.5, "wear": 1.0}, "loads": {"plate": {"boundary": "top", "force": [0.0, -0.3]}},
+        "heat": {"model": "conduction", "partition": 0.5}, "time": {"T": 0.2, "steps": 4, "adaptive": True}})
     with tempfile.TemporaryDirectory() as folder:
         result = ngwear.simulate(scene, progress=False, checkpoint=folder)
         result.save(folder)

@@ -23,7 +23,7 @@ class StepField:
     ``shape`` is in the letters of :data:`SIZES` (``()`` a number per step, ``("n",)`` one per contact point);
     ``quantity`` names its unit in an SI scene (a key of :data:`ngwear.results.units.QUANTITIES`; None: a ratio);
     ``when`` the runs that record it: every run (None), those with a temperature (``"heat"``: ``heat.model =
-    "conduction"``) or those with a temperature or a contact coefficient of the state (``"state"``).
+    "conduction"``) or those with a contact coefficient of the state (``"state"``: T, p or v).
     """
 
     name: str
@@ -36,8 +36,9 @@ class StepField:
         """Whether a run of ``scene`` records this field."""
         from ..model.coefficients import stateful
 
-        heat = scene.heat.model != "none"
-        return self.when is None or heat or (self.when == "state" and bool(stateful(scene.contact)))
+        if self.when == "heat":
+            return scene.heat.model != "none"
+        return self.when is None or bool(stateful(scene.contact))
 
     def size(self, sizes: dict[str, int]) -> tuple[int, ...]:
         """The shape of one step's row for the sizes ``{"n": …, "d": …, "r": …}`` of a run."""
@@ -63,10 +64,10 @@ RECORDED = (
     StepField("max_temperature", (), "temperature", "the body's highest temperature (`heat`)", "heat"),
     StepField("foundation_temperature", (), "temperature", "T_f, the counterface's temperature (`heat`)", "heat"),
     StepField("heat_flux", (), "power", "η Σ m_i μ_i p_i ‖v*_i‖: the frictional power into the body (`heat`)", "heat"),
-    StepField("step_friction", ("n",), None, "μ_i of the step, at the last step's state (`heat` or a coefficient of "
-                                             "T, p, v)", "state"),
+    StepField("step_friction", ("n",), None, "μ_i of the step, at the last step's state (a coefficient of T, p, "
+                                             "v)", "state"),
     StepField("step_wear_coefficient", ("n",), "wear coefficient", "κ_i of the step, at the last step's state "
-                                                                   "(`heat` or a coefficient of T, p, v)", "state"),
+                                                                   "(a coefficient of T, p, v)", "state"),
 )
 """The rows a run records at each step, in the order of ``result.npz``."""
 

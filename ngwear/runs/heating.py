@@ -82,7 +82,7 @@ class Heating:
         ``dt = 0`` (step 0): no heating, T = T₀; the flux is the power at t all the same.
         """
         now = self.contact.coefficients_at(t)
-        rows = {"step_friction": now.friction, "step_wear_coefficient": now.wear}
+        rows = {"step_friction": now.friction, "step_wear_coefficient": now.wear} if self.contact.stateful else {}
         if self.heat is None:
             return rows
         q = frictional_power(now.friction, pressure, self.contact.slip.speeds(t))
