@@ -189,3 +189,19 @@ def test_a_study_sweeps_heat_keys_and_tabulates_the_highest_temperature():
     assert outputs(hot)["max_temperature"] > outputs(cool)["max_temperature"] > 1.0   # more of the heat: hotter
     assert np.isnan(outputs(ngwear.simulate(column(**{"heat.model": "none", "time.steps": 2}),
                                             progress=False))["max_temperature"])
+
+
+def test_thermal_expansion_lifts_a_force_controlled_plate_by_alpha_dT_H():
+    """A body of one temperature (k huge), ν = 0, under a plate holding a force: the plate moves by α (T_j − T₀) H
+    (the last step's temperature: explicit), the force stays, and the recovered displacement carries it."""
+    alpha, height = 1e-3, 0.1
+    cold = ngwear.simulate(lumped_stop(**{"contact.friction": 0.5}), progress=False)
+    hot = ngwear.simulate(lumped_stop(**{"contact.friction": 0.5, "material.expansion": alpha}), progress=False)
+    assert hot.completed and np.allclose(hot.surface_temperature, cold.surface_temperature, rtol=1e-7)
+    lift = hot.plate_displacement[1:, 0] - cold.plate_displacement[1:, 0]         # δ along ν = −y
+    rise = hot.surface_temperature[:-1].mean(axis=1) - 1.0                        # T_j − T₀ of the step before
+    assert np.allclose(lift, -alpha * rise * height, rtol=1e-4, atol=1e-12) and rise[-1] > 1
+    assert np.allclose(hot.normal_force, cold.normal_force, rtol=1e-9)
+    top = np.array([[0.5, height]])
+    moved = hot.displacement_at(top, -1)[0, 1] - cold.displacement_at(top, -1)[0, 1]
+    assert moved == pytest.approx(alpha * rise[-1] * height, rel=1e-3)

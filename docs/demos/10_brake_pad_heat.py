@@ -24,7 +24,7 @@ from matplotlib.figure import Figure
 
 import ngwear
 from ngwear.model.examples import scene_file
-from ngwear.views.pictures import write_pictures
+from ngwear.views import part_plots
 
 scene = ngwear.load_scene(scene_file("brake_pad_heat"))
 result = ngwear.simulate(scene, progress=False)
@@ -46,7 +46,8 @@ for start in starts:
 
 # %%
 # The pictures: temperatures of pad and disc, the torque fading as the face heats, wear per stop against its
-# peak temperature (the table of a wear-versus-temperature test), and every picture a run gets.
+# peak temperature (the table of a wear-versus-temperature test); then the run's own temperature pictures: the
+# surface temperature along Γ_C and over time, and maps of pressure, wear and temperature on the face.
 out = Path("out") / scene.name
 fig = Figure(figsize=(12, 3.6), layout="constrained")
 left, middle, right = fig.subplots(1, 3)
@@ -61,4 +62,6 @@ right.plot([s["peak"] for s in stops], [s["worn"] * 1e9 for s in stops], "o-")
 right.set(xlabel="peak face temperature of the stop (°C)", ylabel="worn volume (mm³)", title="wear per stop")
 out.mkdir(parents=True, exist_ok=True)
 fig.savefig(out / "heat.png", dpi=110)
-pictures = write_pictures(result, out)
+pictures = [part_plots.temperatures(result, out / "temperatures.png"),
+            part_plots.contact_maps(result, out / "contact_maps.png", steps=[0, 10, 70, 130],
+                                    fields=("pressure", "wear", "surface_temperature"))]

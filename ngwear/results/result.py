@@ -52,9 +52,6 @@ ARRAYS = tuple(f.name for f in RECORDED if f.when is None)
 PART = tuple(f.name for f in DERIVED if not f.shape)
 """What the summary reports of a part at the last step: the derived per-step numbers."""
 COEFFICIENTS = ("friction_coefficient", "wear_coefficient", "contact_stiffness")
-HEAT_SUMMARY = ("max_temperature", "max_temperature_time", "max_foundation_temperature",
-                "max_foundation_temperature_time")
-"""What the summary reports of the temperatures (``heat``): the highest of body and counterface, and when."""
 
 
 @dataclass
@@ -253,7 +250,7 @@ class Result:
             "materials": region_materials(self.scene, self.discretization,
                                           [self.fields[s] for s in self.stored_steps if s in self.fields]),
             **({"units": units(self.scene, ("gap", "max_wear", "max_penetration", "plate_displacement", *PART,
-                                            *HEAT_SUMMARY))}
+                                            *self._heat_summary()))}
                if self.scene.units else {}),
         }
 

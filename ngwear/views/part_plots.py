@@ -22,6 +22,7 @@ import scipy.sparse as sp
 from matplotlib.figure import Figure
 from matplotlib.tri import Triangulation
 
+from ..model.coefficients import state_of
 from ..model.kinematics import Slip
 from ..results.units import label, unit
 from .plots import _sampled, _save, plain
@@ -129,9 +130,10 @@ def contact_figure(result, steps=None, fields=("pressure", "wear")) -> Figure:
 
 
 def varying(result) -> list[str]:
-    """The coefficients of :data:`COEFFICIENTS` that the scene gives as fields (not numbers)."""
+    """The coefficients of :data:`COEFFICIENTS` that the scene gives as fields of x (not numbers, not of the state)."""
     return [name for name, (key, *_) in COEFFICIENTS.items()
-            if not isinstance(getattr(result.scene.contact, key), (int, float))]
+            if not isinstance(getattr(result.scene.contact, key), (int, float))
+            and not state_of(getattr(result.scene.contact, key), key)]
 
 
 def coefficient_figure(result, names=None) -> Figure:
