@@ -192,8 +192,11 @@ def test_a_study_sweeps_heat_keys_and_tabulates_the_highest_temperature():
 
 
 def test_thermal_expansion_lifts_a_force_controlled_plate_by_alpha_dT_H():
-    """A body of one temperature (k huge), ν = 0, under a plate holding a force: the plate moves by α (T_j − T₀) H
-    (the last step's temperature: explicit), the force stays, and the recovered displacement carries it."""
+    """Heated, a body under a plate holding a force lifts the plate by α (T_j − T₀) H.
+
+    One temperature (k huge), ν = 0; T_j the last step's (explicit); the force stays, and the recovered displacement
+    carries the lift.
+    """
     alpha, height = 1e-3, 0.1
     cold = ngwear.simulate(lumped_stop(**{"contact.friction": 0.5}), progress=False)
     hot = ngwear.simulate(lumped_stop(**{"contact.friction": 0.5, "material.expansion": alpha}), progress=False)
