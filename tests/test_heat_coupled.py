@@ -208,3 +208,13 @@ def test_thermal_expansion_lifts_a_force_controlled_plate_by_alpha_dT_H():
     top = np.array([[0.5, height]])
     moved = hot.displacement_at(top, -1)[0, 1] - cold.displacement_at(top, -1)[0, 1]
     assert moved == pytest.approx(alpha * rise[-1] * height, rel=1e-3)
+
+
+def test_the_explorer_shows_the_temperatures_and_sweeps_a_heat_key():
+    from ngwear.views.explore import Explorer
+
+    explorer = Explorer(lumped_stop(**{"contact.friction": 0.5}))
+    before = explorer.result.max_temperature.max()
+    assert f"max T {before:.4g} at t = " in explorer.summary()
+    explorer.set(**{"heat.partition": 0.8})                       # more of the heat into the body: hotter
+    assert explorer.result.max_temperature.max() > before and "reuses everything" in explorer.summary()
