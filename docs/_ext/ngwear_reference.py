@@ -144,14 +144,15 @@ def scene_key_table(section: str) -> str:
 def written_keys() -> dict[str, list[str]]:
     """The keys of the files a small run writes: a strip under a plate, adaptive, checkpointed, in SI, heated.
 
-    The keys only a run with ``heat`` writes say so in their meaning.
+    Its friction depends on the temperature; the keys only a run with ``heat`` (or such a coefficient) writes say so.
     """
     import ngwear
 
     scene = ngwear.Scene.from_dict({
         "name": "reference", "units": "SI", "mesh": {"maxh": 0.5},
         "material": {"conductivity": 1.0, "density": 1.0, "heat_capacity": 1.0},
-        "contact": {"friction": 0.5, "wear": 1.0}, "loads": {"plate": {"boundary": "top", "force": [0.0, -0.3]}},
+        "contact": {"friction": "0.5 - 0.001 * T", "wear": 1.0},
+        "loads": {"plate": {"boundary": "top", "force": [0.0, -0.3]}},
         "heat": {"model": "conduction", "partition": 0.5}, "time": {"T": 0.2, "steps": 4, "adaptive": True}})
     with tempfile.TemporaryDirectory() as folder:
         result = ngwear.simulate(scene, progress=False, checkpoint=folder)
