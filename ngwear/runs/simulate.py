@@ -5,6 +5,8 @@ next step is prepared from w_j, p_j (:mod:`ngwear.numerics.wear`), the contact p
 t_{j+1} and s = ν·u, p, λ, w are recorded at the contact points.  The steps are uniform or chosen by
 an error estimate (:mod:`ngwear.runs.clock`; a rejected step is redone smaller).  Bulk displacement
 fields are recovered (one back-substitution each) only for the steps that are written or looked at.
+With a temperature or a coefficient of the state (:mod:`ngwear.runs.heating`) the coefficients are read from the
+last step's state before each step and the body heated after it.
 
 Nothing is lost on an interrupt: a set ``stop`` event (the CLI's SIGINT/SIGTERM) or Ctrl-C ends the
 run at a step boundary with status ``interrupted`` and every completed step; with an output folder
@@ -279,12 +281,12 @@ def _next(stepper, integrator, clock: Clock, recording: Recording, x, lam):
     result = recording.result
     contact, j = stepper.problem.contact, result.steps
     t, w, p = result.times[j], result.wear[j], result.pressure[j]
-    times = list(result.times[max(j - 1, 0):j + 1])
-    rates = [contact.alpha(tt) * pp for tt, pp in zip(times, result.pressure[max(j - 1, 0):j + 1])]
-    refusal = None if stepper.heating is None else stepper.heating.prepare(stepper, t, p)
+    refusal = None if stepper.heating is None else stepper.heating.prepare(stepper, t, p)   # coefficients of state
     if refusal is not None:
         result.status = f"step {j + 1}: {refusal}"
         return None
+    times = list(result.times[max(j - 1, 0):j + 1])
+    rates = [contact.alpha(tt) * pp for tt, pp in zip(times, result.pressure[max(j - 1, 0):j + 1])]
     while True:
         t_next = clock.next_time(j, t)
         integrator.prepare(w, p, contact.alpha(t), contact.alpha(t_next), t_next - t)
