@@ -57,7 +57,8 @@ class Contact:
         if "stiffness" in self.stateful:
             raise SceneError("contact.stiffness: a stiffness of the state (T, p, v) is not evaluated in the time loop "
                              "(friction and wear are): give a number or a field of x, y, z")
-        self.coefficients = Coefficients.of(scene.contact, points.coords, self.initial_state(), 0.0)
+        state = self.initial_state()
+        self.coefficients = Coefficients.of(scene.contact, points.coords, state, None if state is None else 0.0)
         self.current = self.coefficients
         self.law = compliance_from(scene.contact, self.coefficients.stiffness)
         self._check_motion()
