@@ -133,7 +133,7 @@ def test_coefficients_of_state_are_evaluated_each_step_the_fixed_ones_kept(strip
     contact = strip.replace(**HEATED, **{"contact.friction": "0.5 - 0.0005 * T", "contact.wear": 0.01,
                                          "contact.stiffness": "10 + x"}).contact
     assert stateful(contact) == ("friction",)
-    with pytest.raises(SceneError, match=r"^contact.friction: depends on the state \(T\), which the time loop does "):
+    with pytest.raises(SceneError, match=r"^contact.friction: depends on the state \(T\): evaluated with the state "):
         Coefficients.of(contact, POINTS)
     first = Coefficients.of(contact, POINTS, STATE)
     later = first.updated(contact, POINTS, {**STATE, "T": STATE["T"] + 100}, t=1.0)

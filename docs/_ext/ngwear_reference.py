@@ -66,6 +66,7 @@ MEANING = {
                                     "from the step after it)"),
         "field_steps": ("(F,)", "the frames: steps whose full displacement is stored"),
         "fields": ("(F, DOFs)", "the displacement's DOF vector at each frame"),
+        "temperature_fields": ("(F, P1 DOFs)", "only with `heat`: the nodal temperature (P1) at each frame"),
         "units": ("()", "only for a scene with `units = \"SI\"`: the unit of each key, as JSON (`{\"torque\": "
                         "\"N·m\", …}`)"),
         "provenance": ("()", "the ngwear, NGSolve and Python versions that computed it and the SHA-256 of its scene's "
@@ -109,6 +110,10 @@ MEANING = {
         "geometry_updates": ("", "`wear.geometry = \"surface\"`: how often the worn surface moved (0: `layer`)"),
         "stops_simulated": ("", "a `[programme]`: the stops simulated to their end (0 without a programme)"),
         "stops_jumped": ("", "the stops applied at once by cycle jumps"),
+        "max_temperature": ("", "only with `heat`: the body's highest temperature over the run"),
+        "max_temperature_time": ("", "only with `heat`: when it was reached"),
+        "max_foundation_temperature": ("", "only with `heat`: the counterface's highest temperature over the run"),
+        "max_foundation_temperature_time": ("", "only with `heat`: when it was reached"),
         "newton_iterations_total": ("", "all Newton iterations of the converged steps"),
         "newton_iterations_max": ("", "the most of one step"),
         "wall_time_s": ("", "seconds the run took: meshing, factorising and the time loop"),
@@ -131,6 +136,13 @@ MEANING = {
         "step": ("()", "the adaptive clock's next step size"),
         "scene": ("()", "the scene, as JSON"),
         "checksums": ("()", "CRC-32 of each file of the steps' rows, as JSON: a damaged row file is refused"),
+        "heat_temperature": ("(P1 DOFs,)", "only with `heat`: the nodal temperature at the last step"),
+        "heat_heat": ("(4,)", "only with `heat`: its time, the last step's frictional power, the heat supplied and "
+                              "convected so far"),
+        "heat_counterface": ("(·,)", "only with `heat`: a lumped counterface's T_f, heat received and cooled (none: "
+                                     "given)"),
+        "temperature_steps": ("(·,)", "only with `heat`: the steps whose nodal temperature is kept for the frames"),
+        "temperature_fields": ("(·, P1 DOFs)", "only with `heat`: those temperatures"),
     },
 }
 HEADER = ("contact_points weights newton_iterations newton_converged newton_active newton_damped newton_lengths "
@@ -167,14 +179,18 @@ def scene_key_table(section: str) -> str:
 
 @cache
 def written_keys() -> dict[str, list[str]]:
-    """The keys of the files a small run writes: a strip under a rigid plate, adaptive steps, checkpointed, in SI."""
+    """The keys of the files a small run writes: a strip under a plate, adaptive, checkpointed, in SI, heated.
+
+    Its friction depends on the temperature; the keys only a run with ``heat`` (or such a coefficient) writes say so.
+    """
     import ngwear
 
     scene = ngwear.Scene.from_dict({
-        "name": "reference", "units": "SI", "mesh": {"maxh": 0.5}, "contact": {"friction": 0.5, "wear": 1.0},
-        "material": {"density": 2.0},
+        "name": "reference", "units": "SI", "mesh": {"maxh": 0.5},
+        "material": {"conductivity": 1.0, "density": 2.0, "heat_capacity": 1.0},
+        "contact": {"friction": "0.5 - 0.001 * T", "wear": 1.0},
         "loads": {"plate": {"boundary": "top", "force": [0.0, -0.3]}},
-        "time": {"T": 0.2, "steps": 4, "adaptive": True}})
+        "heat": {"model": "conduction", "partition": 0.5}, "time": {"T": 0.2, "steps": 4, "adaptive": True}})
     with tempfile.TemporaryDirectory() as folder:
         result = ngwear.simulate(scene, progress=False, checkpoint=folder)
         result.save(folder)

@@ -98,8 +98,8 @@ def at_points(value, name: str, points: np.ndarray, state: dict | None = None, t
     key, bounds = f"contact.{name}", RANGES[name]
     needed = state_of(value, name)
     if needed and state is None:
-        raise SceneError(f"{key}: depends on the state ({', '.join(sorted(needed))}), which the time loop does not "
-                         "evaluate yet: give a number or a field of x, y, z")
+        raise SceneError(f"{key}: depends on the state ({', '.join(sorted(needed))}): evaluated with the state at "
+                         "the points (the time loop's, ngwear.numerics.contact.Contact.update)")
     if is_table(value):
         temperatures, values = np.array(value).T
         return expressions.check_values(key, np.interp(state["T"], temperatures, values), points, state=state, t=t,

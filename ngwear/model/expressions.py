@@ -29,7 +29,7 @@ import operator
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from functools import reduce
+from functools import cached_property, lru_cache, reduce
 
 import numpy as np
 
@@ -82,9 +82,16 @@ class Expression:
 
     @classmethod
     def parse(cls, text: str, key: str) -> Expression:
-        """Parse and check ``text``; a :class:`SceneError` naming ``key``, the position and the token otherwise."""
+        """Parse and check ``text``; a :class:`SceneError` naming ``key``, the position and the token otherwise.
+
+        Remembered (the time loop evaluates a coefficient of the state every step).
+        """
         if not isinstance(text, str):
             raise SceneError(f"{key}: must be a number or an expression string (got {text!r})")
+        return _parsed(cls, text, key)
+
+    @classmethod
+    def _parse(cls, text: str, key: str) -> Expression:
         if len(text) > MAX_LENGTH:
             raise SceneError(f"{key}: expression longer than {MAX_LENGTH} characters (got {len(text)})")
         flat = "".join(" " if c.isspace() else c for c in text)   # one line: positions are columns
@@ -109,7 +116,7 @@ class Expression:
         _Checker(text, key).run(tree)
         return cls(text, key, tree)
 
-    @property
+    @cached_property
     def state(self) -> frozenset[str]:
         """The names of :data:`STATE` the expression uses (empty: a field of x, y, z alone)."""
         return frozenset(n.id for n in ast.walk(self.tree) if isinstance(n, ast.Name)) & set(STATE)
@@ -132,6 +139,11 @@ class Expression:
         with np.errstate(all="ignore"):
             values = _evaluate(self.tree.body, coords)
         return np.broadcast_to(np.asarray(values, dtype=float), (len(pts),)).copy()
+
+
+@lru_cache(maxsize=256)
+def _parsed(cls, text: str, key: str) -> Expression:
+    return cls._parse(text, key)
 
 
 def values_at(value, key: str, points: np.ndarray, state: dict | None = None, t: float | None = None,

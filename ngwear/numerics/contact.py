@@ -9,15 +9,16 @@ with the coefficients μ_i, κ_i and the compliance's L_i at the contact points
 reads invalidates nothing (:class:`~ngwear.model.keys.Level` ``NOTHING``): a :class:`Contact` is made anew for each
 scene of a :class:`~ngwear.numerics.discrete.Discretization`, on the kept contact points and ν.
 
-A coefficient is read per step through :meth:`Contact.coefficients_at`, the one place where a coefficient that
-depends on the state of the points (temperature, pressure, sliding speed: the next issues) would be evaluated; today
-each is a field of x, evaluated once.
+A coefficient is read per step through :meth:`Contact.coefficients_at`.  A coefficient of state (one that names the
+temperature T, the pressure p or the sliding speed v, :mod:`ngwear.model.coefficients`) is evaluated from the last
+step's state, explicitly: :meth:`Contact.update` before each step (:mod:`ngwear.runs.heating`), from the initial
+state (T₀, p = 0, ‖v*(x_i, 0)‖) before the first; the others are fields of x, evaluated once.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from ..model.coefficients import Coefficients
+from ..model.coefficients import Coefficients, stateful
 from ..model.compliance import compliance_from
 from ..model.keys import SceneError, piecewise_linear
 from ..model.kinematics import Slip
@@ -44,7 +45,7 @@ class Contact:
     Attributes
     ----------
     coefficients : Coefficients
-        μ_i, κ_i and L_i, fields of x (:meth:`coefficients_at` reads them per step).
+        μ_i, κ_i and L_i at the initial state (:meth:`coefficients_at` reads those of the current step).
     law : Compliance
         The compliance p with L = L_i.
     slip : Slip
@@ -52,12 +53,36 @@ class Contact:
     """
 
     def __init__(self, scene, points, nu: np.ndarray):
-        self.scene, self.weights, self.nu = scene, points.weights, nu
-        self.coefficients = Coefficients.of(scene.contact, points.coords)
-        self.law = compliance_from(scene.contact, self.coefficients.stiffness)
+        self.scene, self.weights, self.nu, self.coords = scene, points.weights, nu, points.coords
         self.drive = None if scene.programme is None else Drive(Schedule.of(scene.programme))
         self.slip = Slip(scene.foundation, points.coords, nu, None if self.drive is None else self.drive.speed)
+        self.stateful = stateful(scene.contact)
+        if "stiffness" in self.stateful:
+            raise SceneError("contact.stiffness: a stiffness of the state (T, p, v) is not evaluated in the time loop "
+                             "(friction and wear are): give a number or a field of x, y, z")
+        state = self.initial_state()
+        self.coefficients = Coefficients.of(scene.contact, points.coords, state, None if state is None else 0.0)
+        self.current = self.coefficients
+        self.law = compliance_from(scene.contact, self.coefficients.stiffness)
         self._check_motion()
+
+    def initial_state(self) -> dict[str, np.ndarray] | None:
+        """The state before the first step: T₀ (``heat.initial``), p = 0, ‖v*(x_i, 0)‖; None without a coefficient of it."""
+        if not self.stateful:
+            return None
+        n = len(self.weights)
+        return {"T": np.full(n, self.scene.heat.start), "p": np.zeros(n), "v": self.slip.speeds(0.0)}
+
+    def update(self, state: dict[str, np.ndarray], t: float) -> None:
+        """The coefficients of the next step from the state {"T", "p", "v": (n,)} at t (the last step's): explicit.
+
+        A value out of range is a SceneError naming the key, the point, the state there and t.
+        """
+        self.current = self.current.updated(self.scene.contact, self.coords, state, t)
+
+    def reset(self) -> None:
+        """Back to the coefficients of the initial state (a new run on this contact)."""
+        self.current = self.coefficients
 
     def _check_motion(self) -> None:
         """Friction and wear need the foundation to slide; the fastest wear rate stays finite (the fields' values)."""
@@ -73,8 +98,8 @@ class Contact:
                              "wear of a run this fast overflows)")
 
     def coefficients_at(self, t: float) -> Coefficients:
-        """μ_i, κ_i, L_i for the step at t: the fields of x, whatever t (a coefficient of the state goes here)."""
-        return self.coefficients
+        """μ_i, κ_i, L_i for the step at t: the fields of x, and the coefficients of state of the last :meth:`update`."""
+        return self.current
 
     def load_factor(self, t: float) -> float:
         """s_F(t), the factor of the loads (``loads.time_table``, or a programme's step: :attr:`drive`)."""

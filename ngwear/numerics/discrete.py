@@ -16,7 +16,7 @@ from functools import cached_property
 import ngsolve as ngs
 import numpy as np
 
-from ..model.coefficients import Coefficients
+from ..model.coefficients import at_points
 from ..model.compliance import compliance_from
 from ..model.geometry import build_mesh
 from ..model.keys import Level
@@ -236,7 +236,8 @@ def layer_ratio(scene: Scene, body: Body) -> float:
     nu = np.array(scene.contact.direction)
     young = min(young_along(law, nu) for region, law in region_laws(scene).items() if region in body.contact_regions)
     heights = body.mesh.ngmesh.Coordinates() @ nu
-    slope = compliance_from(scene.contact, Coefficients.of(scene.contact, body.points.coords).stiffness).slope(
+    stiffness = at_points(scene.contact.stiffness, "stiffness", body.points.coords)
+    slope = compliance_from(scene.contact, stiffness).slope(
         scene.contact.gap)
     return float(np.max(slope)) * np.ptp(heights) / young
 

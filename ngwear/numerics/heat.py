@@ -102,6 +102,8 @@ class Heat:
         touching = mesh.Boundaries("contact").Neighbours(ngs.VOL).Mask()
         self.partition = partition(scene, [name for i, name in enumerate(mesh.GetMaterials()) if touching[i]])
         self.ambient, self.start = heat.ambient, heat.start
+        self._spread = (self.evaluation.T @ sp.diags(self.partition * self.weights)).tocsr()     # Eᵀ diag(η m)
+        self._surroundings = self.ambient * self.exchange                                        # T_∞ r
         self.temperature = np.full(self.space.ndof, self.start)
         self.counterface = counterface(scene)
         self.time = self.power = self.supplied = self.convected = 0.0
@@ -117,7 +119,7 @@ class Heat:
         if q.shape != self.weights.shape:
             raise ValueError(f"heat: one frictional power per contact point ({len(self.weights)}) (got {q.shape})")
         self.power = float(self.weights @ q)
-        load = self.evaluation.T @ (self.partition * self.weights * q) + self.ambient * self.exchange
+        load = self._spread @ q + self._surroundings
         self.temperature = self._factor(dt).solve(self.mass @ self.temperature + dt * load)
         self.time += dt
         self.supplied += dt * self.partition * self.power

@@ -47,6 +47,7 @@ class Problem:
         self.matrices: dict = {}                # the Newton matrices of the last μ n* (dense: with their LU factors)
         self.factors: dict = {}
         self.shifted: tuple | None = None       # N K⁻¹ n(u), Dᵀ n(u) of the bulk's current iterate
+        self.thermal: np.ndarray | None = None  # f_th, the thermal load of the step (:meth:`expand`)
 
     @property
     def linear(self) -> bool:
@@ -67,7 +68,9 @@ class Problem:
         disc = self.disc.tangent(u, columns)
         for _, build in disc.stages():
             build()
-        return Problem(disc, self.patch)
+        tangent = Problem(disc, self.patch)
+        tangent.thermal = self.thermal
+        return tangent
 
     def remainder(self) -> Remainder:
         """n(u) = F(u) − K u with this problem's K."""
@@ -91,10 +94,24 @@ class Problem:
         return self.condensation.full_basis @ x
 
     def shift(self, n: np.ndarray) -> np.ndarray:
-        """Solve the next contact problems under the load f − n: keep N K⁻¹ n and Dᵀ n; returns K⁻¹ n."""
+        """Solve the next contact problems under the load f − n (+ f_th): keep N K⁻¹ n and Dᵀ n; returns K⁻¹ n.
+
+        With a thermal load (:meth:`expand`) n stands for n − f_th: the load is f + f_th − n.
+        """
+        n = n if self.thermal is None else n - self.thermal
         response, plate = self.elastic.operator.solve(n), self.condensation.plate
         self.shifted = self.condensation.N @ response, np.zeros(0) if plate is None else plate.response.T @ n
         return response
+
+    def expand(self, load: np.ndarray) -> None:
+        """Solve the next steps under the thermal load f_th = ``load`` as well (a right-hand side: K stays).
+
+        A linear body's loads move at once by N K⁻¹ f_th and Dᵀ f_th (one back-substitution); a nonlinear body's
+        with each image's n(u) (:meth:`shift`); the full path adds it to its load vector.
+        """
+        self.thermal = load
+        if self.linear and not self.full:
+            self.shift(np.zeros_like(load))
 
     def recover(self, forces: np.ndarray, t: float, plate: np.ndarray) -> np.ndarray:
         """The displacement s_F(t) K⁻¹ f + D δ − K⁻¹ Pᵀ f_c: one back-substitution (what the bulk's image adds to)."""
@@ -184,8 +201,9 @@ class Problem:
             disc.set_nodal(gf, component)
         load = cond.full_basis.T @ self.loads.load
         load[len(load) - cond.plate_modes_count:] += self.loads.plate_force
+        load = load_factor * load if self.thermal is None else load_factor * load + cond.full_basis.T @ self.thermal
         floating = cond.plate_modes_count and not self.scene.geometry.dirichlet
-        return FullSystem(cf, cond.full_basis, load_factor * load, cond.N, disc.points.weights, cond.d0,
+        return FullSystem(cf, cond.full_basis, load, cond.N, disc.points.weights, cond.d0,
                           self.scene.contact.gap, self.elastic.stiffness, integrator.point_law(),
                           cond.rigid_translation if floating else None)
 

@@ -27,7 +27,7 @@ from .folder import FolderError, no_space, replacing
 from .history import PREFIX, History, remove_others
 from .mesh_file import checked_mesh, keep_mesh
 from .recording import Recording
-from .result import ARRAYS, Result, from_arrays, row_shapes
+from .result import Result, from_arrays, recorded, row_shapes
 
 CHECKPOINT = "checkpoint.npz"
 FREE = ("time.T", "time.steps")
@@ -48,11 +48,20 @@ def write_checkpoint(folder, result: Result) -> Path:
     mesh = keep_mesh(result, folder)
     history.flush()
     with replacing(folder / CHECKPOINT) as tmp:
-        np.savez(tmp, **result.header(), rows=np.array(rows), history=np.array(history.folder.name),
+        np.savez(tmp, **result.header(), **_heat(result), rows=np.array(rows), history=np.array(history.folder.name),
                  checksums=np.array(json.dumps(history.checksums(rows))), mesh_sha256=np.array(mesh),
                  x=x, lam=lam, step=np.array(step), scene=np.array(json.dumps(result.scene.to_dict())))
     remove_others(folder, history.folder)
     return folder / CHECKPOINT
+
+
+def _heat(result: Result) -> dict[str, np.ndarray]:
+    """The temperature's state (``heat_*``) and the kept nodal temperatures of a run with heat (none else)."""
+    if result.heating is None or result.heating.heat is None:
+        return {}
+    steps = sorted(result.temperatures)
+    return {**result.heating.state, "temperature_steps": np.array(steps, dtype=int),
+            "temperature_fields": np.array([result.temperatures[s] for s in steps])}
 
 
 def saved_scene(folder) -> Scene:
@@ -112,14 +121,19 @@ class Checkpoint:
             rows = int(data["rows"])
             history = History.reopen(folder / str(data["history"]), row_shapes(self.scene, disc), rows, sums)
         else:                                       # written before the rows had their own files: they are here
-            history = History({name: np.array(data[name]) for name in ARRAYS})
+            history = History({name: np.array(data[name]) for name in recorded(self.scene)})
             rows = len(history.buffers["times"])
-        self.result = from_arrays(self.scene, data, disc, {name: history.buffers[name][:rows] for name in ARRAYS})
+        self.result = from_arrays(self.scene, data, disc, {name: history.buffers[name][:rows]
+                                                           for name in recorded(self.scene)})
         self.recording = Recording(self.result, history)
         if "history" not in data:
             self.recording.keep_in(folder)
         self.result.mesh_digest = str(data["mesh_sha256"]) if "mesh_sha256" in data else None
         self.x, self.lam, self.step = np.array(data["x"]), np.array(data["lam"]), float(data["step"])
+        self.heat = {key: np.array(value) for key, value in data.items() if key.startswith("heat_")}
+        if "temperature_steps" in data:
+            self.result.temperatures = {int(s): np.array(f) for s, f in zip(data["temperature_steps"],
+                                                                            data["temperature_fields"])}
         self.result.status = "completed"
 
 

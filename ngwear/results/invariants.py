@@ -12,7 +12,8 @@ With z = u_ν − d₀ at the contact points, g the layer, w the wear, p the pre
   solver drives it to g·tolerance (an active point sits at z = g exactly);
 * ``wear_sign`` (−w)₊ / g and ``wear_monotone`` (w_j − w_{j+1})₊ / g;
 * ``pressure_law``: |p − p(z − w)| / max p, beyond the round-off of forming z − w;
-* ``archard``: the integrator's nodal update |w_{j+1} − w_j − k (θ_old α_j p_j + θ_new α_{j+1} p_{j+1})| / g;
+* ``archard``: the integrator's nodal update |w_{j+1} − w_j − k κ (θ_old ‖v*_j‖ p_j + θ_new ‖v*_{j+1}‖ p_{j+1})| / g
+  (κ of the step j + 1: a coefficient of state is read at step j's state);
 * ``wear_le_penetration``: (w_j − max_{m≤j} (z_m)₊)₊ / g, where the update is monotone
   (:func:`wear_bounded`).  The exact wear never passes the largest penetration reached so far
   (w' > 0 only while z > w); after lift-off w > z is physical, so the bound is the running maximum.
@@ -73,11 +74,11 @@ def allowances(scene) -> dict[str, float]:
 
 @dataclass(frozen=True)
 class Row:
-    """The last checked step: its time, wear, wear rate α p and the running maximum of (z)₊ up to it."""
+    """The last checked step: its time, wear, pressure and the running maximum of (z)₊ up to it."""
 
     t: float
     w: np.ndarray
-    rate: np.ndarray
+    p: np.ndarray
     peak: np.ndarray | float
 
 
@@ -99,10 +100,13 @@ class Checker:
         factors = np.abs([self.disc.contact.load_factor(t) for t in times])
         return np.maximum(factors * self.s_load, self.g)
 
-    def violations(self, times, w, s, p, lam, before: Row | None = None, halves: bool = True) -> dict[str, float]:
+    def violations(self, times, w, s, p, lam, before: Row | None = None, halves: bool = True,
+                   kappa: np.ndarray | None = None) -> dict[str, float]:
         """The invariants over rows (steps × points); ``before``: the step before the first row (None: none).
 
-        ``halves``: also ``reaction_sign``, which ``contact`` bounds (|min(a, b)| ≥ a₋).
+        ``halves``: also ``reaction_sign``, which ``contact`` bounds (|min(a, b)| ≥ a₋).  ``kappa``: the κ_i each
+        row's step was solved with (coefficients of state, rows × points); None: the contact's current κ.  The
+        update from t_j to t_{j+1} is k κ_{j+1} (θ_old ‖v*(t_j)‖ p_j + θ_new ‖v*(t_{j+1})‖ p_{j+1}).
         """
         if not all(np.isfinite(a).all() for a in (w, s, p, lam)):
             return {"finite": math.inf}
@@ -116,13 +120,15 @@ class Checker:
         out["gap"] = _excess((z - g) / g, 16 * EPS * (np.abs(s) + self.height) / g)
         if halves:
             out["reaction_sign"] = _excess(-lam * self.inverse_c / scale, roundoff)
-        rate = np.array([self.disc.contact.alpha(t) for t in times]) * p
+        contact, pressure = self.disc.contact, p
         if before is not None:
-            times, w, rate = np.r_[before.t, times], np.vstack([before.w, w]), np.vstack([before.rate, rate])
+            times, w, pressure = np.r_[before.t, times], np.vstack([before.w, w]), np.vstack([before.p, p])
         if len(times) > 1:
             dw = np.diff(w, axis=0)
             old, new = self.theta
-            update = np.diff(times)[:, None] * (old * rate[:-1] + new * rate[1:])
+            rate = np.array([contact.slip.speeds(t) for t in times]) * pressure
+            coefficient = contact.coefficients_at(times[-1]).wear if kappa is None else kappa[len(kappa) - len(dw):]
+            update = np.diff(times)[:, None] * coefficient * (old * rate[:-1] + new * rate[1:])
             out["wear_monotone"] = max(-float(dw.min(initial=0.0)), 0.0) / g
             out["archard"] = float(np.abs(dw - update).max(initial=0.0)) / g
         if self.bounded:
@@ -159,7 +165,8 @@ def invariants(result) -> dict[str, float]:
     if len(result.times) == 0:
         return {"finite": 0.0}
     checker = Checker(result.scene, result.discretization)
-    return checker.violations(result.times, result.wear, result.normal_displacement, result.pressure, result.reaction)
+    return checker.violations(result.times, result.wear, result.normal_displacement, result.pressure, result.reaction,
+                              kappa=result.rows.get("step_wear_coefficient"))
 
 
 def worst(result, violations: dict[str, float]) -> tuple[str, float]:
@@ -181,7 +188,7 @@ class StepCheck:
         if len(result.times):
             peak = np.maximum(result.normal_displacement - checker.d0, 0).max(axis=0)
             t = result.times[-1]
-            self.last = Row(t, result.wear[-1], checker.disc.contact.alpha(t) * result.pressure[-1], peak)
+            self.last = Row(t, result.wear[-1], result.pressure[-1], peak)
 
     def __call__(self, t: float, w, s, p, lam) -> tuple[str, float] | None:
         """The worst broken invariant of the step ending at t (None: all hold, and the step becomes the last)."""
@@ -190,7 +197,7 @@ class StepCheck:
                                                    self.last, halves=False))
         if broken is None:
             peak = np.maximum(s - checker.disc.condensation.d0, 0)
-            self.last = Row(t, w, checker.disc.contact.alpha(t) * p,
+            self.last = Row(t, w, p,
                             peak if self.last is None else np.maximum(self.last.peak, peak))
         return broken
 

@@ -16,22 +16,18 @@ from ..numerics.solver import NewtonRecord
 from .folder import NoSpace, no_space
 from .history import History
 from .provenance import provenance
-from .result import ARRAYS, Result, output_times, row_shapes
+from .result import Result, output_times, row_shapes
 
 
 @dataclass(frozen=True)
 class StepRecord:
     """One completed step: its Newton record and its row of each recorded field, by name.
 
-    The fields are those of :data:`~ngwear.results.step_fields.RECORDED`, each given once.
+    The fields are those of :data:`~ngwear.results.step_fields.RECORDED` that the run records, each given once.
     """
 
     rows: dict
     newton: NewtonRecord
-
-    def __post_init__(self):
-        if set(self.rows) != set(ARRAYS):
-            raise KeyError(f"a step records {', '.join(ARRAYS)} (got {', '.join(self.rows)})")
 
 
 class Recording:
@@ -74,7 +70,9 @@ class Recording:
     def append(self, step: StepRecord) -> None:
         """Record step j = the number of steps so far (the rows double when full: adaptive runs)."""
         result, j = self.result, len(self.result.times)
-        for name in ARRAYS:
+        if set(step.rows) != set(result.rows):
+            raise KeyError(f"a step records {', '.join(result.rows)} (got {', '.join(step.rows)})")
+        for name in result.rows:
             result.rows[name] = self.history.put(name, j, step.rows[name])
         result.newton.append(step.newton)
 
@@ -88,11 +86,18 @@ class Recording:
 
         The previous step's goes unless it may be a frame (an output time within half a step of it).
         """
-        fields, j = self.result.fields, self.result.steps
+        self._keep(self.result.fields, u)
+
+    def keep_temperature(self, temperature: np.ndarray) -> None:
+        """Keep the nodal temperature of the step just recorded, for the frames (the previous one as a field's)."""
+        self._keep(self.result.temperatures, temperature)
+
+    def _keep(self, kept: dict, value: np.ndarray) -> None:
+        j = self.result.steps
         previous = j - 1
-        if previous in fields and not self._frame_candidate(previous):
-            del fields[previous]
-        fields[j] = u.copy()
+        if previous in kept and not self._frame_candidate(previous):
+            del kept[previous]
+        kept[j] = value.copy()
 
     def _frame_candidate(self, j: int) -> bool:
         scene, times = self.result.scene, self.result.times
@@ -105,7 +110,7 @@ class Recording:
         """Move the rows into mapped files of a new history folder in ``folder`` (to checkpoint there)."""
         rows = len(self.result.times)
         self.history = self.history.moved(folder, rows)
-        self.result.rows = {name: self.history.buffers[name][:rows] for name in ARRAYS}
+        self.result.rows = {name: self.history.buffers[name][:rows] for name in self.result.rows}
 
     def fail(self, message: str, newton: NewtonRecord) -> None:
         """Stop the run at a step that failed: its status says why, its Newton record is kept."""
@@ -115,8 +120,8 @@ class Recording:
     def settle(self) -> None:
         """After an interrupt inside :meth:`append`: the arrays and records cut to the steps all of them hold."""
         result = self.result
-        rows = min(len(result.rows[name]) for name in ARRAYS)
-        result.rows = {name: result.rows[name][:rows] for name in ARRAYS}
+        rows = min(len(values) for values in result.rows.values())
+        result.rows = {name: values[:rows] for name, values in result.rows.items()}
         del result.newton[rows:]
 
     def interrupt(self) -> None:

@@ -53,8 +53,8 @@ from .step_fields import DERIVED, RECORDED
 from .table import to_dataframe, write_history
 from .units import units
 
-ARRAYS = tuple(f.name for f in RECORDED)
-"""The rows a run records (:data:`~ngwear.results.step_fields.RECORDED`)."""
+ARRAYS = tuple(f.name for f in RECORDED if f.when is None)
+"""The rows every run records (:data:`~ngwear.results.step_fields.RECORDED`; :func:`recorded`: those of a scene)."""
 PART = tuple(f.name for f in DERIVED if not f.shape)
 """The derived per-step numbers of a part."""
 LAST = tuple(name for name in PART if name not in RUN and name != "max_wear")
@@ -121,8 +121,10 @@ class Result:
     solve_time: float = 0.0
     rejected: int = 0
     fields: dict[int, np.ndarray] = field(default_factory=dict)
+    temperatures: dict[int, np.ndarray] = field(default_factory=dict)   # nodal T (P1) of the frames (`heat`)
     discretization: object = field(default=None, repr=False)
     recording: object = field(default=None, repr=False)          # the run's Recording: its rows, to go on from
+    heating: object = field(default=None, repr=False)            # the run's Heating: thermal expansion's displacement
     mesh_digest: str | None = field(default=None, repr=False)   # SHA-256 of the mesh.vol written for it
     provenance: dict | None = field(default=None, repr=False)    # versions and scene hash (None: an older file's)
     jumped: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
@@ -172,13 +174,13 @@ class Result:
     def torque(self) -> np.ndarray:
         """Friction moment about the counterface's axis per step (negative when it brakes a rotation)."""
         slip, factors = self._factors()
-        return np.sign(factors) * _weighted(self.pressure, self.friction_coefficient * slip.moment_arms() * self.row_weights)
+        return np.sign(factors) * _weighted(self.pressure, self.friction * slip.moment_arms() * self.row_weights)
 
     @property
     def tangential_force(self) -> np.ndarray:
         """F_t = Σ m_i μ_i p_i n*_i per step, shape (steps + 1, d): the friction force on the foundation."""
         slip, factors = self._factors()
-        return np.sign(factors)[:, None] * ((self.pressure * self.friction_coefficient * self.row_weights) @ slip.direction)
+        return np.sign(factors)[:, None] * ((self.pressure * self.friction * self.row_weights) @ slip.direction)
 
     @property
     def max_wear(self) -> np.ndarray:
@@ -200,13 +202,18 @@ class Result:
     def friction_power(self) -> np.ndarray:
         """P = Σ m_i μ_i p_i ‖v*_i(t)‖ per step (‖v*_i(t)‖: the slip speed at s_v = 1 times the factor's size)."""
         slip, factors = self._factors()
-        return np.abs(factors) * _weighted(self.pressure, self.friction_coefficient * slip.speed * self.row_weights)
+        return np.abs(factors) * _weighted(self.pressure, self.friction * slip.speed * self.row_weights)
 
     @property
     def dissipated_energy(self) -> np.ndarray:
         """∫₀^{t_j} P dt per step, by the trapezoidal rule over the steps."""
         power = self.friction_power
         return cumulative_trapezoid(power, self.times, initial=0.0) if len(power) else power
+
+    @property
+    def friction(self) -> np.ndarray:
+        """μ_i of each step, shape (N, n) or (1, n) (coefficients fixed for the run: ``friction_coefficient``)."""
+        return self.rows["step_friction"] if "step_friction" in self.rows else self.friction_coefficient[None, :]
 
     @property
     def friction_force(self) -> np.ndarray:
@@ -330,8 +337,9 @@ class Result:
         if step not in self.fields:
             if self.discretization is None:
                 raise KeyError(f"step {step} was not stored; stored steps: {sorted(self.fields)}")
-            self.fields[step] = self.discretization.recover(self.forces[step], self.times[step],
-                                                            self.plate_displacement[step])
+            u = self.discretization.recover(self.forces[step], self.times[step], self.plate_displacement[step])
+            thermal = None if self.heating is None else self.heating.displacement(self.temperatures[step])
+            self.fields[step] = u if thermal is None else u + thermal
         return self.fields[step]
 
     def displacement_at(self, points, step: int) -> np.ndarray:
@@ -376,6 +384,7 @@ class Result:
             **last,
             **({"rejected_steps": self.rejected} if self.scene.time.adaptive else {}),
             **self._life(),
+            **self._heat_summary(),
             "newton_iterations_total": int(sum(its)),
             "newton_iterations_max": int(max(its, default=0)),
             "wall_time_s": round(self.wall_time, 3),
@@ -411,9 +420,19 @@ class Result:
                 "geometry_updates": self.geometry_updates, "stops_simulated": simulated,
                 "stops_jumped": len(self.jumped)}
 
+    def _heat_summary(self) -> dict[str, float]:
+        """The highest temperature of the body and of the counterface and when (``heat``; none else)."""
+        if "max_temperature" not in self.rows or not len(self.times):
+            return {}
+        body, face = int(np.argmax(self.max_temperature)), int(np.argmax(self.foundation_temperature))
+        return {"max_temperature": float(self.max_temperature[body]),
+                "max_temperature_time": float(self.times[body]),
+                "max_foundation_temperature": float(self.foundation_temperature[face]),
+                "max_foundation_temperature_time": float(self.times[face])}
+
     def arrays(self) -> dict[str, np.ndarray]:
         """Everything of the run as named arrays (``result.npz``): its steps and :meth:`header`."""
-        return {**self.header(), **{name: getattr(self, name) for name in ARRAYS}}
+        return {**self.header(), **self.rows}
 
     def header(self) -> dict[str, np.ndarray]:
         """Everything of the run but its per-step rows: points, weights, Newton records, status."""
@@ -435,7 +454,7 @@ class Result:
         fields = np.array([self.displacement(s) for s in steps]) if self.discretization else np.zeros((0, 0))
         mesh = {"mesh_sha256": np.array(keep_mesh(self, out))} if self.discretization is not None else {}
         arrays = {**self.arrays(), **{f.name: getattr(self, f.name) for f in DERIVED},
-                  "field_steps": np.array(steps, dtype=int), "fields": fields, **mesh}
+                  "field_steps": np.array(steps, dtype=int), "fields": fields, **mesh, **self._temperature_fields(steps)}
         if self.scene.units:
             arrays["units"] = np.array(json.dumps(units(self.scene, arrays), ensure_ascii=False))
         with replacing(out / "result.npz") as tmp:
@@ -455,9 +474,18 @@ class Result:
         return out
 
 
+    def _temperature_fields(self, steps) -> dict[str, np.ndarray]:
+        """The nodal temperature (P1) of the frames, ``temperature_fields`` (with ``heat``; none else)."""
+        if self.scene.heat.model == "none" or not all(s in self.temperatures for s in steps):
+            return {}
+        return {"temperature_fields": np.array([self.temperatures[s] for s in steps])}
+
+
 def _weighted(values: np.ndarray, weights: np.ndarray) -> np.ndarray:
-    """Σ_i values_ji m_i of each step j: ``values @ weights`` for one set of weights, row by row for (N, n)."""
-    return values @ weights if weights.ndim == 1 else np.einsum("ji,ji->j", values, weights)
+    """Σ_i values_ji m_i of each step j: one set of weights (n,) or (1, n), or a row per step (N, n)."""
+    if weights.ndim == 1 or len(weights) == 1:
+        return values @ weights.reshape(-1)
+    return np.einsum("ji,ji->j", values, weights)
 
 
 def output_times(out, times: np.ndarray, end: float) -> np.ndarray:
@@ -500,18 +528,25 @@ def load_result(directory) -> Result:
     scene = Scene.from_dict(json.loads((src / "scene.json").read_text()))
     result = from_arrays(scene, data, saved_discretization(scene, src, data))
     result.fields = {int(s): f for s, f in zip(data["field_steps"], data["fields"])}
+    if "temperature_fields" in data:
+        result.temperatures = {int(s): f for s, f in zip(data["field_steps"], data["temperature_fields"])}
     return result
 
 
+def recorded(scene: Scene) -> tuple[str, ...]:
+    """The rows a run of ``scene`` records: :data:`ARRAYS`, the heat's only with a temperature (see ``StepField.when``)."""
+    return tuple(f.name for f in RECORDED if f.recorded_in(scene))
+
+
 def row_shapes(scene: Scene, disc) -> dict[str, tuple]:
-    """The shape of one step's row of each of :data:`ARRAYS`."""
+    """The shape of one step's row of each of the scene's recorded fields (:func:`recorded`)."""
     sizes = {"n": disc.points.n, "d": scene.dim, "r": disc.condensation.plate_modes_count}
-    return {f.name: f.size(sizes) for f in RECORDED}
+    return {f.name: f.size(sizes) for f in RECORDED if f.recorded_in(scene)}
 
 
 def from_arrays(scene: Scene, data, disc, rows: dict[str, np.ndarray] | None = None) -> Result:
     """The result that :meth:`Result.arrays` wrote (or :meth:`Result.header` and the ``rows``), on ``disc``."""
-    rows = {name: np.array(data[name]) for name in ARRAYS} if rows is None else rows
+    rows = {name: np.array(data[name]) for name in recorded(scene)} if rows is None else rows
     n = len(data["weights"])
     coefficients = (np.array(data[name]) if name in data else np.full(n, float(getattr(scene.contact, key)))
                     for name, key in zip(COEFFICIENTS, ("friction", "wear", "stiffness")))   # before fields: numbers
@@ -527,6 +562,13 @@ def from_arrays(scene: Scene, data, disc, rows: dict[str, np.ndarray] | None = N
                   moved_weights=np.array(data["moved_weights"]) if "moved_weights" in data else None)
 
 
+def _row(name: str):
+    def read(self) -> np.ndarray:
+        if name not in self.rows:
+            raise AttributeError(f"{name}: not recorded by this run (see ngwear.results.step_fields: heat.model)")
+        return self.rows[name]
+    return read
+
+
 for _field in RECORDED:     # result.times, result.wear, …: the recorded rows, as declared
-    setattr(Result, _field.name, property(lambda self, name=_field.name: self.rows[name],
-                                          doc=f"{_field.doc}, shape {_field.shown}."))
+    setattr(Result, _field.name, property(_row(_field.name), doc=f"{_field.doc}, shape {_field.shown}."))

@@ -24,7 +24,9 @@ class StepField:
     ``shape`` is in the letters of :data:`SIZES` (``()`` a number per step, ``("n",)`` one per contact point);
     ``quantity`` names its unit in an SI scene (a key of :data:`ngwear.results.units.QUANTITIES`; None: a ratio).
     ``parts`` names the components of a vector whose components differ ((name, quantity) each; default: the field's
-    name with the axis, ``tangential_force_x``).
+    name with the axis, ``tangential_force_x``).  ``when`` the runs that record it: every run (None), those with a
+    temperature (``"heat"``: ``heat.model = "conduction"``) or those with a contact coefficient of the state
+    (``"state"``: T, p or v).
     """
 
     name: str
@@ -38,6 +40,15 @@ class StepField:
         if self.parts:
             return list(self.parts[:size])
         return [(f"{self.name}_{'xyz'[k]}", self.quantity) for k in range(size)]
+    when: str | None = None
+
+    def recorded_in(self, scene) -> bool:
+        """Whether a run of ``scene`` records this field."""
+        from ..model.coefficients import stateful
+
+        if self.when == "heat":
+            return scene.heat.model != "none"
+        return self.when is None or bool(stateful(scene.contact))
 
     def size(self, sizes: dict[str, int]) -> tuple[int, ...]:
         """The shape of one step's row for the sizes ``{"n": …, "d": …, "r": …}`` of a run."""
@@ -59,6 +70,15 @@ RECORDED = (
     StepField("plate_displacement", ("r",), "length", "δ of a rigid plate: its translation along ν, then its tilts "
                                                       "(r = 0: none)",
               parts=(("plate_displacement", "length"), ("plate_tilt_1", "angle"), ("plate_tilt_2", "angle"))),
+    StepField("surface_temperature", ("n",), "temperature", "T at the contact points at the step's end (`heat`)",
+              when="heat"),
+    StepField("max_temperature", (), "temperature", "the body's highest temperature (`heat`)", when="heat"),
+    StepField("foundation_temperature", (), "temperature", "T_f, the counterface's temperature (`heat`)", when="heat"),
+    StepField("heat_flux", (), "power", "η Σ m_i μ_i p_i ‖v*_i‖: the frictional power into the body (`heat`)", when="heat"),
+    StepField("step_friction", ("n",), None, "μ_i of the step, at the last step's state (a coefficient of T, p, "
+                                             "v)", when="state"),
+    StepField("step_wear_coefficient", ("n",), "wear coefficient", "κ_i of the step, at the last step's state "
+                                                                   "(a coefficient of T, p, v)", when="state"),
 )
 """The rows a run records at each step, in the order of ``result.npz``."""
 

@@ -14,14 +14,16 @@ from .step_fields import STEP_FIELDS
 QUANTITIES = {"length": ("m", "m"), "time": ("s", "s"), "pressure": ("Pa", "Pa"), "force": ("N", "N/m"),
               "torque": ("N·m", "N·m/m"), "area": ("m²", "m"), "volume": ("m³", "m²"),
               "power": ("W", "W/m"), "energy": ("J", "J/m"), "mass": ("kg", "kg/m"), "angle": ("rad", "rad"),
-              "velocity": ("m/s", "m/s"),
+              "velocity": ("m/s", "m/s"), "temperature": ("°C", "°C"),
               "line load": ("N/m", "N/m"), "wear coefficient": ("1/Pa", "1/Pa"), "compliance stiffness": ("Pa/m", "Pa/m")}
 """Each quantity's unit in 3D and in 2D (per unit thickness).  κ in w' = κ‖v*‖p is 1/Pa; L in p = L r₊ is Pa/m
-(``Pa/m^e`` for the power law p = L r₊^e)."""
+(``Pa/m^e`` for the power law p = L r₊^e).  Temperatures are the scene's (`heat.ambient`, …): °C (a difference: K)."""
 
 NAMES = {**{f.name: f.quantity for f in STEP_FIELDS if f.quantity}, **RUN, "contact_points": "length",
          "weights": "area", "fields": "length", "max_wear": "length", "max_penetration": "length", "gap": "length",
-         "thickness": "length", **{f"remaining_thickness_{m}": "length" for m in ("min", "mean", "max")}}
+         "thickness": "length", **{f"remaining_thickness_{m}": "length" for m in ("min", "mean", "max")},
+         "max_temperature_time": "time", "max_foundation_temperature": "temperature",
+         "max_foundation_temperature_time": "time", "temperature_fields": "temperature"}
 """The quantity of each number a run writes: its per-step fields' (:mod:`ngwear.results.step_fields`) and the others
 with a unit (the rest are counts, fractions, ratios or wall-clock seconds)."""
 

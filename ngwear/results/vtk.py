@@ -37,7 +37,7 @@ def frame_name(step: int) -> str:
 
 
 def write_series(result, directory: Path) -> Path:
-    """Write each frame's VTU and contact file, named by its step, and ``fields.pvd`` listing both with their times."""
+    """Write each frame's VTU (temperature too, with heat) and contact file, named by its step, and ``fields.pvd``."""
     directory = Path(directory)
     disc = result.discretization
     mesh = disc.mesh
@@ -47,6 +47,10 @@ def write_series(result, directory: Path) -> Path:
     uniform = len({el.type for el in mesh.Elements(ngs.VOL)}) == 1
     stress = BulkStress(result.scene, mesh, u)
     coefs, names = [u, wear, stress.tensor, stress.von_mises], ["displacement", "wear", "stress", "von_mises"]
+    temperature = temperature_field(result)
+    if temperature is not None:
+        coefs.append(temperature)
+        names.append("temperature")
     if not uniform:
         coefs.append(mesh.MaterialCF({name: k for k, name in enumerate(mesh.GetMaterials())}))
         names.append("region")
@@ -60,6 +64,8 @@ def write_series(result, directory: Path) -> Path:
         for step in result.stored_steps:
             u.vec.FV().NumPy()[:] = result.displacement(step)
             disc.set_nodal(wear, result.wear[step])
+            if temperature is not None:
+                temperature.vec.FV().NumPy()[:] = result.temperatures[step]
             stress.update()
             name, contact, t = f"fields_{frame_name(step)}", f"contact_{frame_name(step)}", float(result.times[step])
             ngs.VTKOutput(mesh, coefs=coefs, names=names, filename=str(Path(scratch) / name),
@@ -77,6 +83,13 @@ def write_series(result, directory: Path) -> Path:
         for new in sorted(Path(scratch).iterdir(), key=lambda f: f.suffix == ".pvd"):   # the index last
             os.replace(new, directory / new.name)       # a link there is replaced, never written through
     return directory / "fields.pvd"
+
+
+def temperature_field(result) -> ngs.GridFunction | None:
+    """The frames' point field ``temperature`` (P1, as :class:`~ngwear.numerics.heat.Heat`): None without heat."""
+    if result.scene.heat.model == "none" or not all(s in result.temperatures for s in result.stored_steps):
+        return None
+    return ngs.GridFunction(ngs.H1(result.discretization.mesh, order=1))
 
 
 def element_regions(mesh: ngs.Mesh) -> np.ndarray:

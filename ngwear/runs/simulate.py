@@ -5,6 +5,8 @@ next step is prepared from w_j, p_j (:mod:`ngwear.numerics.wear`), the contact p
 t_{j+1} and s = ν·u, p, λ, w are recorded at the contact points.  The steps are uniform or chosen by
 an error estimate (:mod:`ngwear.runs.clock`; a rejected step is redone smaller).  Bulk displacement
 fields are recovered (one back-substitution each) only for the steps that are written or looked at.
+With a temperature or a coefficient of the state (:mod:`ngwear.runs.heating`) the coefficients are read from the
+last step's state before each step and the body heated after it.
 
 Nothing is lost on an interrupt: a set ``stop`` event (the CLI's SIGINT/SIGTERM) or Ctrl-C ends the
 run at a step boundary with status ``interrupted`` and every completed step; with an output folder
@@ -47,6 +49,7 @@ from ..results.invariants import StepCheck
 from ..results.recording import Recording, StepRecord
 from ..results.result import Result
 from .clock import Clock
+from .heating import Heating
 from .life import WORN_OUT, StopClock, Surface, worn_out
 from .progress import bar
 from .stepper import Step, Stepper
@@ -113,6 +116,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
              else StopClock(scene, disc.contact, result, surface))      # its drive set where the rows end
     clock.replay(result.times, [disc.contact.alpha(t) * p for t, p in zip(result.times, result.pressure)])
     stepper = Stepper(Problem(disc), StepCheck(result))
+    stepper.heating = result.heating = Heating.of(scene, disc, start.heat)
     integrator = WearIntegrator(scene.wear.integrator, disc.contact.law, disc.points.n)
     saver = Saver(start.checkpoint, scene.output.checkpoint_seconds, rows=start.kept)
     steps_bar = _progress(scene, result) if progress else None
@@ -182,6 +186,7 @@ class _Start:
     checkpoint: object
     step: float | None = None
     kept: int = 0
+    heat: dict | None = None
 
 
 def _start(scene, discretization, checkpoint, stages, stop) -> _Start:
@@ -218,7 +223,8 @@ def _resume(scene, resume, checkpoint, stages) -> _Start:
         recording.keep_in(folder)
     recording.continuation = (saved.x, saved.lam, saved.step)
     kept = len(saved.result.times) if recording.history.is_in(resume) else 0
-    return _Start(saved.scene, saved.result.discretization, recording, saved.x, saved.lam, folder, saved.step, kept)
+    return _Start(saved.scene, saved.result.discretization, recording, saved.x, saved.lam, folder, saved.step, kept,
+                  saved.heat)
 
 
 @dataclass
@@ -245,8 +251,8 @@ def _solve(stepper, integrator, t: float, t_prev: float | None, x, lam) -> _Atte
     return _Attempt(x, lam, s, delta, pressure, integrator.wear_at(s - problem.d0), record)
 
 
-def _record(recording: Recording, stepper, t: float, attempt: _Attempt) -> bool:
-    """Record the step if it keeps the invariants; else stop the run there (False)."""
+def _record(recording: Recording, stepper, t: float, attempt: _Attempt, dt: float = 0.0) -> bool:
+    """Record the step (of length ``dt``) if it keeps the invariants; else stop the run there (False)."""
     broken = stepper.check(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam)
     if broken is not None:
         name, value = broken
@@ -255,9 +261,12 @@ def _record(recording: Recording, stepper, t: float, attempt: _Attempt) -> bool:
                        f"try wear.integrator = 'implicit' or more time.steps", attempt.record)
         return False
     forces = stepper.problem.contact.forces(attempt.pressure, attempt.lam, t)
+    heated = {} if stepper.heating is None else stepper.heating.advance(dt, t, attempt.pressure)
     recording.append(StepRecord({"times": t, "wear": attempt.wear, "normal_displacement": attempt.s,
                                  "pressure": attempt.pressure, "reaction": attempt.lam, "forces": forces,
-                                 "plate_displacement": attempt.delta}, attempt.record))
+                                 "plate_displacement": attempt.delta, **heated}, attempt.record))
+    if heated and stepper.heating.heat is not None:
+        recording.keep_temperature(stepper.heating.heat.temperature)
     displacement = stepper.displacement(attempt.x)
     if displacement is not None:          # a nonlinear body's field is kept for the frames and the last step
         recording.keep_field(displacement)
@@ -287,6 +296,10 @@ def _next(stepper, integrator, clock: Clock, recording: Recording, x, lam):
     result = recording.result
     contact, j = stepper.problem.contact, result.steps
     t, w, p = result.times[j], result.wear[j], result.pressure[j]
+    refusal = None if stepper.heating is None else stepper.heating.prepare(stepper, t, p)   # coefficients of state
+    if refusal is not None:
+        result.status = f"step {j + 1}: {refusal}"
+        return None
     times = list(result.times[max(j - 1, 0):j + 1])
     rates = [contact.alpha(tt) * pp for tt, pp in zip(times, result.pressure[max(j - 1, 0):j + 1])]
     while True:
@@ -300,7 +313,7 @@ def _next(stepper, integrator, clock: Clock, recording: Recording, x, lam):
             _failed(recording, stepper.scene, j + 1, t_next, err)
             return None
         if clock.judge([*times, t_next], [*rates, contact.alpha(t_next) * attempt.pressure]):
-            return (attempt.x, attempt.lam) if _record(recording, stepper, t_next, attempt) else None
+            return (attempt.x, attempt.lam) if _record(recording, stepper, t_next, attempt, t_next - t) else None
 
 
 class Stages:

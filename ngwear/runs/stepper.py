@@ -74,6 +74,7 @@ class Stepper:
         self.history: list = []                                     # (t, u) of the last two steps: the warm start
         self.tangents = 0                                           # tangents taken so far (factorised or updated)
         self._columns: dict = {}                                    # K₀⁻¹Dᵀ of the kink points, for this run
+        self.heating = None                                         # the run's Heating (:mod:`ngwear.runs.heating`)
 
     def unknowns(self) -> np.ndarray:
         """The unknowns at rest (see :meth:`Problem.unknowns`)."""
@@ -117,6 +118,11 @@ class Stepper:
                                    f"{bulk.images} iterations (change {gap:.1e})", record)
         self.history = [(step.t, u), *self.history[:1]]
         return bulk.x, bulk.lam, record
+
+    def expand(self, load: np.ndarray) -> None:
+        """Solve the next steps under the thermal load f_th = ``load`` too (:meth:`Problem.expand`; K₀'s and K's)."""
+        for problem in {id(p): p for p in (self.problem, self.base)}.values():
+            problem.expand(load)
 
     def displacement(self, x) -> np.ndarray | None:
         """The displacement of the step just solved when the body is nonlinear (None for a linear one: recovered)."""

@@ -9,6 +9,7 @@ p_i(t_j) and J the last completed step:
 * ``torque``, ``normal_force`` at t_J (see :class:`~ngwear.results.result.Result`);
 * ``max_pressure`` = max_{i,j} p_i(t_j), the largest compliance pressure of the run;
 * ``contact_fraction`` = Σ_{i : p_i(t_J) > 0} m_i / Σ_i m_i, the part of Γ_C in contact at the end;
+* ``max_temperature`` = max_j of the body's highest temperature (NaN without ``heat``);
 * ``newton_iterations``: all Newton iterations of the run (its cost);
 * ``steps``: J, the number of completed time steps (less than ``time.steps`` if the run stopped).
 
@@ -29,6 +30,8 @@ OUTPUTS = {
     "normal_force": lambda r: _final(r, lambda r: r.normal_force[-1]),
     "max_pressure": lambda r: _final(r, lambda r: r.pressure.max()),
     "contact_fraction": lambda r: _final(r, lambda r: r.weights @ (r.pressure[-1] > 0) / r.weights.sum()),
+    "max_temperature": lambda r: _final(r, lambda r: r.rows["max_temperature"].max() if "max_temperature" in r.rows
+                                        else float("nan")),
     "newton_iterations": lambda r: int(sum(record.iterations for record in r.newton)),
     "steps": lambda r: int(r.steps),
 }

@@ -114,9 +114,14 @@ def uniqueness(disc: Discretization, interrupted=None) -> EnergyCheck:
     return EnergyCheck(energy_trace(disc, interrupted), *_largest_slope_and_friction(disc))
 
 
+ELASTIC_ONLY = {"heat.model": "none", "contact.friction": 0.0, "contact.wear": 0.0}
+"""What the strain-only scene of :func:`trace_constant` drops: its material has no thermal keys, so no heat and no
+coefficient of the temperature (neither enters c₀)."""
+
+
 def trace_constant(disc: Discretization) -> float:
     """Discrete c₀ on the discretization's mesh and clamping (the paper's, with A_ε's own factorisation)."""
-    strain_only = disc.with_scene(disc.scene.replace(material={"lame_lambda": 0.0, "lame_mu": 0.5}))
+    strain_only = disc.with_scene(disc.scene.replace(material={"lame_lambda": 0.0, "lame_mu": 0.5}, **ELASTIC_ONLY))
     op = strain_only.elastic.operator
     u, v = disc.fes.TnT()
     mass = ngs.BilinearForm(disc.fes)

@@ -221,7 +221,7 @@ class Explorer:
             reuse = u.reuse
             parts = [f"solve {ms(u.solve)} ({reuse}), picture {ms(u.picture)}, plots {ms(u.plots)}",
                      f"max wear {s['max_wear']:.4g}, max penetration {s['max_penetration']:.4g} "
-                     f"(g = {s['gap']:.3g})", *self.result.warnings]
+                     f"(g = {s['gap']:.3g})", *_temperatures(s), *self.result.warnings]
             if self.pinned is not None:
                 parts.append(self._ab_line())
             return " · ".join(parts)
@@ -286,6 +286,14 @@ class Explorer:
         """The explorer as ipywidgets, saving into ``folder`` (see :func:`ngwear.views.widget.explorer_widget`)."""
         from .widget import explorer_widget
         return explorer_widget(self, folder, confined=confined)
+
+
+def _temperatures(summary: dict) -> list[str]:
+    """The run's highest temperatures and when (a run with ``heat``), for the summary line."""
+    if "max_temperature" not in summary:
+        return []
+    return [f"max T {summary['max_temperature']:.4g} at t = {summary['max_temperature_time']:.4g}, counterface "
+            f"{summary['max_foundation_temperature']:.4g}"]
 
 
 def _short(value) -> str:

@@ -8,7 +8,9 @@ function, not a number), one panel each: maps of the face in 3D, curves along x 
 ``history``: the normal force, the friction torque about the counterface's axis (the friction force ‖F_t‖
 when the counterface does not turn), the worn volume and the plate's displacement over time.
 ``pressure_radius``: p·r against the distance r from the axis at a few steps, with its mean: under a rigid
-backing plate a worn-in pad wears evenly, so p·r tends to a constant.  Axes carry units in an SI scene.
+backing plate a worn-in pad wears evenly, so p·r tends to a constant.  ``temperatures`` (``heat``): the surface
+temperature along Γ_C and the body's, the face's and the counterface's temperatures over time (the contact maps add
+the surface temperature's).  Axes carry units in an SI scene.
 """
 from __future__ import annotations
 
@@ -20,11 +22,15 @@ import scipy.sparse as sp
 from matplotlib.figure import Figure
 from matplotlib.tri import Triangulation
 
+from ..model.coefficients import state_of
 from ..model.kinematics import Slip
 from ..results.units import label, unit
 from .plots import _sampled, _save, plain
 
-FIELDS = {"pressure": ("pressure p", "plasma", "pressure"), "wear": ("wear depth w", "YlOrRd", "length")}
+FIELDS = {"pressure": ("pressure p", "plasma", "pressure"), "wear": ("wear depth w", "YlOrRd", "length"),
+          "surface_temperature": ("surface temperature T", "inferno", "temperature")}
+"""The fields a contact map draws: title, colour map, quantity (pressure and wear from 0, the temperature from its
+lowest)."""
 COEFFICIENTS = {"friction_coefficient": ("friction", "friction μ", "viridis", None),
                 "wear_coefficient": ("wear", "wear coefficient κ", "cividis", "wear coefficient"),
                 "contact_stiffness": ("stiffness", "compliance stiffness L", "magma", "compliance stiffness")}
@@ -110,8 +116,10 @@ def contact_figure(result, steps=None, fields=("pressure", "wear")) -> Figure:
         title, cmap, quantity = FIELDS[name]
         values = getattr(result, name)
         top = max(float(values[steps].max()), 1e-300)
+        bottom = float(values[steps].min()) if quantity == "temperature" else 0.0
         for ax, step in zip(row, steps):
-            shaded = ax.tripcolor(tri, at_nodes @ values[step], shading="gouraud", cmap=cmap, vmin=0.0, vmax=top)
+            shaded = ax.tripcolor(tri, at_nodes @ values[step], shading="gouraud", cmap=cmap, vmin=bottom,
+                                  vmax=max(top, bottom * (1 + 1e-12) + 1e-300))
             ax.set_aspect("equal")
             ax.set_title(f"t = {result.times[step]:.4g}{seconds}", fontsize=9)
             ax.tick_params(labelsize=7)
@@ -122,9 +130,10 @@ def contact_figure(result, steps=None, fields=("pressure", "wear")) -> Figure:
 
 
 def varying(result) -> list[str]:
-    """The coefficients of :data:`COEFFICIENTS` that the scene gives as fields (not numbers)."""
+    """The coefficients of :data:`COEFFICIENTS` that the scene gives as fields of x (not numbers, not of the state)."""
     return [name for name, (key, *_) in COEFFICIENTS.items()
-            if not isinstance(getattr(result.scene.contact, key), (int, float))]
+            if not isinstance(getattr(result.scene.contact, key), (int, float))
+            and not state_of(getattr(result.scene.contact, key), key)]
 
 
 def coefficient_figure(result, names=None) -> Figure:
@@ -187,6 +196,34 @@ def history(result, path) -> Path:
         ax.title.set_fontsize(9)
         plain(ax, values)
     fig.suptitle(result.scene.name, fontsize=10)
+    return _save(fig, path)
+
+
+def temperatures(result, path, count: int = 4) -> Path:
+    """The surface temperature along Γ_C at ``count`` steps; the body's, the face's and the counterface's over time.
+
+    The body's highest temperature, the contact face's mean and the counterface's T_f (``heat``).
+    """
+    scene = result.scene
+    fig = Figure(figsize=(11, 4), layout="constrained")
+    left, right = fig.subplots(1, 2)
+    x = result.contact_points[:, 0]
+    order = np.argsort(x)
+    style = {} if scene.dim == 2 else dict(marker=".", ms=3, ls="none")
+    for step, colour in _sampled(result, count):
+        left.plot(x[order], result.surface_temperature[step][order], color=colour,
+                  label=f"t = {result.times[step]:.4g}", **style)
+    left.set(xlabel=label(scene, "x on Γ_C", "length"), ylabel=label(scene, "surface temperature T", "temperature"),
+             title="surface temperature along Γ_C")
+    left.legend(fontsize=8)
+    mean = result.surface_temperature @ result.weights / result.weights.sum()
+    for values, name in ((result.max_temperature, "body, highest"), (mean, "contact face, mean"),
+                         (result.foundation_temperature, "counterface T_f")):
+        right.plot(result.times, values, label=name)
+    right.set(xlabel=label(scene, "time t", "time"), ylabel=label(scene, "temperature", "temperature"),
+              title="temperatures over time")
+    right.legend(fontsize=8)
+    fig.suptitle(scene.name, fontsize=10)
     return _save(fig, path)
 
 

@@ -4,7 +4,7 @@ The paper's four frames (Figs. 1–4) of the body, its layer and the foundation;
 pressure along Γ_C (2D) or maps of the contact face (3D); the normal force, torque, worn volume and
 plate displacement over time; for a turning counterface p·r against the radius; for a part of several regions
 (a backing) ``regions.png``, the last frame coloured by region; for contact coefficients given as fields
-``coefficients.png``, their maps (μ, κ, L).
+``coefficients.png``, their maps (μ, κ, L); with ``heat`` ``temperatures.png`` and the surface temperature's map.
 """
 from __future__ import annotations
 
@@ -20,12 +20,15 @@ def write_pictures(result, out_dir) -> list[Path]:
     if result.scene.dim == 2:
         paths += [plots.wear_profiles(result, out / "wear.png"), plots.pressure_history(result, out / "pressure.png")]
     else:
-        paths.append(part_plots.contact_maps(result, out / "contact_maps.png"))
+        heated = ("surface_temperature",) if result.scene.heat.model != "none" else ()
+        paths.append(part_plots.contact_maps(result, out / "contact_maps.png", fields=("pressure", "wear", *heated)))
     paths.append(part_plots.history(result, out / "history.png"))
     if len(result.discretization.mesh.GetMaterials()) > 1:
         paths.append(render.save_frame(result, -1, out / "regions.png", field="region"))
     if part_plots.varying(result):
         paths.append(part_plots.coefficient_maps(result, out / "coefficients.png"))
+    if result.scene.heat.model != "none":
+        paths.append(part_plots.temperatures(result, out / "temperatures.png"))
     if result.discretization.contact.slip.rotating:
         paths.append(part_plots.pressure_radius(result, out / "pressure_radius.png"))
     return paths

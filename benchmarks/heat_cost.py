@@ -1,0 +1,73 @@
+"""What heat costs a run (issue 31 §5): the shipped pad and a ~100k-DOF pad with heat.model "none" and "conduction".
+
+``geometries/brake_pad.toml`` (3 kN on a disc at 50 rad/s, 150 steps of 1 s; at the large size 20 steps) in three
+variants, timed from the cached mesh (``Discretization(scene, mesh)`` + ``simulate``: the heat's assembly and
+factorisation are in the run), interleaved, medians of ``--reps``:
+
+* ``none``: the paper's model (heat.model = "none");
+* ``conduction``: the temperature of pad and backing (pad: k = 1.2, ρ = 2600, c = 1465; steel backing), η = 0.15,
+  the back convected; μ and κ constant: per step one back-substitution of the heat matrix;
+* ``coupled``: and thermal expansion (the load: one back-substitution of K per step), μ(T), κ(T) (the Newton
+  matrices follow μ each step).
+
+Target: ``conduction`` and ``coupled`` at most 30 % above ``none`` on the shipped pad.
+
+    .venv/bin/python benchmarks/heat_cost.py [--quick] [--reps 3]
+"""
+from __future__ import annotations
+
+import common as C
+
+import ngwear
+from ngwear.model.examples import scene_file
+from ngwear.model.geometry import build_mesh
+from ngwear.numerics.discrete import Discretization
+
+TARGET = 1.30
+PAD = {"material.conductivity": 1.2, "material.density": 2600.0, "material.heat_capacity": 1465.0,
+       "material.regions.backing.conductivity": 50.0, "material.regions.backing.density": 7850.0,
+       "material.regions.backing.heat_capacity": 460.0, "heat.model": "conduction", "heat.partition": 0.15,
+       "heat.ambient": 20.0, "heat.convection": [{"boundary": "back", "coefficient": 30.0}]}
+COUPLED = {**PAD, "material.expansion": 2e-5, "material.regions.backing.expansion": 1.2e-5,
+           "contact.friction": "0.42 - 0.0008 * max(T - 120, 0)",
+           "contact.wear": "8e-13 * (1 + min(exp((T - 150) / 30), 4))"}
+VARIANTS = {"none": {}, "conduction": PAD, "coupled": COUPLED}
+
+
+def run(scene, mesh) -> None:
+    """A run from the cached mesh: its discretization and its time loop."""
+    result = ngwear.simulate(scene, discretization=Discretization(scene, mesh), progress=False)
+    assert result.completed, result.status
+
+
+def main():
+    args = C.parser(__doc__.splitlines()[0]).parse_args()
+    header = C.machine_lines(args) + [
+        "brake_pad.toml from the cached mesh, Discretization + simulate in one process; medians of interleaved "
+        f"repetitions; target: conduction, coupled <= {TARGET:g} x none on the shipped pad"]
+    base = ngwear.load_scene(scene_file("brake_pad"))
+    sizes = ((0.006, 150),) if args.quick else ((0.006, 150), (0.0014, 20))
+    rows = []
+    for maxh, steps in sizes:
+        scenes = {name: base.replace(**{"mesh.maxh": maxh, "time.T": float(steps), "time.steps": steps,
+                                        "output.every": float(steps), **changes})
+                  for name, changes in VARIANTS.items()}
+        mesh = build_mesh(scenes["none"])
+        with C.blas_limit(args.blas_threads):
+            times, _ = C.interleaved({name: (lambda s=s: run(s, mesh)) for name, s in scenes.items()}, args.reps)
+        disc = Discretization(scenes["none"], mesh)
+        for name in VARIANTS:
+            row = {"maxh": maxh, "steps": steps, "ndof": disc.fes.ndof, "contact_points": disc.points.n,
+                   "variant": name, "seconds": C.median(times[name]), "reps": args.reps}
+            row["ratio"] = row["seconds"] / C.median(times["none"])
+            row["target"] = C.verdict(row["ratio"] <= TARGET) if maxh == 0.006 and name != "none" else ""
+            rows.append(row)
+            print(f"  maxh {maxh}: {name:10s} {row['seconds']:.2f} s, x{row['ratio']:.2f}", flush=True)
+    columns = [("maxh", "maxh", "g"), ("ndof", "DOFs", "d"), ("contact_points", "points", "d"), ("steps", "steps", "d"),
+               ("variant", "heat", None), ("seconds", "run s", ".2f"), ("ratio", "/ none", ".2f"),
+               ("target", "target", None)]
+    C.finish("heat_cost", "heat.model none vs conduction on the brake pad", header, rows, columns, quick=args.quick)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,106 @@
+"""Heat in the time loop: the coefficients of state before each step, the frictional heat after it.
+
+One :class:`Heating` per run, made when the scene has a temperature (``heat.model = "conduction"``) or a contact
+coefficient of the state (T, p, v); with neither, :meth:`Heating.of` is None and the loop is the paper's, bit for
+bit.  The coupling is explicit (docs/guide/heat.md): the step at t_{j+1}
+
+1. reads μ, κ at the state of step j, μ_{j+1}(x_i) = μ(x_i, T_j, p_j, ‖v*(x_i, t_j)‖)
+   (:meth:`~ngwear.numerics.contact.Contact.update`; a value out of range stops the run with one line), and the
+   thermal load of T_j, f_th = G (T_j − T₀), as a right-hand side (:meth:`~ngwear.numerics.problem.Problem.expand`);
+2. is solved as the paper's step with these fixed fields;
+3. heats the body by one backward-Euler step of Δt = t_{j+1} − t_j with the frictional power of its solution,
+   q_i = μ_{j+1,i} p_{j+1,i} ‖v*(x_i, t_{j+1})‖ (:class:`~ngwear.numerics.heat.Heat`), the counterface with it.
+
+Step 0 (t = 0) heats nothing: its temperature is T₀.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..model.scene import SceneError
+from ..numerics.expansion import ThermalLoad
+from ..numerics.heat import Heat, frictional_power
+
+
+class Heating:
+    """The temperature of a run's body and counterface, and the contact coefficients of state, step by step.
+
+    Parameters
+    ----------
+    scene : Scene
+    disc : Discretization
+        Its mesh, contact points, displacement space and :class:`~ngwear.numerics.contact.Contact`.
+
+    Attributes
+    ----------
+    heat : Heat or None
+        The temperature (None with ``heat.model = "none"``: only coefficients of p, v).
+    load : ThermalLoad or None
+        f_th = G (T − T₀); None when no region expands.
+    """
+
+    def __init__(self, scene, disc):
+        self.contact, self.disc = disc.contact, disc
+        self.contact.reset()
+        self.heat = Heat(scene, disc.mesh, disc.points) if scene.heat.model == "conduction" else None
+        load = None if self.heat is None else ThermalLoad(scene, disc.fes, self.heat.space)
+        self.load = load if load is not None and load.matrix is not None else None
+
+    @classmethod
+    def of(cls, scene, disc, saved: dict | None = None) -> Heating | None:
+        """The heating of a run, or None when the scene has neither a temperature nor a coefficient of state.
+
+        ``saved``: a checkpoint's :attr:`state` to go on from.
+        """
+        if scene.heat.model == "none" and not disc.contact.stateful:
+            return None
+        heating = cls(scene, disc)
+        if saved and heating.heat is not None:
+            heating.heat.restore({k: saved[f"heat_{k}"] for k in ("temperature", "heat", "counterface")})
+        return heating
+
+    def prepare(self, stepper, t: float, pressure: np.ndarray) -> str | None:
+        """Before the step after t: the coefficients at the state of t (p = ``pressure``), the thermal load of T(t).
+
+        Returns the refusal of a coefficient out of range (one line), else None.
+        """
+        if self.contact.stateful:
+            state = {"p": pressure, "v": self.contact.slip.speeds(t)}
+            if self.heat is not None:
+                state["T"] = self.heat.surface_temperature()
+            try:
+                self.contact.update(state, t)
+            except SceneError as err:
+                return str(err)
+        if self.load is not None:
+            stepper.expand(self.load(self.heat.temperature))
+        return None
+
+    def advance(self, dt: float, t: float, pressure: np.ndarray) -> dict[str, np.ndarray]:
+        """Heat the body over the step of length ``dt`` that ended at t with ``pressure``; the step's rows.
+
+        ``dt = 0`` (step 0): no heating, T = T₀; the flux is the power at t all the same.
+        """
+        now = self.contact.coefficients_at(t)
+        rows = {"step_friction": now.friction, "step_wear_coefficient": now.wear} if self.contact.stateful else {}
+        if self.heat is None:
+            return rows
+        q = frictional_power(now.friction, pressure, self.contact.slip.speeds(t))
+        heat = self.heat
+        if dt > 0:
+            heat.advance(dt, q)
+        else:
+            heat.power = float(heat.weights @ q)
+        return {**rows, "surface_temperature": heat.surface_temperature(), "max_temperature": heat.max_temperature(),
+                "foundation_temperature": heat.foundation_temperature(), "heat_flux": heat.heat_flux}
+
+    def displacement(self, temperature: np.ndarray) -> np.ndarray | None:
+        """K⁻¹ f_th of a nodal temperature: what thermal expansion adds to a linear body's recovered displacement."""
+        if self.load is None:
+            return None
+        return self.disc.elastic.operator.solve(self.load(temperature))
+
+    @property
+    def state(self) -> dict[str, np.ndarray]:
+        """What a checkpoint keeps to go on bit for bit: the temperature's state (the coefficients come from it)."""
+        return {} if self.heat is None else {f"heat_{k}": v for k, v in self.heat.state.items()}

@@ -1,0 +1,220 @@
+"""Heat in the time loop (ngwear/runs/heating.py): full runs against closed forms and hand-computed recursions.
+
+A column pressed by a plate on a translating counterface (k = ρ = c = 1, η = 1, adiabatic sides): the surface rise
+2q√(t/π)/√(kρc) of the half-space under the frictional flux q = μ p v; the energy balance at every step, adiabatic
+and with convection; the lumped disc's recursion and time constant; Archard's discrete identity with κ(T) read from
+the last step's temperature; μ(T) falling through a stop with a lumped body and a lumped disc against the
+hand-computed friction force; the coupled time-step study (first order); a bit-identical resume; the one-line
+refusal of a coefficient out of range; heat.model = "none" records no heat rows.
+"""
+import threading
+
+import numpy as np
+import pytest
+
+import ngwear
+from ngwear.model.scene import Scene
+from ngwear.numerics.heat import Heat
+from ngwear.results.recording import Recording
+from ngwear.results.result import ARRAYS
+
+FINAL = 0.02       # the heat has gone 4√(κT) = 0.57 of the column's height 1 deep
+
+
+def column(**changes):
+    """The half-space column: 0.02 × 1, μ p v = 1 (μ small: the pressure is uniform to a few %), η = 1."""
+    scene = Scene.from_dict({
+        "geometry": {"kind": "strip", "size": [0.02, 1.0], "dirichlet": []}, "mesh": {"maxh": 0.01},
+        "material": {"lame_lambda": 0.0, "lame_mu": 1.0, "conductivity": 1.0, "density": 1.0, "heat_capacity": 1.0},
+        "contact": {"law": "linear", "stiffness": 100.0, "gap": 0.5, "friction": 1e-3, "wear": 0.0,
+                    "direction": [0.0, -1.0]},
+        "foundation": {"velocity": [1000.0, 0.0]},
+        "loads": {"plate": {"boundary": "top", "force": [0.0, -0.02]}},
+        "heat": {"model": "conduction", "partition": 1.0},
+        "time": {"T": FINAL, "steps": 20}})
+    return scene.replace(**changes) if changes else scene
+
+
+def balances(monkeypatch):
+    """The body's heat balance after every heat step of the runs that follow (a list that fills)."""
+    seen, original = [], Heat.advance
+
+    def advance(heat, dt, generated):
+        out = original(heat, dt, generated)
+        seen.append(heat.balance())
+        return out
+
+    monkeypatch.setattr(Heat, "advance", advance)
+    return seen
+
+
+def test_half_space_surface_rise_through_a_run_within_three_percent(monkeypatch):
+    """The frictional flux of the solved contact heats the column as the half-space: 2q√(t/π) within 3 % from step 5."""
+    seen = balances(monkeypatch)
+    result = ngwear.simulate(column(), progress=False)
+    assert result.completed and result.steps == 20
+    q = result.heat_flux / 0.02                                 # η Σ m μ p v / width: the mean flux
+    assert np.allclose(q[1:], 1.0, rtol=1e-3)                   # μ p v = 1e-3 · 1 · 1000
+    rise = 2 * q[1:] * np.sqrt(result.times[1:] / np.pi)
+    mean = result.surface_temperature[1:] @ result.weights / result.weights.sum()
+    error = np.abs(mean / rise - 1)
+    assert error[4:].max() < 0.03 and error[-1] < 0.01 and error[0] > 0.1, error   # backward Euler: first step worst
+    assert np.ptp(result.surface_temperature[-1]) < 0.01 * rise[-1]
+    assert np.all(result.surface_temperature[0] == 0) and result.heat_flux[0] == pytest.approx(0.02, rel=1e-3)
+    # adiabatic: ∫ρc (T − T₀) = Σ Δt η Q at every step, to round-off
+    supplied = np.cumsum(np.diff(result.times) * result.heat_flux[1:])
+    assert [b.supplied for b in seen] == pytest.approx(supplied, rel=1e-13)
+    assert max(abs(b.residual) / b.supplied for b in seen) < 1e-12
+    assert np.all(result.max_temperature >= result.surface_temperature.max(axis=1))
+
+
+def test_energy_balance_with_convection_at_every_step(monkeypatch):
+    seen = balances(monkeypatch)
+    result = ngwear.simulate(column(**{"heat.convection": [{"boundary": "left", "coefficient": 50.0},
+                                                           {"boundary": "right", "coefficient": 50.0}],
+                                       "heat.ambient": 0.0}), progress=False)
+    assert result.completed
+    assert all(b.convected > 0 for b in seen[1:])
+    assert max(abs(b.residual) / b.supplied for b in seen) < 1e-12
+    assert seen[-1].convected > 1e-3 * seen[-1].supplied
+
+
+def lumped_stop(steps=20, **changes):
+    """A short, very conductive body on a lumped disc through a stop: v falls linearly from 1 to 0; μ(T) fades."""
+    scene = Scene.from_dict({
+        "geometry": {"kind": "strip", "size": [1.0, 0.1], "dirichlet": []}, "mesh": {"maxh": 0.05},
+        "material": {"lame_lambda": 0.0, "lame_mu": 100.0, "conductivity": 1e4, "density": 1.0,
+                     "heat_capacity": 2.0},
+        "contact": {"law": "linear", "stiffness": 1e3, "gap": 0.5, "friction": "0.5 - 0.05 * T", "wear": 0.0,
+                    "direction": [0.0, -1.0]},
+        "foundation": {"velocity": [1.0, 0.0], "speed_table": [[0.0, 1.0], [4.0, 0.0]], "thermal_mass": 3.0,
+                       "cooling": 0.5},
+        "loads": {"plate": {"boundary": "top", "force": [0.0, -1.0]}},
+        "heat": {"model": "conduction", "partition": 0.5, "ambient": 1.0},
+        "time": {"T": 4.0, "steps": steps}})
+    return scene.replace(**changes) if changes else scene
+
+
+def test_fading_friction_through_a_stop_is_the_hand_computed_recursion():
+    """μ(T) = 0.5 − 0.05 T from the last step's T: friction force, body and disc temperatures by hand.
+
+    The body (capacity C_b = ρc·area = 0.2, k huge: one temperature) and the disc (C_d = 3, H_d = 0.5) share the
+    power μ_j N v_j equally (η = ½), by backward Euler:  T_j = T_{j−1} + Δt η μ_j N v_j / C_b,
+    T_d,j = (C_d T_d,j−1 + Δt ((1 − η) μ_j N v_j + H_d T_∞)) / (C_d + Δt H_d),  μ_j = 0.5 − 0.05 T_{j−1}.
+    """
+    result = ngwear.simulate(lumped_stop(), progress=False)
+    assert result.completed
+    times, dt, N = result.times, 4.0 / 20, 1.0
+    body, disc, mu, force = [1.0], [1.0], [0.45], [0.45 * N]
+    for t in times[1:]:
+        v = 1 - t / 4
+        mu.append(0.5 - 0.05 * body[-1])
+        power = mu[-1] * N * v
+        body.append(body[-1] + dt * 0.5 * power / 0.2)
+        disc.append((3.0 * disc[-1] + dt * (0.5 * power + 0.5 * 1.0)) / (3.0 + dt * 0.5))
+        force.append(mu[-1] * N if v > 0 else 0.0)
+    assert np.allclose(result.surface_temperature, np.array(body)[:, None], rtol=2e-6)
+    assert np.allclose(result.foundation_temperature, disc, rtol=2e-6)
+    assert np.allclose(result.step_friction, np.array(mu)[:, None], rtol=2e-6)
+    assert np.allclose(result.friction_force, force, rtol=2e-6)
+    assert result.friction_force[-1] < 0.8 * result.friction_force[0]         # it faded
+
+
+def test_archards_discrete_identity_with_a_wear_coefficient_of_temperature():
+    """Explicit: w_{j+1} = w_j + Δt κ(T_j) ‖v‖ p_j at every point, κ read from the last step's surface temperature."""
+    result = ngwear.simulate(lumped_stop(**{"contact.wear": "1e-3 * (1 + exp((T - 3) / 2))", "contact.friction": 0.5,
+                                            "foundation.speed_table": [[0.0, 1.0], [4.0, 1.0]]}), progress=False)
+    assert result.completed
+    kappa = 1e-3 * (1 + np.exp((result.surface_temperature[:-1] - 3) / 2))
+    assert np.allclose(result.step_wear_coefficient[1:], kappa, rtol=1e-13)
+    increment = np.diff(result.times)[:, None] * kappa * 1.0 * result.pressure[:-1]
+    assert np.allclose(np.diff(result.wear, axis=0), increment, rtol=1e-10, atol=1e-16)
+    assert result.step_wear_coefficient[-1].min() > 1.5 * result.step_wear_coefficient[0].max()  # hotter, faster
+
+
+def test_the_coupling_converges_at_first_order_in_the_step():
+    """μ(T) feeds back on the heat: the end temperature's error against 320 steps halves with the step."""
+    ends = {n: ngwear.simulate(lumped_stop(steps=n), progress=False).surface_temperature[-1].mean()
+            for n in (10, 20, 40, 320)}
+    errors = [abs(ends[n] - ends[320]) for n in (10, 20, 40)]
+    order = np.log2(np.array(errors[:-1]) / errors[1:])
+    assert np.all((0.85 < order) & (order < 1.15)), (errors, order)
+
+
+def test_resume_is_bit_identical_with_heat(tmp_path, monkeypatch):
+    scene = lumped_stop()
+    full = ngwear.simulate(scene, progress=False)
+    stop, original, count = threading.Event(), Recording.append, []
+
+    def counting(recording, step):
+        original(recording, step)
+        count.append(1)
+        if len(count) == 8:
+            stop.set()
+
+    monkeypatch.setattr(Recording, "append", counting)
+    part = ngwear.simulate(scene, progress=False, checkpoint=tmp_path, stop=stop)
+    monkeypatch.undo()
+    assert part.status == "interrupted" and part.steps == 7
+    resumed = ngwear.simulate(scene, progress=False, resume=tmp_path)
+    for name in ("surface_temperature", "foundation_temperature", "max_temperature", "heat_flux", "step_friction",
+                 "pressure"):
+        assert np.array_equal(getattr(resumed, name), getattr(full, name)), name
+
+
+def test_a_coefficient_out_of_range_stops_the_run_with_one_line_keeping_the_steps():
+    result = ngwear.simulate(lumped_stop(**{"contact.friction": "0.45 - 10 * max(T - 1.5, 0)"}), progress=False)
+    assert not result.completed and "\n" not in result.status and result.steps > 0
+    assert result.status.startswith(f"step {result.steps + 1}: contact.friction: must be >= 0 at every contact point")
+    assert "T = " in result.status and "at t = " in result.status
+
+
+def test_no_heat_records_no_heat_rows(tmp_path):
+    result = ngwear.simulate(column(**{"heat.model": "none", "time.steps": 2}), progress=False)
+    assert tuple(result.rows) == ARRAYS and result.heating is None
+    with pytest.raises(AttributeError, match="surface_temperature: not recorded"):
+        result.surface_temperature
+
+
+def test_a_study_sweeps_heat_keys_and_tabulates_the_highest_temperature():
+    """The heat keys vary like any scene key (one group: they invalidate nothing); max_temperature is an output."""
+    from ngwear.studies.outputs import outputs
+    from ngwear.studies.study import study_from_dict
+
+    study = study_from_dict({"scene": lumped_stop().to_dict(),
+                             "grid": {"heat.partition": [0.25, 0.5], "foundation.cooling": [0.5, 2.0]}})
+    assert [c.scene.heat.partition for c in study.cases] == [0.25, 0.25, 0.5, 0.5]
+    assert len({c.group for c in study.cases}) == 1 and "max_temperature" in study.outputs
+    hot, cool = (ngwear.simulate(study.cases[i].scene, progress=False) for i in (2, 0))
+    assert outputs(hot)["max_temperature"] > outputs(cool)["max_temperature"] > 1.0   # more of the heat: hotter
+    assert np.isnan(outputs(ngwear.simulate(column(**{"heat.model": "none", "time.steps": 2}),
+                                            progress=False))["max_temperature"])
+
+
+def test_thermal_expansion_lifts_a_force_controlled_plate_by_alpha_dT_H():
+    """Heated, a body under a plate holding a force lifts the plate by α (T_j − T₀) H.
+
+    One temperature (k huge), ν = 0; T_j the last step's (explicit); the force stays, and the recovered displacement
+    carries the lift.
+    """
+    alpha, height = 1e-3, 0.1
+    cold = ngwear.simulate(lumped_stop(**{"contact.friction": 0.5}), progress=False)
+    hot = ngwear.simulate(lumped_stop(**{"contact.friction": 0.5, "material.expansion": alpha}), progress=False)
+    assert hot.completed and np.allclose(hot.surface_temperature, cold.surface_temperature, rtol=1e-7)
+    lift = hot.plate_displacement[1:, 0] - cold.plate_displacement[1:, 0]         # δ along ν = −y
+    rise = hot.surface_temperature[:-1].mean(axis=1) - 1.0                        # T_j − T₀ of the step before
+    assert np.allclose(lift, -alpha * rise * height, rtol=1e-4, atol=1e-12) and rise[-1] > 1
+    assert np.allclose(hot.normal_force, cold.normal_force, rtol=1e-9)
+    top = np.array([[0.5, height]])
+    moved = hot.displacement_at(top, -1)[0, 1] - cold.displacement_at(top, -1)[0, 1]
+    assert moved == pytest.approx(alpha * rise[-1] * height, rel=1e-3)
+
+
+def test_the_explorer_shows_the_temperatures_and_sweeps_a_heat_key():
+    from ngwear.views.explore import Explorer
+
+    explorer = Explorer(lumped_stop(**{"contact.friction": 0.5}))
+    before = explorer.result.max_temperature.max()
+    assert f"max T {before:.4g} at t = " in explorer.summary()
+    explorer.set(**{"heat.partition": 0.8})                       # more of the heat into the body: hotter
+    assert explorer.result.max_temperature.max() > before and "reuses everything" in explorer.summary()
