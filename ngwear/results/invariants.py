@@ -74,11 +74,11 @@ def allowances(scene) -> dict[str, float]:
 
 @dataclass(frozen=True)
 class Row:
-    """The last checked step: its time, wear, pressure and the running maximum of (z)₊ up to it."""
+    """The last checked step: its time, wear, ‖v*‖ p (read at its own stop) and the running maximum of (z)₊ up to it."""
 
     t: float
     w: np.ndarray
-    p: np.ndarray
+    vp: np.ndarray
     peak: np.ndarray | float
 
 
@@ -120,13 +120,13 @@ class Checker:
         out["gap"] = _excess((z - g) / g, 16 * EPS * (np.abs(s) + self.height) / g)
         if halves:
             out["reaction_sign"] = _excess(-lam * self.inverse_c / scale, roundoff)
-        contact, pressure = self.disc.contact, p
+        contact = self.disc.contact
+        rate = self.speeds(times) * p
         if before is not None:
-            times, w, pressure = np.r_[before.t, times], np.vstack([before.w, w]), np.vstack([before.p, p])
+            times, w, rate = np.r_[before.t, times], np.vstack([before.w, w]), np.vstack([before.vp, rate])
         if len(times) > 1:
             dw = np.diff(w, axis=0)
             old, new = self.theta
-            rate = np.array([contact.slip.speeds(t) for t in times]) * pressure
             coefficient = contact.coefficients_at(times[-1]).wear if kappa is None else kappa[len(kappa) - len(dw):]
             update = np.diff(times)[:, None] * coefficient * (old * rate[:-1] + new * rate[1:])
             out["wear_monotone"] = max(-float(dw.min(initial=0.0)), 0.0) / g
@@ -136,6 +136,10 @@ class Checker:
             reached = np.maximum.accumulate(np.maximum(np.maximum(z, 0), peak), axis=0)
             out["wear_le_penetration"] = max(float((w[len(w) - len(z):] - reached).max(initial=0.0)), 0.0) / g
         return out
+
+    def speeds(self, times) -> np.ndarray:
+        """‖v*(x_i, t)‖ of each of ``times`` (rows × points)."""
+        return np.array([self.disc.contact.slip.speeds(t) for t in times])
 
     def _pressure_law(self, z, w, p) -> float:
         """The largest |p − p(z − w)| / max p beyond the round-off of z − w, which p amplifies by its slope (L = 1e12)."""
@@ -188,7 +192,7 @@ class StepCheck:
         if len(result.times):
             peak = np.maximum(result.normal_displacement - checker.d0, 0).max(axis=0)
             t = result.times[-1]
-            self.last = Row(t, result.wear[-1], result.pressure[-1], peak)
+            self.last = Row(t, result.wear[-1], checker.speeds([t])[0] * result.pressure[-1], peak)
 
     def __call__(self, t: float, w, s, p, lam) -> tuple[str, float] | None:
         """The worst broken invariant of the step ending at t (None: all hold, and the step becomes the last)."""
@@ -197,7 +201,7 @@ class StepCheck:
                                                    self.last, halves=False))
         if broken is None:
             peak = np.maximum(s - checker.disc.condensation.d0, 0)
-            self.last = Row(t, w, p,
+            self.last = Row(t, w, checker.speeds([t])[0] * p,
                             peak if self.last is None else np.maximum(self.last.peak, peak))
         return broken
 

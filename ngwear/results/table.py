@@ -1,11 +1,12 @@
 """The per-step numbers of a run as one table: ``history.csv`` and :meth:`Result.to_dataframe`.
 
-One row per step (N rows).  The columns follow the declarations of :mod:`ngwear.results.step_fields`: ``step``, then
+One row per step (N rows). The columns follow the declarations of :mod:`ngwear.results.step_fields`: ``step``, then
 every field with a number per step (``times``, ``normal_force``, ``torque``, …), then each component of the fields
-with a short vector per step (``tangential_force_x``, …; the plate's ``plate_displacement`` and
-``plate_tilt_1``, ``plate_tilt_2`` as it declares them), then ``newton_iterations``; fields per contact point stay
-in ``result.npz``.  In a scene in SI each header carries its unit in ASCII, ``torque [N m]``, ``contact_area
-[m^2]`` (:mod:`ngwear.results.units`); a dimensionless scene's headers are the bare names.
+with a short vector per step (``tangential_force_x``, …; the plate's ``plate_displacement`` and ``plate_tilt_1``,
+``plate_tilt_2`` as it declares them), then ``newton_iterations``; fields per contact point stay in ``result.npz``,
+fields a run does not record (the temperatures without ``heat``) are left out. In a scene in SI each header carries
+its unit in ASCII, ``torque [N m]``, ``contact_area [m^2]`` (:mod:`ngwear.results.units`); a dimensionless scene's
+headers are the bare names.
 """
 from __future__ import annotations
 
@@ -25,7 +26,7 @@ def history(result) -> dict[str, np.ndarray]:
     scene, rows = result.scene, len(result.times)
     named = [("step", None, np.arange(rows))]
     for f in sorted(STEP_FIELDS, key=lambda f: len(f.shape)):
-        if "n" in f.shape or len(f.shape) > 1:
+        if "n" in f.shape or len(f.shape) > 1 or not f.recorded_in(scene):
             continue
         values = np.asarray(getattr(result, f.name))
         if not f.shape:
