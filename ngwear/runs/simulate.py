@@ -15,7 +15,9 @@ boundary, writes what fits and raises :class:`~ngwear.results.folder.NoSpace` sa
 
 Every step is checked against the invariants (:mod:`ngwear.results.invariants`) before it is recorded:
 the first step that breaks one stops the run (status naming the step, the invariant and by how much),
-keeping the steps before it.
+keeping the steps before it.  After it is recorded, whether it stays where the model is valid
+(:mod:`ngwear.results.validity`): strains beyond 10 % stop the run after it, beyond 1 % and a worn-through
+layer are warnings.
 """
 from __future__ import annotations
 
@@ -41,6 +43,7 @@ from ..results.folder import NoSpace, clear, hold, no_space
 from ..results.invariants import StepCheck
 from ..results.recording import Recording, StepRecord
 from ..results.result import Result
+from ..results.validity import Validity
 from .clock import Clock
 from .progress import bar
 from .stepper import Step, Stepper
@@ -104,7 +107,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
     stages.prepare(disc)
     clock = Clock(scene, disc.contact.largest_rate(), result.rejected, start.step)
     clock.replay(result.times, [disc.contact.alpha(t) * p for t, p in zip(result.times, result.pressure)])
-    stepper = Stepper(Problem(disc), StepCheck(result))
+    stepper = Stepper(Problem(disc), StepCheck(result), Validity(result))
     integrator = WearIntegrator(scene.wear.integrator, disc.contact.law, disc.points.n)
     saver = Saver(start.checkpoint, scene.output.checkpoint_seconds, rows=start.kept)
     steps_bar = _progress(scene, result) if progress else None
@@ -137,6 +140,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
         saver.full = err
     result.wall_time, result.rejected = before + time.perf_counter() - began, clock.rejected
     result.solve_time += time.perf_counter() - solving
+    stepper.validity.report(result)
     if clock.unmet:
         result.warnings.append(f"time.tolerance: steps at time.min_step = {scene.time.min_step:g} missed the "
                                "tolerance; lower time.min_step")
@@ -246,6 +250,10 @@ def _record(recording: Recording, stepper, t: float, attempt: _Attempt) -> bool:
     displacement = stepper.displacement(attempt.x)
     if displacement is not None:          # a nonlinear body's field is kept for the frames and the last step
         recording.keep_field(displacement)
+    beyond = stepper.validity(recording.result.steps, t, attempt.s, attempt.delta, attempt.wear)
+    if beyond is not None:                # the step holds the model's equations, but beyond where it is valid
+        recording.result.status = beyond
+        return False
     return True
 
 
