@@ -83,9 +83,11 @@ def _outer_facets(mesh: ngs.Mesh) -> np.ndarray:
     """The facets (sorted vertex numbers from 0) of the body's outer boundary: those of one volume element only."""
     elements = (mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()).NumPy()
     corners = elements["nodes"][:, :mesh.dim + 1].astype(np.int64) - 1
-    faces = np.concatenate([corners[:, list(face)] for face in combinations(range(mesh.dim + 1), mesh.dim)])
-    unique, counts = np.unique(np.sort(faces, axis=1), axis=0, return_counts=True)
-    return unique[counts == 1]
+    faces = np.sort(np.concatenate([corners[:, list(face)] for face in combinations(range(mesh.dim + 1), mesh.dim)]),
+                    axis=1)
+    faces = faces[np.lexsort(faces.T[::-1])]
+    twin = (faces[1:] == faces[:-1]).all(axis=1)                     # a face shared with the next one
+    return faces[~(np.r_[twin, False] | np.r_[False, twin])]
 
 
 def _facets_of(mesh: ngs.Mesh, boundary: str) -> set[tuple[int, ...]]:

@@ -29,6 +29,7 @@ FAIL = 0.10
 """ε̂ above which a run stops: far beyond the small-strain model (a slip of units, most likely)."""
 THROUGH = 0.01
 """What is left of the layer, as a share of g, where it counts as worn through."""
+ACCURACY = "above 1 %, where the small-strain model loses accuracy"
 STRAIN, WORN = ": strains reach at least ", "contact.gap: the layer ("
 """What the warnings of :class:`Validity` hold (to replace those of a resumed run's first part)."""
 
@@ -67,7 +68,7 @@ class Validity:
         if strain <= self.peak[0]:
             return None
         if not said and self.peak[0] <= WARN < strain <= FAIL:
-            log.warning("%s", self._strain(strain, j, t, "above 1 %, the small-strain model loses accuracy"))
+            log.warning("%s", self._strain(strain, j, t, ACCURACY))
         self.peak = (strain, j, t)
         if strain > FAIL:
             hint = "is it in Pa?" if unlikely_modulus(self.scene, self.modulus) else "a stiffer material or smaller loads?"
@@ -87,7 +88,7 @@ class Validity:
         out = []
         strain, j, t = self.peak
         if WARN < strain <= FAIL:
-            out.append(self._strain(strain, j, t, "above 1 %, the small-strain model loses accuracy", most=True))
+            out.append(self._strain(strain, j, t, ACCURACY, most=True))
         if self.worn is not None:
             out.append(self._worn(final=True))
         return out
@@ -99,8 +100,9 @@ class Validity:
 
     def _strain(self, strain: float, j: int, t: float, verdict: str, most: bool = False) -> str:
         value = "" if self.modulus is None else f" = {self.modulus:g}" + _unit(self.scene, "pressure")
-        return (f"{self.key}{value}{STRAIN}{100 * strain:.3g} % {'(the most) ' if most else ''}at step {j} "
-                f"(t = {t:.4g}{_unit(self.scene, 'time')}), {verdict}")
+        when = f"step {j}, t = {t:.4g}{_unit(self.scene, 'time')}"
+        return f"{self.key}{value}{STRAIN}{100 * strain:.3g} % " + (f"(the most, at {when})" if most else
+                                                                     f"at {when}") + f": {verdict}"
 
     def _worn(self, final: bool = False) -> str:
         (t, share), (end, last), time = self.worn, self.last, _unit(self.scene, "time")
