@@ -71,7 +71,8 @@ class Validity:
             log.warning("%s", self._strain(strain, j, t, ACCURACY))
         self.peak = (strain, j, t)
         if strain > FAIL:
-            hint = "is it in Pa?" if unlikely_modulus(self.scene, self.modulus) else "a stiffer material or smaller loads?"
+            slip = unlikely_modulus(self.scene, self.modulus)
+            hint = "is it in Pa?" if slip else "try a stiffer material or smaller loads"
             return self._strain(strain, j, t, f"beyond the small-strain model ({hint})")
         return None
 
@@ -99,10 +100,13 @@ class Validity:
         result.warnings.extend(self.warnings())
 
     def _strain(self, strain: float, j: int, t: float, verdict: str, most: bool = False) -> str:
+        """``key = value: strains reach at least ε̂ % at step j (t = …): verdict``; the most of a run, or a failure."""
         value = "" if self.modulus is None else f" = {self.modulus:g}" + _unit(self.scene, "pressure")
-        when = f"step {j}, t = {t:.4g}{_unit(self.scene, 'time')}"
-        return f"{self.key}{value}{STRAIN}{100 * strain:.3g} % " + (f"(the most, at {when})" if most else
-                                                                     f"at {when}") + f": {verdict}"
+        when = f"step {j} (t = {t:.4g}{_unit(self.scene, 'time')})"
+        said = f"{self.key}{value}{STRAIN}{100 * strain:.3g} %"
+        if verdict != ACCURACY:
+            return f"{when}: {said}, {verdict}"
+        return f"{said} {'(the most) ' if most else ''}at {when}: {verdict}"
 
     def _worn(self, final: bool = False) -> str:
         (t, share), (end, last), time = self.worn, self.last, _unit(self.scene, "time")
