@@ -50,10 +50,13 @@ class Segments:
         """The share of the contact points whose segment ends on a support (ε̂ sees the strain across them)."""
         return float(np.isfinite(self.lengths).mean()) if len(self.lengths) else 0.0
 
-    def estimate(self, s: np.ndarray, delta: np.ndarray) -> float:
-        """ε̂ of the module docstring for the normal displacements s and the plate's δ: O(n)."""
-        moved = s if self.plate_normal is None else s - self.plate_normal @ delta
-        return float(np.max(np.abs(moved) / self.lengths, initial=0.0))
+    def estimate(self, s: np.ndarray, delta: np.ndarray):
+        """ε̂ of the module docstring for the normal displacements s (n) and the plate's δ (r): O(n).
+
+        Rows of them (m × n and m × r): ε̂ of each row.
+        """
+        moved = s if self.plate_normal is None else s - delta @ self.plate_normal.T
+        return np.max(np.abs(moved) / self.lengths, axis=-1, initial=0.0)
 
 
 def segments(scene, mesh: ngs.Mesh, coords: np.ndarray) -> Segments:

@@ -53,21 +53,25 @@ class Validity:
         self.area = result.weights / result.weights.sum()
         self.peak, self.worn, self.last = (0.0, -1, 0.0), None, (0.0, 0.0)
         self.key, self.modulus = softest(scene)
-        for j, t in enumerate(result.times):
-            self.strain(j, t, result.normal_displacement[j], result.plate_displacement[j], said=True)
-            self.wear(t, result.wear[j], said=True)
+        if len(result.times):               # the rows a resumed run keeps, all at once (their lines were said)
+            times = result.times
+            strains = self.segments.estimate(result.normal_displacement, result.plate_displacement)
+            shares = self._through(result.wear)
+            j, worn = int(np.argmax(strains)), np.flatnonzero(shares)
+            self.peak, self.last = (float(strains[j]), j, times[j]), (times[-1], float(shares[-1]))
+            self.worn = (times[worn[0]], float(shares[worn[0]])) if len(worn) else None
 
     def __call__(self, j: int, t: float, s: np.ndarray, delta: np.ndarray, w: np.ndarray) -> str | None:
         """Check step j ending at t (s = ν·u, the plate's δ, the wear w): the run's failure, or None to go on."""
         self.wear(t, w)
         return self.strain(j, t, s, delta)
 
-    def strain(self, j: int, t: float, s, delta, said: bool = False) -> str | None:
+    def strain(self, j: int, t: float, s, delta) -> str | None:
         """ε̂ of step j: a failure beyond :data:`FAIL`; the log's line when it first passes :data:`WARN`."""
-        strain = self.segments.estimate(s, delta)
+        strain = float(self.segments.estimate(s, delta))
         if strain <= self.peak[0]:
             return None
-        if not said and self.peak[0] <= WARN < strain <= FAIL:
+        if self.peak[0] <= WARN < strain <= FAIL:
             log.warning("%s", self._strain(strain, j, t, ACCURACY))
         self.peak = (strain, j, t)
         if strain > FAIL:
@@ -76,13 +80,16 @@ class Validity:
             return self._strain(strain, j, t, f"beyond the small-strain model ({hint})")
         return None
 
-    def wear(self, t: float, w, said: bool = False) -> None:
+    def wear(self, t: float, w) -> None:
         """The share of Γ_C worn through at t; the log's line when it first is some."""
-        self.last = t, float(self.area[w >= (1 - THROUGH) * self.g].sum())
+        self.last = t, float(self._through(w))
         if self.last[1] and self.worn is None:
             self.worn = self.last
-            if not said:
-                log.warning("%s", self._worn())
+            log.warning("%s", self._worn())
+
+    def _through(self, w):
+        """The share of Γ_C's area where w ≥ (1 − :data:`THROUGH`) g (rows of w: of each)."""
+        return (w >= (1 - THROUGH) * self.g) @ self.area
 
     def warnings(self) -> list[str]:
         """The run's warnings of these checks: strains above :data:`WARN` (if it went on), a worn-through layer."""
