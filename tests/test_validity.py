@@ -146,7 +146,7 @@ def test_a_layer_not_worn_through_is_not_said_and_the_log_says_it_once(paper_sce
     assert short.wear.max() < (1 - THROUGH) * 0.2 and not short.warnings
     coarse = ngwear.simulate(paper_scene.replace(**{"mesh.maxh": 0.2}), progress=False)
     worn = (coarse.wear >= (1 - THROUGH) * 0.2).any(axis=1)
-    logged = [r.getMessage() for r in caplog.records if r.getMessage().startswith(WORN)]
+    logged = [r.getMessage() for r in caplog.records if r.getMessage().startswith(f"paper_strip: {WORN}")]
     assert worn.sum() > 5 and len(logged) == 1 and sum(x.startswith(WORN) for x in coarse.warnings) == 1
 
 

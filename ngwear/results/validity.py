@@ -72,7 +72,7 @@ class Validity:
         if strain <= self.peak[0]:
             return None
         if self.peak[0] <= WARN < strain <= FAIL:
-            log.warning("%s", self._strain(strain, j, t, ACCURACY))
+            log.warning("%s: %s", self.scene.name, self._strain(strain, j, t, ACCURACY))
         self.peak = (strain, j, t)
         if strain > FAIL:
             slip = unlikely_modulus(self.scene, self.modulus)
@@ -85,7 +85,7 @@ class Validity:
         self.last = t, float(self._through(w))
         if self.last[1] and self.worn is None:
             self.worn = self.last
-            log.warning("%s", self._worn())
+            log.warning("%s: %s", self.scene.name, self._worn())
 
     def _through(self, w):
         """The share of Γ_C's area where w ≥ (1 − :data:`THROUGH`) g (rows of w: of each)."""
