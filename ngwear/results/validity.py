@@ -30,6 +30,7 @@ FAIL = 0.10
 THROUGH = 0.01
 """What is left of the layer, as a share of g, where it counts as worn through."""
 ACCURACY = "above 1 %, where the small-strain model loses accuracy"
+FIRMER = "try a stiffer material or smaller loads"
 STRAIN, WORN = ": strains reach at least ", "contact.gap: the layer ("
 """What the warnings of :class:`Validity` hold (to replace those of a resumed run's first part)."""
 
@@ -71,13 +72,13 @@ class Validity:
         strain = float(self.segments.estimate(s, delta))
         if strain <= self.peak[0]:
             return None
+        said, when = self._strain(strain, j, t)
         if self.peak[0] <= WARN < strain <= FAIL:
-            log.warning("%s: %s", self.scene.name, self._strain(strain, j, t, ACCURACY))
+            log.warning("%s: %s at %s: %s", self.scene.name, said, when, ACCURACY)
         self.peak = (strain, j, t)
         if strain > FAIL:
             slip = unlikely_modulus(self.scene, self.modulus)
-            hint = "is it in Pa?" if slip else "try a stiffer material or smaller loads"
-            return self._strain(strain, j, t, f"beyond the small-strain model ({hint})")
+            return f"{when}: {said}, beyond the small-strain model ({'is it in Pa?' if slip else FIRMER})"
         return None
 
     def wear(self, t: float, w) -> None:
@@ -94,9 +95,9 @@ class Validity:
     def warnings(self) -> list[str]:
         """The run's warnings of these checks: strains above :data:`WARN` (if it went on), a worn-through layer."""
         out = []
-        strain, j, t = self.peak
-        if WARN < strain <= FAIL:
-            out.append(self._strain(strain, j, t, ACCURACY, most=True))
+        if WARN < self.peak[0] <= FAIL:
+            said, when = self._strain(*self.peak)
+            out.append(f"{said} (the most) at {when}: {ACCURACY}")
         if self.worn is not None:
             out.append(self._worn(final=True))
         return out
@@ -106,14 +107,11 @@ class Validity:
         result.warnings[:] = [w for w in result.warnings if STRAIN not in w and not w.startswith(WORN)]
         result.warnings.extend(self.warnings())
 
-    def _strain(self, strain: float, j: int, t: float, verdict: str, most: bool = False) -> str:
-        """``key = value: strains reach at least ε̂ % at step j (t = …): verdict``; the most of a run, or a failure."""
+    def _strain(self, strain: float, j: int, t: float) -> tuple[str, str]:
+        """(``key = value: strains reach at least ε̂ %``, ``step j (t = …)``)."""
         value = "" if self.modulus is None else f" = {self.modulus:g}" + _unit(self.scene, "pressure")
-        when = f"step {j} (t = {t:.4g}{_unit(self.scene, 'time')})"
-        said = f"{self.key}{value}{STRAIN}{100 * strain:.3g} %"
-        if verdict != ACCURACY:
-            return f"{when}: {said}, {verdict}"
-        return f"{said} {'(the most) ' if most else ''}at {when}: {verdict}"
+        return (f"{self.key}{value}{STRAIN}{100 * strain:.3g} %",
+                f"step {j} (t = {t:.4g}{_unit(self.scene, 'time')})")
 
     def _worn(self, final: bool = False) -> str:
         (t, share), (end, last), time = self.worn, self.last, _unit(self.scene, "time")
