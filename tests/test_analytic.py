@@ -9,7 +9,9 @@ y = H is clamped, a body force (0, −b) presses the bottom Γ_C onto the layer,
     once u_ν = g:   P = (b H²/2 − 2η g)/H,  λ = P − L (g − w).
 
 P2 elements (triangles and tetrahedra) represent the quadratic u_y exactly, so the FE values match to
-round-off.
+round-off.  The layer g = 0.02 and the loads b ≤ 0.12 keep the mean strain across the column, u_ν/H ≤ g/H, at 2 %
+at most: within the small-strain model (beyond 10 % a run stops, ``ngwear.results.validity``); the solution is
+linear in (b, g) together.
 """
 import ngsolve as ngs
 import numpy as np
@@ -20,7 +22,7 @@ from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.forms import elastic_form, load_form
 
 
-def column(dim, b, order, steps=20, gap=0.2, maxh=0.5):
+def column(dim, b, order, steps=20, gap=0.02, maxh=0.5):
     size = [1.0, 1.0] if dim == 2 else [0.5, 0.5, 1.0]
     geometry = {"kind": "strip" if dim == 2 else "box", "size": size, "dirichlet": ["top"]}
     direction = [0.0, -1.0] if dim == 2 else [0.0, 0.0, -1.0]
@@ -54,27 +56,27 @@ def closed_form(scene, b):
 
 
 @pytest.mark.parametrize("dim", [2, 3], ids=["2D", "3D"])
-@pytest.mark.parametrize("b", [0.2, 1.2], ids=["compliant", "worn-through"])
+@pytest.mark.parametrize("b", [0.02, 0.12], ids=["compliant", "worn-through"])
 def test_column_p2_is_exact(b, dim):
     scene = column(dim, b, order=2)
     r = ngwear.simulate(scene, progress=False)
     w, s, p, lam = closed_form(scene, b)
     assert r.completed
     for name, exact in (("wear", w), ("normal_displacement", s), ("pressure", p), ("reaction", lam)):
-        assert np.allclose(getattr(r, name), exact[:, None], atol=1e-10), name
-    if b == 1.2:
+        assert np.allclose(getattr(r, name), exact[:, None], atol=1e-11), name
+    if b == 0.12:
         assert (r.reaction[-1] > 0).all() and (r.reaction[0] == 0).all()
 
 
 def test_column_3d_box_p1():
     """Same closed form in 3D with P1 tetrahedra: displacement and wear within 2 % at h = 1/8."""
-    scene = column(3, 1.2, order=1, steps=10, maxh=0.125)
+    scene = column(3, 0.12, order=1, steps=10, maxh=0.125)
     r = ngwear.simulate(scene, progress=False)
-    w, s, p, lam = closed_form(scene, 1.2)
+    w, s, p, lam = closed_form(scene, 0.12)
     assert r.completed
     assert np.abs(r.normal_displacement - s[:, None]).max() < 0.02 * s.max()
     assert np.abs(r.wear - w[:, None]).max() < 0.02 * w.max()
-    assert (r.normal_displacement - r.d0 - scene.contact.gap).max() <= 1e-9
+    assert (r.normal_displacement - r.d0 - scene.contact.gap).max() <= 1e-10
     assert np.diff(r.wear, axis=0).min() >= 0 and r.reaction.min() >= 0
 
 

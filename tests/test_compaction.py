@@ -9,6 +9,7 @@ import pytest
 from ngsolve.solvers import Newton
 
 import ngwear
+from ngwear.results import validity
 
 BETA = 20.0
 COMPACTION = {"material.law": "compaction", "material.compaction_modulus": BETA}
@@ -165,7 +166,8 @@ def test_full_path_equals_the_condensed_path(name):
     scene = ngwear.load_scene(shipped).replace(**changes)
     fast = ngwear.simulate(scene, progress=False)
     full = ngwear.simulate(scene.replace(**{"solver.method": "full"}), progress=False)
-    assert fast.completed and full.completed and not fast.warnings
+    assert fast.completed and full.completed
+    assert all(w.startswith(validity.WORN) for w in fast.warnings)   # the layer worn through on the strip and box
     assert fast.wear[-1].max() > 0.3 * scene.contact.gap or fast.plate_displacement.size
     assert max(r.bulk for r in fast.newton) >= 2                          # the bulk iteration ran
     for array in ("normal_displacement", "wear", "pressure", "reaction", "plate_displacement"):

@@ -19,7 +19,7 @@ from ngwear.model.cad import read_shape
 from ngwear.model.geometry import build_mesh
 from ngwear.model.part_files import describe
 
-SIGMA, T1, E1, L = 2.0 / 0.01, 0.3, 2e3, 5e3          # COLUMN: 2 N on 0.1 × 0.1, t₁ = 0.3, E₁ = 2e3, L = 5e3
+SIGMA, T1, E1, L = 0.02 / 0.01, 0.3, 2e3, 5e3         # COLUMN: 0.02 N on 0.1 × 0.1, t₁ = 0.3, E₁ = 2e3, L = 5e3
 
 
 def column_shape(backing: float, glued: bool, names=("lining", "plate")):

@@ -70,3 +70,31 @@ def _numbers(value) -> tuple[float, ...]:
     if isinstance(value, tuple) and value:
         return tuple(sorted({min(value), max(value)}))
     return ()
+
+
+def softest(scene) -> tuple[str, float | None]:
+    """(key, value): the modulus most likely behind strains too large, the smallest of the region softest along ν.
+
+    Across the part the regions carry about the same stress σ_νν one after the other, so the region with the
+    smallest modulus E_ν along ν (:func:`~ngwear.model.materials.young_along`) strains most, ε = σ/E_ν; of its
+    moduli, the smallest given one (a slip of units makes one far smaller than the others).  The key is the region's
+    own (``material.regions.backing.young``) or the default table's it inherits (``material.young``).
+    """
+    from .materials import region_laws, young_along
+
+    laws = region_laws(scene)
+    region = min(laws, key=lambda name: young_along(laws[name], scene.contact.direction))
+    material = scene.material
+    own = material.regions[region] if region in material.regions else None
+    table = material.by_region([region])[region]
+    given = [(getattr(table, name), name) for name in MODULI if getattr(table, name)]
+    if not given:
+        return f"material.regions.{region}" if own is not None else "material", None
+    value, name = min(given)
+    mine = own is not None and getattr(own, name, None) is not None
+    return f"material.regions.{region}.{name}" if mine else f"material.{name}", value
+
+
+def unlikely_modulus(scene, value: float | None) -> bool:
+    """Whether ``value`` is a modulus of an SI scene far below engineering materials' (:data:`MODULUS`)."""
+    return scene.units == "SI" and value is not None and value < MODULUS[0]

@@ -5,7 +5,7 @@
 * :class:`Elastic` (``STIFFNESS``): K and its factorisation (with the Schur complement for the dense
   contact solve);
 * :class:`Condensation` (``DIRECTION``): ν, the normal evaluation N = ν·P, the initial distance d₀, the rows
-  ν·G of the contact compliance and the rigid plate's modes and coupling;
+  ν·G of the contact compliance, the rigid plate's modes and coupling, the strain estimate's segments;
 * :class:`Loads` (``LOADS``): the load vector f and K⁻¹f at unit time factor.
 
 Their members are built on first use and kept; :class:`~ngwear.numerics.discrete.Discretization` decides
@@ -27,6 +27,7 @@ from .operators import ElasticOperator, UpdatedOperator
 from .plate import PlateCoupling, plate_modes
 from .points import contact_points, initial_distance
 from .stiffness import GradientBlocks, assembled
+from .strain import Segments, segments
 
 LOW_RANK = 32
 """Most kink points whose branch a tangent may change against a factorised K before it is factorised itself."""
@@ -243,6 +244,11 @@ class Condensation:
             return None
         return PlateCoupling.of(self.plate_modes, self.elastic.stiffness, self.elastic.operator.solve,
                                 self.body.points.P, self.N)
+
+    @cached_property
+    def segments(self) -> Segments:
+        """The segments from the contact points along −ν to the supports: the strain estimate's (no solve)."""
+        return segments(self.scene, self.body.mesh, self.body.points.coords)
 
     @cached_property
     def full_basis(self) -> sp.csc_matrix:

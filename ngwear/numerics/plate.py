@@ -29,9 +29,7 @@ def plate_modes(fes: ngs.FESpace, boundary: str, nu: np.ndarray, tilt: bool) -> 
     mesh, dim = fes.mesh, len(nu)
     region = mesh.Boundaries(boundary)
     coords = (ngs.x, ngs.y, ngs.z)[:dim]
-    area = ngs.Integrate(ngs.CF(1.0) * ngs.ds(boundary), mesh)
-    center = [ngs.Integrate(x * ngs.ds(boundary), mesh) / area for x in coords]
-    arm = [x - c for x, c in zip(coords, center)]
+    arm = [x - c for x, c in zip(coords, centroid(mesh, boundary))]
     normal = [ngs.CF(1.0)]
     if tilt:
         for axis in _tilt_axes(nu):
@@ -49,6 +47,24 @@ def plate_modes(fes: ngs.FESpace, boundary: str, nu: np.ndarray, tilt: bool) -> 
         gf.Set(ngs.CF(tuple(phi * float(c) for c in nu)), ngs.BND, definedon=region)
         modes[:, k] = gf.vec.FV().NumPy()
     return modes
+
+
+def centroid(mesh: ngs.Mesh, boundary: str) -> np.ndarray:
+    """x_B: the centroid of the boundary B."""
+    area = ngs.Integrate(ngs.CF(1.0) * ngs.ds(boundary), mesh)
+    return np.array([ngs.Integrate(x * ngs.ds(boundary), mesh) / area for x in (ngs.x, ngs.y, ngs.z)[:mesh.dim]])
+
+
+def rigid_normal(mesh: ngs.Mesh, boundary: str, nu: np.ndarray, tilt: bool, points: np.ndarray) -> np.ndarray:
+    """ν·e_k(x_i) (n × r): the plate's rigid motions continued to points x_i off B (1; (a_l × (x_i − x_B))·ν)."""
+    columns = [np.ones(len(points))]
+    if tilt:
+        arm = points - centroid(mesh, boundary)
+        if len(nu) == 2:
+            columns.append(-arm[:, 1] * nu[0] + arm[:, 0] * nu[1])
+        else:
+            columns += [np.cross(arm, nu) @ axis for axis in _tilt_axes(nu)]
+    return np.column_stack(columns)
 
 
 def _tilt_axes(nu: np.ndarray) -> list[np.ndarray]:

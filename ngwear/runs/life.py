@@ -243,6 +243,7 @@ class Surface:
         """The update after the last step (:meth:`update`) with what the loop solves on: a new Stepper, or None."""
         from ..numerics.problem import Problem
         from ..results.invariants import StepCheck
+        from ..results.validity import Validity
         from .stepper import Stepper
 
         disc = self.update(result, result.wear[-1])
@@ -250,4 +251,4 @@ class Surface:
             return None
         if isinstance(clock, StopClock):
             clock.contact, clock.drive = disc.contact, disc.contact.drive
-        return Stepper(Problem(disc), StepCheck(result))
+        return Stepper(Problem(disc), StepCheck(result), Validity(result))

@@ -22,7 +22,9 @@ the steps that reach ``wear.update`` (:class:`~ngwear.runs.life.Surface`), and `
 
 Every step is checked against the invariants (:mod:`ngwear.results.invariants`) before it is recorded:
 the first step that breaks one stops the run (status naming the step, the invariant and by how much),
-keeping the steps before it.
+keeping the steps before it.  After it is recorded, whether it stays where the model is valid
+(:mod:`ngwear.results.validity`): strains beyond 10 % stop the run after it, beyond 1 % and a worn-through
+layer are warnings.
 """
 from __future__ import annotations
 
@@ -48,6 +50,7 @@ from ..results.folder import NoSpace, clear, hold, no_space
 from ..results.invariants import StepCheck
 from ..results.recording import Recording, StepRecord
 from ..results.result import Result
+from ..results.validity import Validity
 from .clock import Clock
 from .heating import Heating
 from .life import WORN_OUT, StopClock, Surface, worn_out
@@ -115,7 +118,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
     clock = (Clock(scene, disc.contact.largest_rate(), result.rejected, start.step) if scene.programme is None
              else StopClock(scene, disc.contact, result, surface))      # its drive set where the rows end
     clock.replay(result.times, [disc.contact.alpha(t) * p for t, p in zip(result.times, result.pressure)])
-    stepper = Stepper(Problem(disc), StepCheck(result))
+    stepper = Stepper(Problem(disc), StepCheck(result), Validity(result))
     stepper.heating = result.heating = Heating.of(scene, disc, start.heat)
     integrator = WearIntegrator(scene.wear.integrator, disc.contact.law, disc.points.n)
     saver = Saver(start.checkpoint, scene.output.checkpoint_seconds, rows=start.kept)
@@ -156,6 +159,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
         saver.full = err
     result.wall_time, result.rejected = before + time.perf_counter() - began, clock.rejected
     result.solve_time += time.perf_counter() - solving
+    stepper.validity.report(result)
     if clock.unmet:
         result.warnings.append(f"time.tolerance: steps at time.min_step = {scene.time.min_step:g} missed the "
                                "tolerance; lower time.min_step")
@@ -270,6 +274,10 @@ def _record(recording: Recording, stepper, t: float, attempt: _Attempt, dt: floa
     displacement = stepper.displacement(attempt.x)
     if displacement is not None:          # a nonlinear body's field is kept for the frames and the last step
         recording.keep_field(displacement)
+    beyond = stepper.validity(recording.result.steps, t, attempt.s, attempt.delta, attempt.wear)
+    if beyond is not None:                # the step holds the model's equations, but beyond where it is valid
+        recording.result.status = beyond
+        return False
     return True
 
 

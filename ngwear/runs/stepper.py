@@ -18,6 +18,7 @@ from ..numerics.problem import Problem
 from ..numerics.solver import ConvergenceError, NewtonRecord, PointLaw, semismooth_newton
 from ..numerics.wear import WearIntegrator
 from ..results.invariants import StepCheck
+from ..results.validity import Validity
 
 log = logging.getLogger(__name__)
 
@@ -66,8 +67,8 @@ class Stepper:
 
     CUTBACKS = (2, 4, 8)
 
-    def __init__(self, problem: Problem, check: StepCheck):
-        self.problem, self.scene, self.check = problem, problem.scene, check
+    def __init__(self, problem: Problem, check: StepCheck, validity: Validity):
+        self.problem, self.scene, self.check, self.validity = problem, problem.scene, check, validity
         self.base = problem                                         # K₀: the laws' tangent at ε = 0
         nonlinear = not problem.linear and not problem.full        # the full path linearises the laws itself
         self.remainder = problem.remainder() if nonlinear else None
