@@ -22,10 +22,10 @@ FINAL = 0.02       # the heat has gone 4√(κT) = 0.57 of the column's height 1
 
 
 def column(**changes):
-    """The half-space column: 0.02 × 1, μ p v = 1 (μ small: the pressure is uniform to a few %), η = 1."""
+    """The half-space column: 0.02 × 1, μ p v = 1 (μ small: the pressure is uniform; stiff: small strains), η = 1."""
     scene = Scene.from_dict({
         "geometry": {"kind": "strip", "size": [0.02, 1.0], "dirichlet": []}, "mesh": {"maxh": 0.01},
-        "material": {"lame_lambda": 0.0, "lame_mu": 1.0, "conductivity": 1.0, "density": 1.0, "heat_capacity": 1.0},
+        "material": {"lame_lambda": 0.0, "lame_mu": 1000.0, "conductivity": 1.0, "density": 1.0, "heat_capacity": 1.0},
         "contact": {"law": "linear", "stiffness": 100.0, "gap": 0.5, "friction": 1e-3, "wear": 0.0,
                     "direction": [0.0, -1.0]},
         "foundation": {"velocity": [1000.0, 0.0]},
