@@ -260,7 +260,7 @@ def _write(result, out: Path, pictures: bool, check: tuple[str, str] | None = No
         STAGES.info("%s: drawing the pictures", result.scene.name)
         written = write_pictures(result, out)
     from .results.material_summary import describe
-    from .results.result import LAST_STEP
+    from .results.summary import LAST_STEP
     from .results.units import unit as unit_of
 
     summary = result.summary()

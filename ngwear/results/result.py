@@ -43,24 +43,16 @@ from ..model.scene import Scene
 from ..numerics.points import initial_distance
 from ..numerics.solver import NewtonRecord
 from .folder import replacing
-from .material_summary import region_materials
 from .mesh_file import keep_mesh, saved_discretization
 from .provenance import canonical
 from .records import records_from_arrays, records_to_arrays
-from .run_summary import QUANTITIES as RUN
-from .run_summary import whole_run
 from .step_fields import DERIVED, RECORDED
+from .summary import summary
 from .table import to_dataframe, write_history
 from .units import units
 
 ARRAYS = tuple(f.name for f in RECORDED if f.when is None)
 """The rows every run records (:data:`~ngwear.results.step_fields.RECORDED`; :func:`recorded`: those of a scene)."""
-PART = tuple(f.name for f in DERIVED if not f.shape)
-"""The derived per-step numbers of a part."""
-LAST = tuple(name for name in PART if name not in RUN and name != "max_wear")
-"""What the summary reports of the last step: the derived per-step numbers the whole run's part does not hold."""
-LAST_STEP = (*LAST, "plate_displacement", "contact_fraction", "active_fraction")
-"""The summary's keys of the last step (the plate's only with a plate)."""
 COEFFICIENTS = ("friction_coefficient", "wear_coefficient", "contact_stiffness")
 
 
@@ -355,48 +347,8 @@ class Result:
         return self.discretization
 
     def summary(self) -> dict:
-        """Key numbers of the run (what ``ngwear run`` prints), in three parts.
-
-        The whole run (:func:`ngwear.results.run_summary.whole_run`: peaks and means of the torque, the friction
-        force and the pressure, the dissipated energy, the worn volume and mass, when wear reached g, with the
-        largest wear and penetration); the last step's values (:data:`LAST_STEP`); the solver's counts, times,
-        ``materials`` (each region's law, constants, m_F, L_F: see
-        :func:`ngwear.results.material_summary.region_materials`, an energy law's moduli estimated over the frames)
-        and ``provenance`` (:mod:`ngwear.results.provenance`).
-        """
-        its = [r.iterations for r in self.newton if r.converged]
-        # the paper's "penetration": how far Γ_C has moved into the layer, u_ν − d₀ ≤ g
-        pen = self.penetration if len(self.times) else np.zeros((1, 1))
-        stepped = len(self.times) > 0
-        last = {name: float(getattr(self, name)[-1]) + 0.0 if stepped else 0.0 for name in LAST}
-        if self.plate_displacement.shape[1] and stepped:
-            last["plate_displacement"] = float(self.plate_displacement[-1, 0]) + 0.0
-        last["contact_fraction"] = float((self.pressure[-1] > 0).mean()) if stepped else 0.0
-        last["active_fraction"] = float((self.reaction[-1] > 0).mean()) if stepped else 0.0
-        summary = {
-            "status": self.status,
-            "steps": self.steps,
-            "contact_points": len(self.weights),
-            **whole_run(self),
-            "max_wear": float(self.wear.max(initial=0.0)),
-            "max_penetration": float(pen.max(initial=0.0)),
-            "gap": self.scene.contact.gap,
-            **last,
-            **({"rejected_steps": self.rejected} if self.scene.time.adaptive else {}),
-            **self._life(),
-            **self._heat_summary(),
-            "newton_iterations_total": int(sum(its)),
-            "newton_iterations_max": int(max(its, default=0)),
-            "wall_time_s": round(self.wall_time, 3),
-            "solve_time_s": round(self.solve_time, 3),
-            "materials": region_materials(self.scene, self.discretization,
-                                          [self.fields[s] for s in self.stored_steps if s in self.fields]),
-            **({"provenance": self.provenance} if self.provenance else {}),
-        }
-        if self.scene.units:
-            summary["units"] = units(self.scene, [name for name, value in summary.items() if isinstance(value, float)
-                                                  or name == "gap_reached_at"])
-        return summary
+        """Key numbers of the run (what ``ngwear run`` prints): see :func:`ngwear.results.summary.summary`."""
+        return summary(self)
 
     def to_dataframe(self):
         """The run's per-step numbers, one row per step, as a pandas DataFrame: the table of ``history.csv``.
@@ -406,29 +358,6 @@ class Result:
         (``torque [N m]``).
         """
         return to_dataframe(self)
-
-    def _life(self) -> dict:
-        """The summary's wear metrics: the remaining thickness at the last step (min, mean, max), the stops."""
-        from .metrics import thickness_range
-        remaining = self.remaining_thickness_of(self.last_total_wear()) if len(self.times) else self.thickness
-        low, mean, high = thickness_range(remaining, self.weights)
-        simulated = 0
-        if self.scene.programme is not None:
-            simulated = int((Schedule.of(self.scene.programme).rows(self.jumped)[1][:len(self.times)]
-                             == self.scene.programme.steps_per_stop).sum())
-        return {"remaining_thickness_min": low, "remaining_thickness_mean": mean, "remaining_thickness_max": high,
-                "geometry_updates": self.geometry_updates, "stops_simulated": simulated,
-                "stops_jumped": len(self.jumped)}
-
-    def _heat_summary(self) -> dict[str, float]:
-        """The highest temperature of the body and of the counterface and when (``heat``; none else)."""
-        if "max_temperature" not in self.rows or not len(self.times):
-            return {}
-        body, face = int(np.argmax(self.max_temperature)), int(np.argmax(self.foundation_temperature))
-        return {"max_temperature": float(self.max_temperature[body]),
-                "max_temperature_time": float(self.times[body]),
-                "max_foundation_temperature": float(self.foundation_temperature[face]),
-                "max_foundation_temperature_time": float(self.times[face])}
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Everything of the run as named arrays (``result.npz``): its steps and :meth:`header`."""

@@ -1,0 +1,88 @@
+"""The summary of a run: ``summary.json`` and what ``ngwear run`` prints, in three parts.
+
+The whole run (:func:`ngwear.results.run_summary.whole_run`: peaks and means of the torque, the friction force and
+the pressure, the dissipated energy, the worn volume and mass, when wear reached g, with the largest wear and
+penetration); the last step's values (:data:`LAST_STEP`); a part's life (the remaining thickness, geometry updates,
+stops) and the temperatures of a heated run; the solver's counts, times, ``materials`` (each region's law,
+constants, m_F, L_F: see :func:`ngwear.results.material_summary.region_materials`, an energy law's moduli estimated
+over the frames) and ``provenance`` (:mod:`ngwear.results.provenance`).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..model.programme import Schedule
+from .material_summary import region_materials
+from .metrics import thickness_range
+from .run_summary import QUANTITIES as RUN
+from .run_summary import whole_run
+from .step_fields import DERIVED
+from .units import units
+
+PART = tuple(f.name for f in DERIVED if not f.shape)
+"""The derived per-step numbers of a part."""
+LAST = tuple(name for name in PART if name not in RUN and name != "max_wear")
+"""What the summary reports of the last step: the derived per-step numbers the whole run's part does not hold."""
+LAST_STEP = (*LAST, "plate_displacement", "contact_fraction", "active_fraction")
+"""The summary's keys of the last step (the plate's only with a plate)."""
+
+
+def summary(result) -> dict:
+    """Key numbers of ``result`` (a :class:`~ngwear.results.result.Result`), in the order ``ngwear run`` prints."""
+    its = [r.iterations for r in result.newton if r.converged]
+    # the paper's "penetration": how far Γ_C has moved into the layer, u_ν − d₀ ≤ g
+    pen = result.penetration if len(result.times) else np.zeros((1, 1))
+    stepped = len(result.times) > 0
+    last = {name: float(getattr(result, name)[-1]) + 0.0 if stepped else 0.0 for name in LAST}
+    if result.plate_displacement.shape[1] and stepped:
+        last["plate_displacement"] = float(result.plate_displacement[-1, 0]) + 0.0
+    last["contact_fraction"] = float((result.pressure[-1] > 0).mean()) if stepped else 0.0
+    last["active_fraction"] = float((result.reaction[-1] > 0).mean()) if stepped else 0.0
+    out = {
+        "status": result.status,
+        "steps": result.steps,
+        "contact_points": len(result.weights),
+        **whole_run(result),
+        "max_wear": float(result.wear.max(initial=0.0)),
+        "max_penetration": float(pen.max(initial=0.0)),
+        "gap": result.scene.contact.gap,
+        **last,
+        **({"rejected_steps": result.rejected} if result.scene.time.adaptive else {}),
+        **life_metrics(result),
+        **heat_extremes(result),
+        "newton_iterations_total": int(sum(its)),
+        "newton_iterations_max": int(max(its, default=0)),
+        "wall_time_s": round(result.wall_time, 3),
+        "solve_time_s": round(result.solve_time, 3),
+        "materials": region_materials(result.scene, result.discretization,
+                                      [result.fields[s] for s in result.stored_steps if s in result.fields]),
+        **({"provenance": result.provenance} if result.provenance else {}),
+    }
+    if result.scene.units:
+        out["units"] = units(result.scene, [name for name, value in out.items() if isinstance(value, float)
+                                            or name == "gap_reached_at"])
+    return out
+
+
+def life_metrics(result) -> dict:
+    """The summary's wear metrics: the remaining thickness at the last step (min, mean, max), the stops."""
+    remaining = result.remaining_thickness_of(result.last_total_wear()) if len(result.times) else result.thickness
+    low, mean, high = thickness_range(remaining, result.weights)
+    simulated = 0
+    if result.scene.programme is not None:
+        simulated = int((Schedule.of(result.scene.programme).rows(result.jumped)[1][:len(result.times)]
+                         == result.scene.programme.steps_per_stop).sum())
+    return {"remaining_thickness_min": low, "remaining_thickness_mean": mean, "remaining_thickness_max": high,
+            "geometry_updates": result.geometry_updates, "stops_simulated": simulated,
+            "stops_jumped": len(result.jumped)}
+
+
+def heat_extremes(result) -> dict[str, float]:
+    """The highest temperature of the body and of the counterface and when (``heat``; none else)."""
+    if "max_temperature" not in result.rows or not len(result.times):
+        return {}
+    body, face = int(np.argmax(result.max_temperature)), int(np.argmax(result.foundation_temperature))
+    return {"max_temperature": float(result.max_temperature[body]),
+            "max_temperature_time": float(result.times[body]),
+            "max_foundation_temperature": float(result.foundation_temperature[face]),
+            "max_foundation_temperature_time": float(result.times[face])}
