@@ -1,6 +1,6 @@
 """Braking programmes: blocks of identical stops, compiled into what a run needs.
 
-A programme (``[programme]``, :class:`~ngwear.model.sections.Programme`) is a list of blocks, each ``count``
+A programme (``[programme]``, :class:`Programme`) is a list of blocks, each ``count``
 identical stops of ``duration`` followed by a ``dwell``.  Stop i of the whole programme starts at
 
     t_i = T_b + k (d_b + D_b),     T_b = Σ_{c < b} n_c (d_c + D_c),
@@ -35,8 +35,9 @@ from functools import cached_property
 from pathlib import Path
 
 import numpy as np
+from pydantic import ValidationError, field_validator, model_validator
 
-from .keys import SceneError
+from .keys import Flag, Level, Number, SceneError, Section, Whole, key
 
 MAX_STEPS = 1_000_000
 """Most time steps of a programme's stops, one after the other (as ``time.steps``): the bound of its grid."""
@@ -116,7 +117,7 @@ class Schedule:
 
     @classmethod
     def of(cls, programme) -> Schedule:
-        """The schedule of a ``[programme]`` table (:class:`~ngwear.model.sections.Programme`)."""
+        """The schedule of a ``[programme]`` table (:class:`Programme`)."""
         blocks = programme.blocks
         counts = np.array([b.count for b in blocks])
         block = np.repeat(np.arange(len(blocks)), counts)
@@ -248,3 +249,107 @@ class Drive:
     def largest_load(self) -> float:
         """Max |s_F| over the programme."""
         return float(np.abs(self.schedule.load).max())
+
+
+# ---------------------------------------------------------------- the scene's [programme] table
+
+
+Ramp = Number | tuple[Number, Number]
+
+
+class Stop(Section):
+    """One block of a programme: ``count`` identical stops, each ``duration`` long and followed by its ``dwell``."""
+
+    count: Whole = key(1, "the number of identical stops of the block", reuse=Level.NOTHING, ge=1, le=MAX_STEPS)
+    duration: Number = key(..., "the time of one stop (sliding, loaded)", reuse=Level.NOTHING, shown="— (required)",
+                           gt=0)
+    speed: Ramp = key((1.0, 1.0), "the factor of the foundation's velocity: a number, or [start, end] linear over "
+                      "the stop (a stop to rest: [1, 0])", reuse=Level.NOTHING, shown="1",
+                      allowed="a number or [start, end]")
+    load: Ramp = key((1.0, 1.0), "the factor of the loads (plate force, tractions, body force): a number or "
+                     "[start, end]", reuse=Level.NOTHING, shown="1", allowed="numbers >= 0 when only a plate holds "
+                     "the body")
+    dwell: Number = key(0.0, "the time after each stop with no load and no wear", reuse=Level.NOTHING, ge=0)
+
+    @field_validator("speed", "load")
+    @classmethod
+    def _ramp(cls, value: Ramp) -> tuple[float, float]:
+        """A number v is the constant factor [v, v]."""
+        return (value, value) if isinstance(value, float) else value
+
+    @property
+    def period(self) -> float:
+        """The time of one stop and its dwell."""
+        return self.duration + self.dwell
+
+
+def block(entry, where: str) -> Stop:
+    """One block from a table (or a file's row), or one SceneError line starting with ``where``."""
+    if not isinstance(entry, (dict, Stop)):
+        raise SceneError(f"{where}: must be a table {{count, duration, speed, load, dwell}} (got {entry!r})")
+    try:
+        return Stop.model_validate(entry)
+    except ValidationError as err:
+        from .messages import message  # messages reads the declarations of this module
+        first = sorted(err.errors(), key=lambda e: e["type"] != "extra_forbidden")[0]
+        name = first["loc"][0] if first["loc"] else "block"
+        if first["type"] == "extra_forbidden":
+            text = f"{name}: unknown (allowed: {', '.join(Stop.model_fields)})"
+        elif name in ("speed", "load"):
+            text = f"{name}: must be a number or [start, end] (got {entry.get(name)!r})"
+        else:
+            text = message(first, entry, Stop)
+        raise SceneError(f"{where}: {text}") from None
+
+
+class Programme(Section):
+    """A braking programme: blocks of identical stops, run one after the other (see :mod:`ngwear.model.programme`)."""
+
+    stops: tuple[Stop, ...] = key((), "the blocks, one after the other, each `{ count, duration, speed, load, "
+                                  "dwell }` (the keys `programme.stops[].…`)", reuse=Level.NOTHING, shown="—",
+                                  allowed="one block or more")
+    file: str | None = key(None, "a CSV file of the blocks (instead of `stops`; relative to the scene file): a header "
+                           "naming the columns `count`, `duration` and any of `speed`, `load`, `dwell`, then one row "
+                           "a block (a [start, end] factor quoted: `\"[1.0, 0.0]\"`)", reuse=Level.NOTHING, shown="—",
+                           allowed="an existing CSV file")
+    steps_per_stop: Whole = key(20, "uniform time steps of one stop (`time.adaptive` is refused with a programme)",
+                                reuse=Level.NOTHING, ge=1, le=10_000)
+    jump: Flag = key(False, "apply stops of a block at once (cycle jumps) once their wear increments settle",
+                     reuse=Level.NOTHING)
+    jump_tolerance: Number = key(1e-3, "`jump`: the change of the wear increment between consecutive simulated "
+                                 "stops, relative to the increment (max over Γ_C), below which stops are jumped",
+                                 reuse=Level.NOTHING, gt=0, lt=1)
+
+    @field_validator("stops", mode="before")
+    @classmethod
+    def _blocks(cls, value):
+        """Each block checked on its own: one line naming the block and its key."""
+        if not isinstance(value, (list, tuple)):
+            raise SceneError(f"programme.stops: must be a list of blocks {{count, duration, speed, load, dwell}} "
+                             f"(got {value!r})")
+        return tuple(block(entry, f"programme.stops: block {i}") for i, entry in enumerate(value, start=1))
+
+    @model_validator(mode="after")
+    def _one_source(self) -> Programme:
+        if (not self.stops) == (self.file is None):
+            raise SceneError("programme.stops: give the blocks either as programme.stops or in programme.file "
+                             f"(got {'both' if self.stops else 'neither'})")
+        self.blocks       # a file is read (and its rows checked) with the scene
+        return self
+
+    @property
+    def blocks(self) -> tuple[Stop, ...]:
+        """The blocks: ``stops``, or the rows of ``file``."""
+        if self.file is None:
+            return self.stops
+        return tuple(block(row, f"programme.file: {where}") for where, row in read_rows(self.file))
+
+    @property
+    def end(self) -> float:
+        """T: the time of every stop and dwell."""
+        return math.fsum(b.count * b.period for b in self.blocks)
+
+    @property
+    def steps(self) -> int:
+        """The time steps of the programme's stops, one after the other (its dwells take none)."""
+        return sum(b.count for b in self.blocks) * self.steps_per_stop

@@ -1,8 +1,9 @@
 """The tables of a scene file and their keys, each declared once: type, range, documentation, what it invalidates.
 
 The top-level keys ``name`` and ``units``, then ``[geometry]``, ``[mesh]``, ``[material]``, ``[contact]``,
-``[foundation]``, ``[loads]`` (with ``plate``), ``[time]``, ``[wear]``, ``[heat]``, ``[solver]``, ``[output]``
-and ``[programme]`` (its blocks of stops, :class:`Stop`).  Ranges
+``[foundation]``, ``[loads]`` (with ``plate``), ``[time]``, ``[wear]``, ``[heat]`` (declared in
+:mod:`ngwear.model.thermal`), ``[solver]``, ``[output]`` and ``[programme]`` (its blocks of stops, in
+:mod:`ngwear.model.programme`).  Ranges
 that depend on other keys are rules of :mod:`ngwear.model.rules`; the kinds of ``geometry.kind`` come from the registry
 (:mod:`ngwear.model.kinds`).
 """
@@ -11,7 +12,7 @@ from __future__ import annotations
 import math
 from typing import Literal, get_args, get_origin
 
-from pydantic import Field, ValidationError, create_model, field_validator, model_validator
+from pydantic import Field, create_model, field_validator
 
 from . import cad, shapes  # noqa: F401 - they register the part kinds
 from .coefficients import normalised
@@ -19,7 +20,8 @@ from .compliance import COMPLIANCES
 from .keys import Flag, Level, Number, SceneError, Section, Table, Vector, Whole, key
 from .kinds import KINDS, ordered
 from .materials import LAWS, constants, groups, lame
-from .programme import MAX_STEPS, read_rows
+from .programme import Programme
+from .thermal import HeatSpec
 
 KindName = Literal[tuple(kind.name for kind in ordered())]
 Coefficient = float | str | tuple[float, ...] | Table
@@ -336,68 +338,6 @@ class WearSpec(Section):
                                allowed="> 0", gt=0)
 
 
-class Convection(Section):
-    """One entry of ``heat.convection``: −k ∂T/∂n = h (T − T_∞) on a named boundary."""
-
-    boundary: str = key(..., "a named boundary of the part, not `contact`", reuse=Level.NOTHING)
-    coefficient: Number = key(..., "h, the heat transfer coefficient", reuse=Level.NOTHING, ge=0)
-
-
-class HeatSpec(Section):
-    """Heat conduction in the body, ρc ∂T/∂t = ∇·(k∇T), heated on Γ_C by friction (see :mod:`ngwear.numerics.heat`)."""
-
-    model: Literal["none", "conduction"] = key(
-        "none", "`none`: no temperature (the paper's model); `conduction`: the temperature of the body, heated by "
-        "the share η of the frictional power μ p ‖v*‖ on Γ_C", reuse=Level.NOTHING)
-    partition: Number | Literal["effusivity"] | None = key(
-        None, "η, the share of the frictional heat that enters the body (the rest the counterface): a number, or "
-        "`effusivity`: η = e_b / (e_b + e_f), e = √(kρc) of the body's region on Γ_C and of the counterface "
-        "(`foundation.conductivity`, `density`, `heat_capacity`)", reuse=Level.NOTHING,
-        shown="— (needed with `conduction`)", allowed="in [0, 1], effusivity")
-    convection: tuple[Convection, ...] = key(
-        (), "[{ boundary, coefficient }, …]: convection −k ∂T/∂n = h (T − T_∞) on these boundaries; every other "
-        "boundary is adiabatic", reuse=Level.NOTHING, shown="[] (all adiabatic)",
-        allowed="named boundaries except `contact`, each once; h >= 0")
-    ambient: Number = key(0.0, "T_∞, the surroundings' temperature (convection, the counterface's cooling)",
-                          reuse=Level.NOTHING)
-    initial: Number | None = key(None, "T₀, the initial temperature of the body and of a lumped counterface; the "
-                                 "stress-free temperature of `material.expansion`", reuse=Level.NOTHING,
-                                 shown="`heat.ambient`")
-
-    @field_validator("convection", mode="before")
-    @classmethod
-    def _convection(cls, entries):
-        """A list of tables { boundary = name, coefficient = h >= 0 }, each refused by its index."""
-        if not isinstance(entries, (list, tuple)):
-            raise SceneError(f"heat.convection: must be a list of tables {{ boundary, coefficient }} (got {entries!r})")
-        for i, entry in enumerate(entries):
-            name = f"heat.convection[{i}]"
-            if isinstance(entry, Convection):
-                continue
-            if not isinstance(entry, dict) or set(entry) != {"boundary", "coefficient"}:
-                raise SceneError(f"{name}: must be a table {{ boundary = NAME, coefficient = h }} (got {entry!r})")
-            h = entry["coefficient"]
-            if not isinstance(entry["boundary"], str):
-                raise SceneError(f"{name}.boundary: must be a boundary's name (got {entry['boundary']!r})")
-            if isinstance(h, bool) or not isinstance(h, (int, float)) or not math.isfinite(h) or h < 0:
-                raise SceneError(f"{name}.coefficient: must be a finite number >= 0 (got {h!r})")
-        return entries
-
-    @field_validator("partition", mode="before")
-    @classmethod
-    def _partition(cls, value):
-        """A number in [0, 1] or ``"effusivity"``."""
-        number = isinstance(value, (int, float)) and not isinstance(value, bool)
-        if value is None or value == "effusivity" or (number and 0 <= value <= 1):
-            return value
-        raise SceneError(f"heat.partition: must be a number in [0, 1] or 'effusivity' (got {value!r})")
-
-    @property
-    def start(self) -> float:
-        """T₀: ``heat.initial``, or ``heat.ambient`` when it is not given."""
-        return self.ambient if self.initial is None else self.initial
-
-
 class SolverSpec(Section):
     """Nonlinear solver: ``condensed`` onto the contact points (fast) or ``full`` system (reference)."""
 
@@ -421,107 +361,6 @@ class Output(Section):
     max_frames: Whole = key(10_000, "most frames a run may write (each a full field, kept in memory and written as a "
                             "VTU file): a scene whose `output.every` or `output.times` gives more is refused before "
                             "the run", reuse=Level.NOTHING, ge=1, le=1_000_000)
-
-
-Ramp = Number | tuple[Number, Number]
-
-
-class Stop(Section):
-    """One block of a programme: ``count`` identical stops, each ``duration`` long and followed by its ``dwell``."""
-
-    count: Whole = key(1, "the number of identical stops of the block", reuse=Level.NOTHING, ge=1, le=MAX_STEPS)
-    duration: Number = key(..., "the time of one stop (sliding, loaded)", reuse=Level.NOTHING, shown="— (required)",
-                           gt=0)
-    speed: Ramp = key((1.0, 1.0), "the factor of the foundation's velocity: a number, or [start, end] linear over "
-                      "the stop (a stop to rest: [1, 0])", reuse=Level.NOTHING, shown="1",
-                      allowed="a number or [start, end]")
-    load: Ramp = key((1.0, 1.0), "the factor of the loads (plate force, tractions, body force): a number or "
-                     "[start, end]", reuse=Level.NOTHING, shown="1", allowed="numbers >= 0 when only a plate holds "
-                     "the body")
-    dwell: Number = key(0.0, "the time after each stop with no load and no wear", reuse=Level.NOTHING, ge=0)
-
-    @field_validator("speed", "load")
-    @classmethod
-    def _ramp(cls, value: Ramp) -> tuple[float, float]:
-        """A number v is the constant factor [v, v]."""
-        return (value, value) if isinstance(value, float) else value
-
-    @property
-    def period(self) -> float:
-        """The time of one stop and its dwell."""
-        return self.duration + self.dwell
-
-
-def block(entry, where: str) -> Stop:
-    """One block from a table (or a file's row), or one SceneError line starting with ``where``."""
-    if not isinstance(entry, (dict, Stop)):
-        raise SceneError(f"{where}: must be a table {{count, duration, speed, load, dwell}} (got {entry!r})")
-    try:
-        return Stop.model_validate(entry)
-    except ValidationError as err:
-        from .messages import message  # messages reads the declarations of this module
-        first = sorted(err.errors(), key=lambda e: e["type"] != "extra_forbidden")[0]
-        name = first["loc"][0] if first["loc"] else "block"
-        if first["type"] == "extra_forbidden":
-            text = f"{name}: unknown (allowed: {', '.join(Stop.model_fields)})"
-        elif name in ("speed", "load"):
-            text = f"{name}: must be a number or [start, end] (got {entry.get(name)!r})"
-        else:
-            text = message(first, entry, Stop)
-        raise SceneError(f"{where}: {text}") from None
-
-
-class Programme(Section):
-    """A braking programme: blocks of identical stops, run one after the other (see :mod:`ngwear.model.programme`)."""
-
-    stops: tuple[Stop, ...] = key((), "the blocks, one after the other, each `{ count, duration, speed, load, "
-                                  "dwell }` (the keys `programme.stops[].…`)", reuse=Level.NOTHING, shown="—",
-                                  allowed="one block or more")
-    file: str | None = key(None, "a CSV file of the blocks (instead of `stops`; relative to the scene file): a header "
-                           "naming the columns `count`, `duration` and any of `speed`, `load`, `dwell`, then one row "
-                           "a block (a [start, end] factor quoted: `\"[1.0, 0.0]\"`)", reuse=Level.NOTHING, shown="—",
-                           allowed="an existing CSV file")
-    steps_per_stop: Whole = key(20, "uniform time steps of one stop (`time.adaptive` is refused with a programme)",
-                                reuse=Level.NOTHING, ge=1, le=10_000)
-    jump: Flag = key(False, "apply stops of a block at once (cycle jumps) once their wear increments settle",
-                     reuse=Level.NOTHING)
-    jump_tolerance: Number = key(1e-3, "`jump`: the change of the wear increment between consecutive simulated "
-                                 "stops, relative to the increment (max over Γ_C), below which stops are jumped",
-                                 reuse=Level.NOTHING, gt=0, lt=1)
-
-    @field_validator("stops", mode="before")
-    @classmethod
-    def _blocks(cls, value):
-        """Each block checked on its own: one line naming the block and its key."""
-        if not isinstance(value, (list, tuple)):
-            raise SceneError(f"programme.stops: must be a list of blocks {{count, duration, speed, load, dwell}} "
-                             f"(got {value!r})")
-        return tuple(block(entry, f"programme.stops: block {i}") for i, entry in enumerate(value, start=1))
-
-    @model_validator(mode="after")
-    def _one_source(self) -> Programme:
-        if (not self.stops) == (self.file is None):
-            raise SceneError("programme.stops: give the blocks either as programme.stops or in programme.file "
-                             f"(got {'both' if self.stops else 'neither'})")
-        self.blocks       # a file is read (and its rows checked) with the scene
-        return self
-
-    @property
-    def blocks(self) -> tuple[Stop, ...]:
-        """The blocks: ``stops``, or the rows of ``file``."""
-        if self.file is None:
-            return self.stops
-        return tuple(block(row, f"programme.file: {where}") for where, row in read_rows(self.file))
-
-    @property
-    def end(self) -> float:
-        """T: the time of every stop and dwell."""
-        return math.fsum(b.count * b.period for b in self.blocks)
-
-    @property
-    def steps(self) -> int:
-        """The time steps of the programme's stops, one after the other (its dwells take none)."""
-        return sum(b.count for b in self.blocks) * self.steps_per_stop
 
 
 SECTIONS = {"geometry": Geometry, "mesh": MeshSpec, "material": Material, "contact": Contact,

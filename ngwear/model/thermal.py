@@ -16,11 +16,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
+from pydantic import field_validator
 
 from . import mandel
-from .keys import SceneError
+from .keys import Level, Number, SceneError, Section, key
 
 
 @dataclass(frozen=True)
@@ -71,3 +73,67 @@ def thermal_stress(law, alpha: float) -> np.ndarray:
     stress = mandel.from_mandel(linear.stiffness_3d @ (alpha * mandel.to_mandel(np.eye(3))))
     return stress[:linear.dim, :linear.dim]
 
+
+# ---------------------------------------------------------------- the scene's [heat] table
+
+
+class Convection(Section):
+    """One entry of ``heat.convection``: −k ∂T/∂n = h (T − T_∞) on a named boundary."""
+
+    boundary: str = key(..., "a named boundary of the part, not `contact`", reuse=Level.NOTHING)
+    coefficient: Number = key(..., "h, the heat transfer coefficient", reuse=Level.NOTHING, ge=0)
+
+
+class HeatSpec(Section):
+    """Heat conduction in the body, ρc ∂T/∂t = ∇·(k∇T), heated on Γ_C by friction (see :mod:`ngwear.numerics.heat`)."""
+
+    model: Literal["none", "conduction"] = key(
+        "none", "`none`: no temperature (the paper's model); `conduction`: the temperature of the body, heated by "
+        "the share η of the frictional power μ p ‖v*‖ on Γ_C", reuse=Level.NOTHING)
+    partition: Number | Literal["effusivity"] | None = key(
+        None, "η, the share of the frictional heat that enters the body (the rest the counterface): a number, or "
+        "`effusivity`: η = e_b / (e_b + e_f), e = √(kρc) of the body's region on Γ_C and of the counterface "
+        "(`foundation.conductivity`, `density`, `heat_capacity`)", reuse=Level.NOTHING,
+        shown="— (needed with `conduction`)", allowed="in [0, 1], effusivity")
+    convection: tuple[Convection, ...] = key(
+        (), "[{ boundary, coefficient }, …]: convection −k ∂T/∂n = h (T − T_∞) on these boundaries; every other "
+        "boundary is adiabatic", reuse=Level.NOTHING, shown="[] (all adiabatic)",
+        allowed="named boundaries except `contact`, each once; h >= 0")
+    ambient: Number = key(0.0, "T_∞, the surroundings' temperature (convection, the counterface's cooling)",
+                          reuse=Level.NOTHING)
+    initial: Number | None = key(None, "T₀, the initial temperature of the body and of a lumped counterface; the "
+                                 "stress-free temperature of `material.expansion`", reuse=Level.NOTHING,
+                                 shown="`heat.ambient`")
+
+    @field_validator("convection", mode="before")
+    @classmethod
+    def _convection(cls, entries):
+        """A list of tables { boundary = name, coefficient = h >= 0 }, each refused by its index."""
+        if not isinstance(entries, (list, tuple)):
+            raise SceneError(f"heat.convection: must be a list of tables {{ boundary, coefficient }} (got {entries!r})")
+        for i, entry in enumerate(entries):
+            name = f"heat.convection[{i}]"
+            if isinstance(entry, Convection):
+                continue
+            if not isinstance(entry, dict) or set(entry) != {"boundary", "coefficient"}:
+                raise SceneError(f"{name}: must be a table {{ boundary = NAME, coefficient = h }} (got {entry!r})")
+            h = entry["coefficient"]
+            if not isinstance(entry["boundary"], str):
+                raise SceneError(f"{name}.boundary: must be a boundary's name (got {entry['boundary']!r})")
+            if isinstance(h, bool) or not isinstance(h, (int, float)) or not math.isfinite(h) or h < 0:
+                raise SceneError(f"{name}.coefficient: must be a finite number >= 0 (got {h!r})")
+        return entries
+
+    @field_validator("partition", mode="before")
+    @classmethod
+    def _partition(cls, value):
+        """A number in [0, 1] or ``"effusivity"``."""
+        number = isinstance(value, (int, float)) and not isinstance(value, bool)
+        if value is None or value == "effusivity" or (number and 0 <= value <= 1):
+            return value
+        raise SceneError(f"heat.partition: must be a number in [0, 1] or 'effusivity' (got {value!r})")
+
+    @property
+    def start(self) -> float:
+        """T₀: ``heat.initial``, or ``heat.ambient`` when it is not given."""
+        return self.ambient if self.initial is None else self.initial
