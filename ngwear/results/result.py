@@ -103,6 +103,9 @@ class Result:
     recording : Recording or None
         How the run recorded itself (its rows' storage and its warm start: a checkpoint needs them); None when read
         from files.
+    meshes : dict of int to ndarray
+        ``wear.geometry = "surface"``: the vertices (nv, d) of the body after k geometry updates, kept for the meshes
+        the frames show (:meth:`body_coordinates`).
     provenance : dict or None
         ``ngwear``, ``ngsolve``, ``python``: the versions that computed it; ``scene_sha256``: the SHA-256 of its
         scene's canonical JSON (:mod:`ngwear.results.provenance`).  None for a file written before they were kept.
@@ -493,8 +496,9 @@ class Result:
         mesh = {"mesh_sha256": np.array(keep_mesh(self, out))} if self.discretization is not None else {}
         arrays = {**self.arrays(), **{f.name: getattr(self, f.name) for f in DERIVED},
                   "field_steps": np.array(steps, dtype=int), "fields": fields, **mesh, **self._temperature_fields(steps)}
-        if self.geometry_updates and self.discretization is not None:
-            arrays["frame_coordinates"] = np.array([self.body_coordinates(s) for s in steps])
+        if self.discretization is not None:                 # the worn body of each frame ("surface")
+            arrays["frame_coordinates"] = (np.array([self.body_coordinates(s) for s in steps]) if self.geometry_updates
+                                           else np.zeros((0, 0, self.scene.dim)))
         if self.scene.units:
             arrays["units"] = np.array(json.dumps(units(self.scene, arrays), ensure_ascii=False))
         with replacing(out / "result.npz") as tmp:
@@ -568,7 +572,7 @@ def load_result(directory) -> Result:
     scene = Scene.from_dict(json.loads((src / "scene.json").read_text()))
     result = from_arrays(scene, data, saved_discretization(scene, src, data))
     result.fields = {int(s): f for s, f in zip(data["field_steps"], data["fields"])}
-    if "frame_coordinates" in data:
+    if "frame_coordinates" in data and len(data["frame_coordinates"]):
         result.meshes = {result.updates_by(int(s)): x for s, x in zip(data["field_steps"], data["frame_coordinates"])}
     if "temperature_fields" in data:
         result.temperatures = {int(s): f for s, f in zip(data["field_steps"], data["temperature_fields"])}
