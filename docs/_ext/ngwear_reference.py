@@ -66,6 +66,9 @@ MEANING = {
                                     "from the step after it)"),
         "field_steps": ("(F,)", "the frames: steps whose full displacement is stored"),
         "fields": ("(F, DOFs)", "the displacement's DOF vector at each frame"),
+        "frame_coordinates": ("(F, vertices, d)", "`wear.geometry = \"surface\"`: the vertices of the body at each "
+                                                  "frame, the mesh moved by the updates at or before its step (the "
+                                                  "frames are written on it); empty (0, 0, d) without an update"),
         "temperature_fields": ("(F, P1 DOFs)", "only with `heat`: the nodal temperature (P1) at each frame"),
         "units": ("()", "only for a scene with `units = \"SI\"`: the unit of each key, as JSON (`{\"torque\": "
                         "\"N·m\", …}`)"),

@@ -4,13 +4,14 @@ Its points are the contact points x_i in the order of ``result.npz``'s ``contact
 ``pressure[step, i]``, …), then, for P2 in 3D, where the vertices of Γ_C are no contact points (the edge-midpoint
 rule), those vertices, with values reconstructed linearly from the midpoints as the frames' ``wear``
 (:attr:`~ngwear.numerics.points.ContactPoints.at_vertices`).  Its cells are the facets of Γ_C: segments (2D) or
-triangles (3D), quadratic ones for P2 (the midpoints their middle nodes), in the reference configuration.  Its
+triangles (3D), quadratic ones for P2 (the midpoints their middle nodes), in the reference configuration: the mesh
+as it is, or (:meth:`Surface.on`) as a geometry update left it (``wear.geometry = "surface"``: the frame's face).  Its
 point fields are :data:`CONTACT_FIELDS`; a new one is one :class:`ContactField` there.
 """
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import ngsolve as ngs
@@ -60,18 +61,25 @@ CONTACT_FIELDS = (
 
 @dataclass(frozen=True)
 class Surface:
-    """Γ_C as cells: ``points`` (m, 3), ``cells`` {VTK type: (k, nodes)}, ``extend`` (m − n) × n.
+    """Γ_C as cells: ``points`` (m, 3), ``cells`` {VTK type: (k, nodes)}, ``extend`` (m − n) × n, ``ends`` (m, 2).
 
-    ``extend`` gives the values at the added vertices from those at the contact points.
+    ``extend`` gives the values at the added vertices from those at the contact points; ``ends`` the mesh vertices
+    whose midpoint each point is (a vertex twice).
     """
 
     points: np.ndarray
     cells: dict[int, np.ndarray]
     extend: sp.csr_matrix
+    ends: np.ndarray
 
     def values(self, at_points: np.ndarray) -> np.ndarray:
         """A field at the m points of the file from its values at the n contact points."""
         return np.concatenate([at_points, self.extend @ at_points])
+
+    def on(self, coords: np.ndarray) -> Surface:
+        """The face with its points where the mesh's vertices are at ``coords`` (nv × d): ½ (x_a + x_b) of the ends."""
+        points = 0.5 * (coords[self.ends[:, 0]] + coords[self.ends[:, 1]])
+        return replace(self, points=np.pad(points, ((0, 0), (0, 3 - points.shape[1]))))
 
 
 def surface(disc) -> Surface:
@@ -81,6 +89,7 @@ def surface(disc) -> Surface:
     at_edge = {int(e): i for i, e in enumerate(points.edges) if e >= 0}
     added: list[int] = []
     cells: dict[int, list] = {}
+    edge_ends: dict[int, tuple[int, int]] = {}
     for el in mesh.Elements(ngs.BND):
         if el.mat != "contact":
             continue
@@ -91,14 +100,17 @@ def surface(disc) -> Surface:
                 added.append(v)
         nodes = [at_vertex[v] for v in corners]
         if order == 2:
-            edges = {frozenset(v.nr for v in mesh[e].vertices): e.nr for e in el.edges}
+            edge_ends.update({e.nr: tuple(v.nr for v in mesh[e].vertices) for e in el.edges})
+            edges = {frozenset(edge_ends[e.nr]): e.nr for e in el.edges}
             sides = [(corners[k], corners[(k + 1) % len(corners)]) for k in range(len(corners) if len(corners) > 2
                                                                                     else 1)]
             nodes += [at_edge[edges[frozenset(side)]] for side in sides]
         cells.setdefault(CELL_TYPES[len(corners), order], []).append(nodes)
+    ends = [(v, v) if v >= 0 else edge_ends[e] for v, e in zip(points.vertices, points.edges)]
     coords = np.concatenate([points.coords, mesh.ngmesh.Coordinates()[added, :points.coords.shape[1]]])
     return Surface(np.pad(coords, ((0, 0), (0, 3 - coords.shape[1]))),
-                   {kind: np.array(nodes) for kind, nodes in cells.items()}, points.at_vertices[added])
+                   {kind: np.array(nodes) for kind, nodes in cells.items()}, points.at_vertices[added],
+                   np.array(ends + [(v, v) for v in added], dtype=int).reshape(-1, 2))
 
 
 def write_contact(result, step: int, face: Surface, path: Path) -> None:

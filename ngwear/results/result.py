@@ -40,6 +40,7 @@ from scipy.integrate import cumulative_trapezoid
 from ..model.kinematics import Slip
 from ..model.programme import Schedule
 from ..model.scene import Scene
+from ..numerics.motion import coordinates
 from ..numerics.points import initial_distance
 from ..numerics.solver import NewtonRecord
 from .folder import replacing
@@ -94,6 +95,9 @@ class Result:
     recording : Recording or None
         How the run recorded itself (its rows' storage and its warm start: a checkpoint needs them); None when read
         from files.
+    meshes : dict of int to ndarray
+        ``wear.geometry = "surface"``: the vertices (nv, d) of the body after k geometry updates, kept for the meshes
+        the frames show (:meth:`body_coordinates`).
     provenance : dict or None
         ``ngwear``, ``ngsolve``, ``python``: the versions that computed it; ``scene_sha256``: the SHA-256 of its
         scene's canonical JSON (:mod:`ngwear.results.provenance`).  None for a file written before they were kept.
@@ -124,6 +128,7 @@ class Result:
     removed_rows: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
     removed: np.ndarray | None = field(default=None, repr=False)      # (U, n): each geometry update's W at the points
     moved_weights: np.ndarray | None = field(default=None, repr=False)  # (U, n): m_i after each update
+    meshes: dict[int, np.ndarray] = field(default_factory=dict, repr=False)   # k: the vertices after k updates
 
     @property
     def completed(self) -> bool:
@@ -265,8 +270,44 @@ class Result:
         """The number of geometry updates (``wear.geometry = "surface"``)."""
         return len(self.removed_rows)
 
-    def moved(self, realised: np.ndarray, disc) -> None:
-        """A geometry update after the last step: its wear W at the points leaves the layer for the body (on ``disc``)."""
+    def updates_by(self, step: int) -> int:
+        """The number of geometry updates at or before ``step``: the body's mesh there (0: as built)."""
+        return int(np.searchsorted(self.removed_rows, self.step_index(step), side="right"))
+
+    def body_coordinates(self, step: int) -> np.ndarray | None:
+        """The vertices (nv, d) of the body at ``step``: its mesh moved by the geometry updates at or before the step.
+
+        None while the geometry never moved (the discretization's mesh is the body's).  After k updates the
+        body is mesh k (0: as built), kept (:attr:`meshes`) for the frames that show it; the last (the
+        discretization's) always.
+        """
+        if not len(self.removed_rows):
+            return None
+        k = self.updates_by(step)
+        if k not in self.meshes:
+            raise KeyError(f"the body's mesh at step {step} (after {k} geometry updates) was not kept; the frames' "
+                           f"steps: {self.stored_steps}")
+        return self.meshes[k]
+
+    def moved(self, realised: np.ndarray, disc, before: np.ndarray) -> None:
+        """A geometry update after the last step: its wear W at the points leaves the layer for the body (on ``disc``).
+
+        The mesh in force until now (its vertices ``before``) is kept if a frame since the last update shows it (and
+        ``disc``'s, in force from this step, until the next update tells), and the displacement of those frames and
+        of this step (a frame, or not: the next steps tell) is recovered on the discretization it was solved on,
+        before ``disc`` replaces it.
+        """
+        start, k = (self.removed_rows[-1] if len(self.removed_rows) else 0), len(self.removed_rows)
+        frames = [j for j in self.stored_steps if start <= j < self.steps]    # exact: no later step is nearer
+        if frames:
+            self.meshes[k] = before
+        else:
+            self.meshes.pop(k, None)
+        self.meshes[k + 1] = coordinates(disc.mesh)
+        for j in [j for j in self.fields if start <= j < self.steps and j not in frames]:
+            del self.fields[j]                          # the last update's step, no frame after all
+        for j in [*frames, self.steps]:
+            self.displacement(j)
         w = np.maximum(self.wear[-1] - realised, 0.0)
         self.removed = np.vstack([self.removed, realised]) if len(self.removed_rows) else realised[None, :].copy()
         self.removed_rows = np.append(self.removed_rows, self.steps)
@@ -384,6 +425,9 @@ class Result:
         mesh = {"mesh_sha256": np.array(keep_mesh(self, out))} if self.discretization is not None else {}
         arrays = {**self.arrays(), **{f.name: getattr(self, f.name) for f in DERIVED},
                   "field_steps": np.array(steps, dtype=int), "fields": fields, **mesh, **self._temperature_fields(steps)}
+        if self.discretization is not None:                 # the worn body of each frame ("surface")
+            arrays["frame_coordinates"] = (np.array([self.body_coordinates(s) for s in steps]) if self.geometry_updates
+                                           else np.zeros((0, 0, self.scene.dim)))
         if self.scene.units:
             arrays["units"] = np.array(json.dumps(units(self.scene, arrays), ensure_ascii=False))
         with replacing(out / "result.npz") as tmp:
@@ -457,6 +501,8 @@ def load_result(directory) -> Result:
     scene = Scene.from_dict(json.loads((src / "scene.json").read_text()))
     result = from_arrays(scene, data, saved_discretization(scene, src, data))
     result.fields = {int(s): f for s, f in zip(data["field_steps"], data["fields"])}
+    if "frame_coordinates" in data and len(data["frame_coordinates"]):
+        result.meshes = {result.updates_by(int(s)): x for s, x in zip(data["field_steps"], data["frame_coordinates"])}
     if "temperature_fields" in data:
         result.temperatures = {int(s): f for s, f in zip(data["field_steps"], data["temperature_fields"])}
     return result

@@ -8,6 +8,10 @@ times, the body as part 0 and the contact face as part 1 (ParaView opens it as o
 into a scratch folder and moved in when complete: an interrupted write never leaves a half series, and a
 rerun into the same folder leaves no frame of an earlier run behind.
 
+With ``wear.geometry = "surface"`` each frame shows the body as it was at its step: the mesh moved by the
+geometry updates at or before the step (:meth:`Result.body_coordinates <ngwear.results.result.Result.body_coordinates>`),
+its fields evaluated there, and the contact file's face with it.
+
 Every element is written, a backing's too, with the cell field ``region``: k for the k-th region of the mesh
 (``mesh.GetMaterials()``; the built-in kinds: 0 ``body``, 1 ``backing``), so that ParaView's Threshold picks a
 region.  NGSolve writes the cells of each element together, as many for each (P2: its subdivision); a mesh of
@@ -20,11 +24,13 @@ import logging
 import os
 import re
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
 
+from ..numerics.motion import coordinates, place
 from .bulk_stress import BulkStress, unknown_normal
 from .contact_file import surface, write_contact
 
@@ -59,9 +65,13 @@ def write_series(result, directory: Path) -> Path:
         log.warning("%s: stress: σ₃₃ of region %s is written 0 (its 2D energy law does not define it)",
                     result.scene.name, ", ".join(unknown))
     face = surface(disc)
-    with tempfile.TemporaryDirectory(dir=directory, prefix=".fields-") as scratch:
+    final = coordinates(mesh) if result.geometry_updates else None
+    with tempfile.TemporaryDirectory(dir=directory, prefix=".fields-") as scratch, _restored(mesh, final):
         entries = []
         for step in result.stored_steps:
+            body = result.body_coordinates(step)
+            if body is not None:                        # the worn body as it was at the step
+                place(mesh, body)
             u.vec.FV().NumPy()[:] = result.displacement(step)
             disc.set_nodal(wear, result.wear[step])
             if temperature is not None:
@@ -72,7 +82,7 @@ def write_series(result, directory: Path) -> Path:
                           subdivision=result.scene.mesh.order - 1).Do()
             if uniform:
                 add_cell_field(Path(scratch) / f"{name}.vtu", "region", regions)
-            write_contact(result, step, face, Path(scratch) / f"{contact}.vtu")
+            write_contact(result, step, face if body is None else face.on(body), Path(scratch) / f"{contact}.vtu")
             entries += [f'<DataSet timestep="{t!r}" part="0" file="{name}.vtu"/>',
                         f'<DataSet timestep="{t!r}" part="1" file="{contact}.vtu"/>']
         (Path(scratch) / "fields.pvd").write_text(
@@ -83,6 +93,16 @@ def write_series(result, directory: Path) -> Path:
         for new in sorted(Path(scratch).iterdir(), key=lambda f: f.suffix == ".pvd"):   # the index last
             os.replace(new, directory / new.name)       # a link there is replaced, never written through
     return directory / "fields.pvd"
+
+
+@contextmanager
+def _restored(mesh: ngs.Mesh, coords: np.ndarray | None):
+    """Put the mesh's vertices back at ``coords`` (its own: the frames move it to theirs) when done (None: unmoved)."""
+    try:
+        yield
+    finally:
+        if coords is not None:
+            place(mesh, coords)
 
 
 def temperature_field(result) -> ngs.GridFunction | None:

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..model.programme import Schedule
 from ..numerics.discrete import Discretization
-from ..numerics.motion import Recession, contact_height
+from ..numerics.motion import Recession, contact_height, coordinates
 from .jumps import CycleJumps, rigid_modes
 
 WORN_OUT = "worn_out"
@@ -229,6 +229,7 @@ class Surface:
             result.status = (f"step {result.steps} (t = {result.times[-1]:.4g}): wear.geometry = 'surface': "
                              f"{quality.reason}; the run stops there (a worn body is not remeshed within a run)")
             return None
+        before = coordinates(self.recession.mesh)         # the mesh in force until now: frames may show it
         realised = self.recession.accept(coords, wear)
         drive = disc.contact.drive
         self.disc = Discretization(scene, self.recession.mesh, disc.contact_solve)
@@ -236,7 +237,7 @@ class Surface:
             self.disc.contact.drive.at(drive.stop, drive.step)
         self.threshold = self._threshold(self.recession.mesh)
         self.updates += 1
-        result.moved(realised, self.disc)
+        result.moved(realised, self.disc, before)
         return self.disc
 
     def apply(self, result, clock):
