@@ -3,7 +3,8 @@
 A simulated stop's rows are its start and its m steps (:meth:`~ngwear.model.programme.Schedule.rows`); its numbers
 are integrals over them by the trapezoidal rule on the stop's grid:
 
-* ``energy``  ∫ P dt, P = Σ m_i μ_i p_i ‖v*_i‖ (m_i of the step: a geometry update moves them);
+* ``energy``  ∫ P dt, P = Σ m_i μ_i p_i ‖v*_i‖ (:attr:`Result.friction_power <ngwear.results.result.Result>`: μ_i and
+  m_i of the step, a coefficient of state and a geometry update change them);
 * ``torque``, ``friction_force``, ``apparent_friction``  their means over the stop, (1/d) ∫ · dt;
 * ``worn_volume``  Σ m_i Δw_i, Δw the stop's wear increment (end minus start), and ``worn_mass`` ρ times it
   (with ``material.density``);
@@ -48,9 +49,7 @@ def stop_table(result):
     schedule = Schedule.of(scene.programme)
     m, rows = schedule.steps, len(result.times)
     stop_of, step_of = (a[:rows] for a in schedule.rows(result.jumped))
-    speed = np.abs(schedule.row_factors(result.jumped, rows)[0])
-    speeds = speed[:, None] * _slip_speed(result)[None, :]
-    power = np.sum(result.pressure * speeds * result.friction_coefficient * result.row_weights, axis=1)
+    power = result.friction_power                     # μ of each step (a coefficient of state: the one it used)
     torque, force, apparent = result.torque, result.friction_force, result.apparent_friction
     total, remaining = result.total_wear, result.remaining_thickness
     density = scene.value("material.density")
@@ -84,8 +83,3 @@ def stop_table(result):
         table.insert(table.columns.get_loc("worn_volume") + 1, "worn_mass", density * table["worn_volume"])
     return table
 
-
-def _slip_speed(result) -> np.ndarray:
-    """‖v*_i‖ at s_v = 1 at the contact points."""
-    from ..model.kinematics import Slip
-    return Slip(result.scene.foundation, result.contact_points, result.scene.contact.direction).speed
