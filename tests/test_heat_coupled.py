@@ -120,6 +120,58 @@ def test_fading_friction_through_a_stop_is_the_hand_computed_recursion():
     assert result.friction_force[-1] < 0.8 * result.friction_force[0]         # it faded
 
 
+def test_a_programme_with_heat_cools_over_its_dwells_and_tabulates_each_stops_temperatures(monkeypatch):
+    """The fading stop above twice (v: 1 → 0 over 4, 10 steps), a dwell of 6 between: a hand recursion through both.
+
+    The crossing slides nothing: the adiabatic body keeps its heat to round-off, the disc relaxes to T_∞ by backward
+    Euler's factor C_d / (C_d + Δt H_d) = 3 / (3 + 6 · 0.5) = ½, ``heat_flux`` is 0; in the stops the body and the disc
+    follow the recursion of the single stop, μ_j = μ(T_{j−1}) (the crossing's row included).  The stop table's
+    temperatures are the rows' at the stop's first and last rows and the maximum over them; its energy is ∫ F_t v dt
+    with the μ each step used (it fades: the second stop dissipates less).
+    """
+    seen = balances(monkeypatch)
+    data = lumped_stop().to_dict()
+    data.pop("time")
+    data["foundation"].pop("speed_table")
+    data["output"].pop("every", None)
+    scene = Scene.from_dict({**data, "programme": {"stops": [{"count": 2, "duration": 4.0, "speed": [1.0, 0.0],
+                                                              "dwell": 6.0}], "steps_per_stop": 10}})
+    result = ngwear.simulate(scene, progress=False)
+    assert result.completed and result.steps == 21 and result.times[11] == 10.0
+    crossing = seen[10]                                             # row 11: the Heat.advance calls start at row 1
+    assert crossing.supplied == seen[9].supplied and crossing.convected == seen[9].convected == 0
+    # to the solve's round-off: cond(M + Δt A) ≈ Δt k / (ρc h²) = 6 · 1e4 / (2 · 0.05²) ≈ 1e7, so ~1e7 · 1e-16
+    assert crossing.stored == pytest.approx(seen[9].stored, rel=1e-8, abs=0)
+    assert result.heat_flux[11] == 0 and result.heat_flux[12] > 0
+    body, disc, mu = [1.0], [1.0], [0.45]
+    for j in range(1, 22):
+        mu.append(0.5 - 0.05 * body[-1])
+        dt, power = (6.0, 0.0) if j == 11 else (0.4, mu[-1] * (1 - 0.1 * (j % 11)))    # N = 1
+        body.append(body[-1] + dt * 0.5 * power / 0.2)
+        disc.append((3.0 * disc[-1] + dt * (0.5 * power + 0.5 * 1.0)) / (3.0 + dt * 0.5))
+    assert disc[11] - 1.0 == pytest.approx(0.5 * (disc[10] - 1.0), rel=1e-12)
+    assert np.allclose(result.max_temperature, body, rtol=2e-6)
+    assert np.allclose(result.foundation_temperature, disc, rtol=2e-6)
+    assert np.allclose(result.step_friction, np.array(mu)[:, None], rtol=2e-6)
+    stops = result.stops
+    assert list(stops.columns[-7:]) == ["temperature_start", "temperature_peak", "temperature_end",
+                                        "foundation_temperature_start", "foundation_temperature_peak",
+                                        "foundation_temperature_end", "simulated"]
+    for stop, rows in ((0, slice(0, 11)), (1, slice(11, 22))):
+        for name, values in (("temperature", result.max_temperature),
+                             ("foundation_temperature", result.foundation_temperature)):
+            assert stops.loc[stop, f"{name}_start"] == values[rows][0]
+            assert stops.loc[stop, f"{name}_peak"] == values[rows].max()
+            assert stops.loc[stop, f"{name}_end"] == values[rows][-1]
+        times, v = result.times[rows], 1 - (result.times[rows] - result.times[rows][0]) / 4
+        work = result.friction_force[rows] * v
+        energy = np.sum(0.5 * (work[1:] + work[:-1]) * np.diff(times))
+        assert stops.loc[stop, "energy"] == pytest.approx(energy, rel=1e-9)
+    assert stops.loc[1, "temperature_start"] == pytest.approx(stops.loc[0, "temperature_end"], rel=1e-8)   # kept
+    assert stops.loc[0, "foundation_temperature_peak"] > stops.loc[0, "foundation_temperature_end"]   # it cooled
+    assert stops.loc[1, "energy"] < 0.95 * stops.loc[0, "energy"]                                      # fade
+
+
 def test_archards_discrete_identity_with_a_wear_coefficient_of_temperature():
     """Explicit: w_{j+1} = w_j + Δt κ(T_j) ‖v‖ p_j at every point, κ read from the last step's surface temperature."""
     result = ngwear.simulate(lumped_stop(**{"contact.wear": "1e-3 * (1 + exp((T - 3) / 2))", "contact.friction": 0.5,

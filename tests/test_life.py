@@ -85,6 +85,7 @@ def test_stop_table_is_archard_against_the_friction_power(blocks):
     assert stops["max_total_wear"].iloc[-1] == r.total_wear[-1].max()
     assert stops["min_remaining_thickness"].iloc[-1] == pytest.approx(1.0 - r.wear[-1].max(), rel=1e-12)
     assert (stops["apparent_friction"] <= scene.contact.friction + 1e-12).all()
+    assert not any("temperature" in c for c in stops.columns)                 # no heat: no temperature columns
 
 
 def test_cli_writes_stops_csv(tmp_path):

@@ -3,14 +3,21 @@
 A simulated stop's rows are its start and its m steps (:meth:`~ngwear.model.programme.Schedule.rows`); its numbers
 are integrals over them by the trapezoidal rule on the stop's grid:
 
-* ``energy``  ∫ P dt, P = Σ m_i μ_i p_i ‖v*_i‖ (m_i of the step: a geometry update moves them);
+* ``energy``  ∫ P dt, P = Σ m_i μ_i p_i ‖v*_i‖ (:attr:`Result.friction_power <ngwear.results.result.Result>`: μ_i and
+  m_i of the step, a coefficient of state and a geometry update change them);
 * ``torque``, ``friction_force``, ``apparent_friction``  their means over the stop, (1/d) ∫ · dt;
 * ``worn_volume``  Σ m_i Δw_i, Δw the stop's wear increment (end minus start), and ``worn_mass`` ρ times it
   (with ``material.density``);
-* ``max_total_wear``, ``min_remaining_thickness``  at its end.
+* ``max_total_wear``, ``min_remaining_thickness``  at its end;
+* with a temperature (``heat.model = "conduction"``): ``temperature_start``, ``temperature_peak``,
+  ``temperature_end`` of the body's highest temperature (``max_temperature``) at the stop's first row, the maximum
+  over its rows and at its last row, and ``foundation_temperature_start``, ``…_peak``, ``…_end`` of the
+  counterface's: the wear-versus-temperature table of a wear test.
 
 A jumped stop (``programme.jump``) repeats the last simulated stop before it: its energy and means, its increment
-(the jump adds N Δw), so the k-th jumped stop after simulated stop s ends with the wear w_s + k Δw_s.
+(the jump adds N Δw), so the k-th jumped stop after simulated stop s ends with the wear w_s + k Δw_s, and its
+temperatures (the jump's premise: its stops are the simulated one's; the heat of jumped stops is not simulated, the
+crossing over them only cools).
 """
 from __future__ import annotations
 
@@ -19,8 +26,13 @@ import numpy as np
 from ..model.programme import Schedule
 
 COLUMNS = ("stop", "block", "start", "energy", "torque", "friction_force", "apparent_friction", "worn_volume",
-           "worn_mass", "max_total_wear", "min_remaining_thickness", "simulated")
-"""The columns of ``stops.csv`` (``worn_mass`` only with ``material.density``)."""
+           "worn_mass", "max_total_wear", "min_remaining_thickness", *(
+               f"{field}_{when}" for field in ("temperature", "foundation_temperature")
+               for when in ("start", "peak", "end")), "simulated")
+"""The columns of ``stops.csv`` (``worn_mass`` only with ``material.density``, the temperatures only with heat)."""
+
+TEMPERATURES = {"temperature": "max_temperature", "foundation_temperature": "foundation_temperature"}
+"""The stop table's temperature columns' prefix and the step field each reads (with ``heat.model = "conduction"``)."""
 
 
 def _mean(values: np.ndarray, times: np.ndarray) -> float:
@@ -37,12 +49,11 @@ def stop_table(result):
     schedule = Schedule.of(scene.programme)
     m, rows = schedule.steps, len(result.times)
     stop_of, step_of = (a[:rows] for a in schedule.rows(result.jumped))
-    speed = np.abs(schedule.row_factors(result.jumped, rows)[0])
-    speeds = speed[:, None] * _slip_speed(result)[None, :]
-    power = np.sum(result.pressure * speeds * result.friction_coefficient * result.row_weights, axis=1)
+    power = result.friction_power                     # μ of each step (a coefficient of state: the one it used)
     torque, force, apparent = result.torque, result.friction_force, result.apparent_friction
     total, remaining = result.total_wear, result.remaining_thickness
     density = scene.value("material.density")
+    heated = {name: getattr(result, field) for name, field in TEMPERATURES.items() if field in result.rows}
     records, jumped = {}, set(result.jumped.tolist())
     for end in np.flatnonzero(step_of == m):
         span, stop = slice(end - m, end + 1), int(stop_of[end])
@@ -51,26 +62,24 @@ def stop_table(result):
         energy = float(np.sum(0.5 * (power[span][1:] + power[span][:-1]) * np.diff(times)))
         row = {"energy": energy, "torque": _mean(torque[span], times), "friction_force": _mean(force[span], times),
                "apparent_friction": _mean(apparent[span], times), "worn_volume": float(increment @ result.weights)}
+        heat = {f"{name}_{when}": float(value) for name, values in heated.items()
+                for when, value in (("start", values[span][0]), ("peak", values[span].max()), ("end", values[end]))}
         records[stop] = {**row, "max_total_wear": float(total[end].max()),
-                         "min_remaining_thickness": float(remaining[end].min()), "simulated": True}
+                         "min_remaining_thickness": float(remaining[end].min()), **heat, "simulated": True}
         k = stop + 1
         while k in jumped:
             records[k] = {**row, "max_total_wear": float((total[end] + (k - stop) * increment).max()),
                           "min_remaining_thickness": float((remaining[end] - (k - stop) * increment).min()),
-                          "simulated": False}
+                          **heat, "simulated": False}
             k += 1
     order = sorted(records)
     table = pd.DataFrame([records[i] for i in order], index=pd.Index(order, name="stop"))
     if not len(order):
-        table = pd.DataFrame(columns=[c for c in COLUMNS if c not in ("stop", "worn_mass")])
+        table = pd.DataFrame(columns=[c for c in COLUMNS if c not in ("stop", "worn_mass") and
+                                      (heated or "temperature" not in c)])
     table.insert(0, "block", schedule.block[order])
     table.insert(1, "start", schedule.start[order])
     if density is not None:
         table.insert(table.columns.get_loc("worn_volume") + 1, "worn_mass", density * table["worn_volume"])
     return table
 
-
-def _slip_speed(result) -> np.ndarray:
-    """‖v*_i‖ at s_v = 1 at the contact points."""
-    from ..model.kinematics import Slip
-    return Slip(result.scene.foundation, result.contact_points, result.scene.contact.direction).speed

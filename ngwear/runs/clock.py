@@ -34,6 +34,9 @@ GROWTH, SHRINK, SAFETY = 4.0, 0.2, 0.9
 class Clock:
     """Where the next step ends, and whether the step just solved is accurate enough (adaptive)."""
 
+    still = False
+    """Whether the step being solved slides nothing (never: a programme's dwell, :class:`~ngwear.runs.life.StopClock`)."""
+
     def __init__(self, scene, largest_rate: float, rejected: int = 0, step: float | None = None):
         """``rejected`` and ``step`` (the next step) of a run that resumes; None: the scene's first step."""
         t = scene.time

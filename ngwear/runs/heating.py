@@ -11,7 +11,10 @@ bit.  The coupling is explicit (docs/guide/heat.md): the step at t_{j+1}
 3. heats the body by one backward-Euler step of Δt = t_{j+1} − t_j with the frictional power of its solution,
    q_i = μ_{j+1,i} p_{j+1,i} ‖v*(x_i, t_{j+1})‖ (:class:`~ngwear.numerics.heat.Heat`), the counterface with it.
 
-Step 0 (t = 0) heats nothing: its temperature is T₀.
+Step 0 (t = 0) heats nothing: its temperature is T₀.  A programme's crossing of a dwell
+(:class:`~ngwear.runs.life.StopClock`) slides nothing: one backward-Euler step of the dwell's length with q = 0, the
+body and the counterface cool (an adiabatic body keeps its heat), and its row's ``heat_flux`` is 0, the power over
+the step, so that Σ Δt ``heat_flux`` is the heat supplied.
 """
 from __future__ import annotations
 
@@ -76,16 +79,17 @@ class Heating:
             stepper.expand(self.load(self.heat.temperature))
         return None
 
-    def advance(self, dt: float, t: float, pressure: np.ndarray) -> dict[str, np.ndarray]:
+    def advance(self, dt: float, t: float, pressure: np.ndarray, still: bool = False) -> dict[str, np.ndarray]:
         """Heat the body over the step of length ``dt`` that ended at t with ``pressure``; the step's rows.
 
-        ``dt = 0`` (step 0): no heating, T = T₀; the flux is the power at t all the same.
+        ``dt = 0`` (step 0): no heating, T = T₀; the flux is the power at t all the same.  ``still``: the step slid
+        nothing (a programme's dwell), q = 0 over it.
         """
         now = self.contact.coefficients_at(t)
         rows = {"step_friction": now.friction, "step_wear_coefficient": now.wear} if self.contact.stateful else {}
         if self.heat is None:
             return rows
-        q = frictional_power(now.friction, pressure, self.contact.slip.speeds(t))
+        q = np.zeros_like(pressure) if still else frictional_power(now.friction, pressure, self.contact.slip.speeds(t))
         heat = self.heat
         if dt > 0:
             heat.advance(dt, q)

@@ -108,6 +108,11 @@ class StopClock:
         self.drive.at(stop, step)
         integrator.prepare(w, p, before, contact.alpha(t_next), local[step] - local[step - 1])
 
+    @property
+    def still(self) -> bool:
+        """Whether the step being solved is a crossing: no sliding over it (no frictional heat)."""
+        return self.target[1] == 0
+
     def judge(self, times, rates) -> bool:
         """Every step is accepted (a stop's steps are uniform); the run is now at the step solved."""
         stop, step = self.target

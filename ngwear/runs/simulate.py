@@ -255,8 +255,8 @@ def _solve(stepper, integrator, t: float, t_prev: float | None, x, lam) -> _Atte
     return _Attempt(x, lam, s, delta, pressure, integrator.wear_at(s - problem.d0), record)
 
 
-def _record(recording: Recording, stepper, t: float, attempt: _Attempt, dt: float = 0.0) -> bool:
-    """Record the step (of length ``dt``) if it keeps the invariants; else stop the run there (False)."""
+def _record(recording: Recording, stepper, t: float, attempt: _Attempt, dt: float = 0.0, still: bool = False) -> bool:
+    """Record the step (of length ``dt``; ``still``: it slid nothing) if it keeps the invariants; else stop the run."""
     broken = stepper.check(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam)
     if broken is not None:
         name, value = broken
@@ -265,7 +265,7 @@ def _record(recording: Recording, stepper, t: float, attempt: _Attempt, dt: floa
                        f"try wear.integrator = 'implicit' or more time.steps", attempt.record)
         return False
     forces = stepper.problem.contact.forces(attempt.pressure, attempt.lam, t)
-    heated = {} if stepper.heating is None else stepper.heating.advance(dt, t, attempt.pressure)
+    heated = {} if stepper.heating is None else stepper.heating.advance(dt, t, attempt.pressure, still)
     recording.append(StepRecord({"times": t, "wear": attempt.wear, "normal_displacement": attempt.s,
                                  "pressure": attempt.pressure, "reaction": attempt.lam, "forces": forces,
                                  "plate_displacement": attempt.delta, **heated}, attempt.record))
@@ -321,7 +321,8 @@ def _next(stepper, integrator, clock: Clock, recording: Recording, x, lam):
             _failed(recording, stepper.scene, j + 1, t_next, err)
             return None
         if clock.judge([*times, t_next], [*rates, contact.alpha(t_next) * attempt.pressure]):
-            return (attempt.x, attempt.lam) if _record(recording, stepper, t_next, attempt, t_next - t) else None
+            kept = _record(recording, stepper, t_next, attempt, t_next - t, clock.still)
+            return (attempt.x, attempt.lam) if kept else None
 
 
 class Stages:
