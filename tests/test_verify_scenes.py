@@ -36,7 +36,9 @@ SCENES = {
 COARSER = {"pin_on_disc", "brake_pad_compaction"}
 #: shipped scenes verified elsewhere, and where
 ELSEWHERE = {"brake_pad_heat": "the heat coupling's closed forms, energy and order: tests/test_heat_coupled.py; "
-                               "the scene itself: the gallery's check (tests/test_demos.py)"}
+                               "the scene itself: the gallery's check (tests/test_demos.py)",
+             "brake_pad_life": "a part's life: the uniform-wear torque, the taper, jumps against stop by stop "
+                               "(tests/test_life.py); the scene itself: the gallery's check (tests/test_demos.py)"}
 
 
 def test_every_shipped_scene_is_verified():

@@ -60,6 +60,17 @@ from .stepper import Step, Stepper
 log = logging.getLogger(__name__)
 
 
+class RunError(RuntimeError):
+    """A run that stopped part-way (a Newton failure), for callers that need a completed one (the explorer).
+
+    ``result`` holds the steps it completed.
+    """
+
+    def __init__(self, message: str, result):
+        super().__init__(message)
+        self.result = result
+
+
 def simulate(scene: Scene, *, discretization: Discretization | None = None, progress: bool = True,
              checkpoint=None, resume=None, stop=None) -> Result:
     """Run the scene's time loop; a run that fails or is interrupted part-way returns the steps it completed.

@@ -38,12 +38,11 @@ from ..model.keys import Level
 from ..model.scene import Scene, SceneError
 from ..numerics.discrete import Reuse
 from ..results.folder import replacing
-from ..runs.simulate import simulate
+from ..runs.simulate import RunError, simulate
 from .compare import Comparison, nearest_step
 from .plots import Dashboard
 from .render import Canvas
 from .sliders import sliders_for
-from .widget import RunError
 
 log = logging.getLogger(__name__)
 

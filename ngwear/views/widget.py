@@ -23,16 +23,10 @@ import numpy as np
 from PIL import Image
 
 from ..model.scene import SceneError
+from ..runs.simulate import RunError
 
 LABEL = {"description_width": "100px"}
 
-
-class RunError(RuntimeError):
-    """A run of the explorer stopped part-way (Newton failure); ``result`` holds the steps it completed."""
-
-    def __init__(self, message: str, result):
-        super().__init__(message)
-        self.result = result
 
 
 def explorer_widget(explorer, folder=None, *, confined: bool = False) -> W.VBox:
