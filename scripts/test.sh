@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The whole test suite, slow and browser tests included, on both cores, an idle one taking tests from the other (plain `pytest` skips those).
+# The whole test suite, slow and browser tests included, on both cores (plain `pytest` skips those).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/bootstrap.sh
-.venv/bin/python -m pytest -m "slow or not slow or browser" -n 2 --dist worksteal "$@"
+.venv/bin/python -m pytest -m "slow or not slow or browser" -n 2 "$@"
