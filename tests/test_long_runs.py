@@ -22,7 +22,8 @@ import ngwear
 from ngwear.results.checkpoint import CHECKPOINT
 from ngwear.results.recording import Recording
 
-SETTINGS = ["mesh.maxh=0.2", "time.steps=20000", "output.checkpoint_seconds=0.02",
+STEPS = 5000
+SETTINGS = ["mesh.maxh=0.2", f"time.steps={STEPS}", "output.checkpoint_seconds=0.02",
             "time.T=0.5"]                           # the layer not yet worn through: no warning beside the one line
 KEYS = ("times", "wear", "normal_displacement", "pressure", "reaction", "forces", "newton_iterations",
         "newton_residuals", "field_steps", "fields")
@@ -77,7 +78,7 @@ def test_signal_stops_at_a_step_keeps_every_step_and_resumes_bit_identical(unint
         assert f"resume with: ngwear run --resume {out}" in stderr and "Traceback" not in stderr
         summary = json.loads((out / "summary.json").read_text())
         saved = np.load(out / "result.npz")
-        assert summary["status"] == "interrupted" and 0 < summary["steps"] < 20000
+        assert summary["status"] == "interrupted" and 0 < summary["steps"] < STEPS
         assert len(saved["times"]) == summary["steps"] + 1 and np.isfinite(saved["wear"]).all()
         assert np.array_equal(saved["wear"], uninterrupted["wear"][:len(saved["times"])])
         resumed = ngwear_cli("run", "--resume", out, "--quiet", "--no-pictures")
@@ -92,7 +93,7 @@ def test_killed_run_resumes_from_its_last_checkpoint(uninterrupted, tmp_path):
     proc = interrupted(out, signal.SIGKILL, np.random.default_rng(7))
     assert proc.returncode == -signal.SIGKILL
     with np.load(out / CHECKPOINT) as checkpoint:                 # whole: a write cut short left only a temporary
-        assert 0 < int(checkpoint["rows"]) <= 20001
+        assert 0 < int(checkpoint["rows"]) <= STEPS + 1
         assert [p.name for p in out.glob("steps-*")] == [str(checkpoint["history"])]
     resumed = ngwear_cli("run", "--resume", out, "--quiet", "--no-pictures")
     assert resumed.wait(timeout=600) == 0, resumed.stderr.read()
@@ -169,11 +170,11 @@ def test_resume_refuses_another_scene(tmp_path, changes, message):
 
 def test_cli_options_in_any_order_and_frames_by_time(tmp_path):
     out = tmp_path / "many"
-    proc = ngwear_cli("run", "--set", "mesh.maxh=0.25", "--set", "time.steps=2000", "--quiet", PAPER, "--out", out,
+    proc = ngwear_cli("run", "--set", "mesh.maxh=0.25", "--set", "time.steps=200", "--quiet", PAPER, "--out", out,
                       "--no-pictures")
     assert proc.wait(timeout=300) == 0, proc.stderr.read()
     assert "fields.pvd with 5 frames" in proc.stdout.read()
-    assert len(list(out.glob("fields*.vtu"))) == 5                 # t = 0, 0.25, 0.5, 0.75, 1: not 2000/25
+    assert len(list(out.glob("fields*.vtu"))) == 5                 # t = 0, 0.25, 0.5, 0.75, 1: not 200/25
     bad = ngwear_cli("run", PAPER, "--set", "time.steps=3", "steps")
     assert bad.wait(timeout=60) == 2 and "--set steps: expected KEY=VALUE" in bad.stderr.read()
     resume = ngwear_cli("run", "--resume", tmp_path / "nothing")
@@ -232,7 +233,7 @@ def fill(folder):
 
 
 def test_a_disk_that_fills_during_a_run_stops_it_with_one_line_and_it_resumes(uninterrupted, small_disk, tmp_path):
-    disk = small_disk(20)                      # 15.5 MB of rows (reserved at the start), mesh and checkpoints
+    disk = small_disk(6)                       # 3.9 MB of rows (reserved at the start), mesh and checkpoints
     out = disk / "run"
     proc = started(out)
     try:
@@ -254,13 +255,13 @@ def test_a_disk_that_fills_during_a_run_stops_it_with_one_line_and_it_resumes(un
 
 
 def test_results_that_do_not_fit_are_written_by_a_resume_once_there_is_room(uninterrupted, small_disk, tmp_path):
-    disk = small_disk(20)                      # the rows and the checkpoint fit; result.npz (the rows again) not
+    disk = small_disk(8)                       # the rows (3.9 MB) and the checkpoint fit; result.npz (6 MB) not
     out = disk / "run"
     proc = ngwear_cli("run", PAPER, "--out", out, "--set", *SETTINGS, "--quiet", "--no-pictures")
     proc.wait(timeout=600)
     assert one_line(proc, 1) == (f"ngwear: --out: no space left on device in {out} for the results; the checkpoint "
-                                 f"keeps all 20001 steps: free space, then write them with: ngwear run --resume {out}")
-    assert int(np.load(out / CHECKPOINT)["rows"]) == 20001 and not (out / "result.npz").exists()
+                                 f"keeps all {STEPS + 1} steps: free space, then write them with: ngwear run --resume {out}")
+    assert int(np.load(out / CHECKPOINT)["rows"]) == STEPS + 1 and not (out / "result.npz").exists()
     small_disk.resize(disk, 64)
     resumed = ngwear_cli("run", "--resume", out, "--quiet", "--no-pictures")
     assert resumed.wait(timeout=600) == 0, resumed.stderr.read()
