@@ -3,4 +3,4 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/bootstrap.sh
-.venv/bin/python -m pytest -m "slow or not slow or browser" -n 2 "$@"
+.venv/bin/python -m pytest -m "slow or not slow or browser" -n 2 --dist loadgroup "$@"

@@ -1,5 +1,10 @@
-"""Shared fixtures: the paper's scene and a run of it (computed once per session)."""
+"""Shared fixtures: the paper's scene and a run of it (computed once per session), the docs site, a small disk."""
+import fcntl
+import json
+import os
 import subprocess
+import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -18,6 +23,36 @@ def paper_scene():
 @pytest.fixture(scope="session")
 def paper_result(paper_scene):
     return ngwear.simulate(paper_scene, progress=False)
+
+
+@pytest.fixture(scope="session")
+def site(tmp_path_factory, worker_id):
+    """(html folder, build record): the site built once for all workers of the session (``sphinx-build -W``).
+
+    Every gallery example runs in the build, and its check (tests/demo_checks.py) after it: the record's
+    ``checks`` holds them by example name, for tests/test_demos.py.
+    """
+    base = tmp_path_factory.getbasetemp()
+    root = base if worker_id == "master" else base.parent
+    folder = root / "docs-site"
+    with open(root / "docs-site.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (folder / "build.json").is_file():
+            folder.mkdir(exist_ok=True)
+            checks = folder / "checks.jsonl"
+            start = time.monotonic()
+            done = subprocess.run([sys.executable, "-m", "sphinx", "-b", "html", "-W", "--keep-going", "-q",
+                                   str(ROOT / "docs"), str(folder / "html")], capture_output=True, text=True,
+                                  cwd=ROOT, env={**os.environ, "NGWEAR_DEMO_CHECKS": str(checks)})
+            lines = checks.read_text().splitlines() if checks.is_file() else []
+            (folder / "build.json").write_text(json.dumps({
+                "returncode": done.returncode, "seconds": round(time.monotonic() - start, 1),
+                "log": (done.stdout[-4000:] + "\n" + done.stderr[-20000:]).strip(),
+                "checks": {check["name"]: check for check in map(json.loads, lines)}}))
+    record = json.loads((folder / "build.json").read_text())
+    if record["returncode"] != 0:
+        pytest.fail(f"the docs build failed:\n{record['log']}")
+    return folder / "html", record
 
 
 @pytest.fixture

@@ -1,132 +1,16 @@
 """The gallery's demos (docs/demos) run, and each one's number agrees with a closed form or an independent run.
 
-Each demo is executed as a script in a temporary folder (it writes into ``out/`` there); the check takes
-the demo's variables and compares one number with a value computed here from the theory or by another run,
-never with a stored output.  The docs build runs the same files (``tests/test_docs.py``).
+The demos run once, in the docs build (the ``site`` fixture: Sphinx-Gallery executes each one, then its check in
+tests/demo_checks.py on its variables); here the check's recorded numbers are asserted.  The checks compare one
+number with a value computed from the theory or by another run, never with a stored output.
 """
-import runpy
-from pathlib import Path
-
-import numpy as np
 import pytest
 from conftest import ROOT
 
+pytest.importorskip("sphinx", reason="the demos run in the docs build: it needs the docs extra (pip install 'ngwear[docs]')")
+from demo_checks import CHECKS  # noqa: E402
+
 DEMOS = ROOT / "docs" / "demos"
-
-
-def archard_identity(g):
-    """Explicit wear: worn area = k α Σ_{j<N} Σ_i m_i p_{j,i} (the discrete Archard law)."""
-    scene, result = g["scene"], g["result"]
-    alpha = scene.contact.wear * np.linalg.norm(scene.foundation.velocity)
-    k = scene.time.T / scene.time.steps
-    return result.wear_volume[-1], k * alpha * (result.pressure[:-1] @ result.weights).sum(), dict(rel=1e-12)
-
-
-def p1_space_order(g):
-    """P1 elements: ‖ε(u − u_h)‖ = O(h) for a smooth solution."""
-    return g["orders"]["V_sum"], 1.0, dict(abs=0.2)
-
-
-def uniform_wear_torque(g):
-    """A worn-in pad brakes with μ F (r_i + r_o)/2 (uniform wear), up to O(h²) and the transient left."""
-    scene, result = g["scene"], g["result"]
-    r_i, r_o = scene.geometry.size[:2]
-    force = abs(scene.loads.plate.force[2])
-    return -result.torque[-1], scene.contact.friction * force * (r_i + r_o) / 2, dict(rel=1e-3)
-
-
-def archard_rate(g):
-    """Pin on disc: dV/dt = κ ω R F, to (a/R)²/8 = 0.13 %."""
-    scene, result = g["scene"], g["result"]
-    rate = (result.wear_volume[-1] - result.wear_volume[-2]) / (result.times[-1] - result.times[-2])
-    force = abs(scene.loads.plate.force[2])
-    return rate, scene.contact.wear * scene.foundation.angular_velocity[2] * scene.geometry.position[0] * force, \
-        dict(rel=2e-3)
-
-
-def translating_archard(g):
-    """Sliding at v with no rigid contact: V(T) = κ v F T, whatever the part's shape."""
-    scene, result = g["scene"], g["result"]
-    assert result.reaction.max() == 0.0, "the layer carries the whole force"
-    speed, force = np.linalg.norm(scene.foundation.velocity), abs(scene.loads.plate.force[2])
-    return result.wear_volume[-1], scene.contact.wear * speed * force * scene.time.T, dict(rel=1e-9)
-
-
-def study_case_is_a_run(g):
-    """A case of the study = ngwear.simulate of its scene, run here."""
-    import ngwear
-
-    case = g["table"].iloc[3]
-    scene = ngwear.load_scene(g["FOLDER"] / "paper_strip.toml").replace(**{
-        "mesh.maxh": 0.2, "time.steps": 20, "contact.friction": case["contact.friction"],
-        "contact.wear": case["contact.wear"]})
-    assert g["table"].attrs["summary"]["completed"] == 16
-    return case["max_wear"], ngwear.simulate(scene, progress=False).wear.max(), dict(rel=1e-12)
-
-
-def explorer_run_is_a_run(g):
-    """The explorer's run = ngwear.simulate of its scene, run here."""
-    import ngwear
-
-    assert (Path("out") / "explorer" / "app.png").stat().st_size > 10_000, "the app's screenshot"
-    explorer = g["explorer"]
-    return explorer.result.wear_volume[-1], ngwear.simulate(explorer.scene, progress=False).wear_volume[-1], \
-        dict(rel=1e-12)
-
-
-def resume_is_bit_identical(g):
-    """Interrupted, resumed: the wear of the uninterrupted run, to the last bit."""
-    part, resumed, whole = g["part"], g["resumed"], g["whole"]
-    assert part.status == "interrupted" and 0 < part.steps < whole.steps and resumed.steps == whole.steps
-    return float(np.abs(resumed.wear - whole.wear).max()), 0.0, dict(abs=0.0)
-
-
-def trapezoidal_order(g):
-    """The trapezoidal rule is of second order in k."""
-    return g["orders"]["trapezoidal"], 2.0, dict(abs=0.15)
-
-
-def life_worn_in(g):
-    """A pad's life: half its friction material worn, worn in: the uniform-wear torque μF(r_i + r_o)/2 within 1 %.
-
-    Also the wear rate uniform over the face within 2 % and the volume per MJ κ/μ in every block (Archard).
-    """
-    scene, result, blocks = g["scene"], g["result"], g["blocks"]
-    assert result.completed and g["total"].max() > 0.5 * result.thickness.max()
-    assert g["spread"] < 0.02
-    assert np.allclose(blocks["volume_per_megajoule"], 1e6 * scene.contact.wear / scene.contact.friction, rtol=1e-3)
-    return -result.torque[g["start"]], g["uniform"], dict(rel=0.01)
-
-
-def disc_recursion(g):
-    """The lumped disc: backward Euler of C_d T' = (1 − η) Q − H_d (T − T_∞) on the recorded power, to round-off."""
-    scene, result = g["scene"], g["result"]
-    f, h, m = scene.foundation, scene.heat, scene.material
-    body, disc = np.sqrt(m.conductivity * m.density * m.heat_capacity), np.sqrt(
-        f.conductivity * f.density * f.heat_capacity)
-    eta = body / (body + disc)                                   # Charron's partition, by hand
-    temperature = [h.ambient]
-    for dt, into_body in zip(np.diff(result.times), result.heat_flux[1:]):
-        power = (1 - eta) / eta * into_body
-        temperature.append((f.thermal_mass * temperature[-1] + dt * (power + f.cooling * h.ambient))
-                           / (f.thermal_mass + dt * f.cooling))
-    assert g["stops"][2]["torque"] < g["stops"][0]["torque"], "the torque fades"
-    return result.foundation_temperature, np.array(temperature), dict(rel=1e-10)
-
-
-CHECKS = {
-    "01_paper_strip": archard_identity,
-    "02_convergence": p1_space_order,
-    "03_brake_pad": uniform_wear_torque,
-    "04_pin_on_disc": archard_rate,
-    "05_own_step_file": translating_archard,
-    "06_study": study_case_is_a_run,
-    "07_explorer": explorer_run_is_a_run,
-    "08_long_run": resume_is_bit_identical,
-    "09_work_precision": trapezoidal_order,
-    "10_brake_pad_life": life_worn_in,
-    "11_brake_pad_heat": disc_recursion,
-}
 MARKS = {"07_explorer": [pytest.mark.browser]}
 
 
@@ -135,17 +19,11 @@ def test_every_demo_has_a_check():
 
 
 @pytest.mark.slow
+@pytest.mark.xdist_group("site")
 @pytest.mark.parametrize("name", [pytest.param(n, marks=MARKS.get(n, [])) for n in CHECKS])
-def test_demo(name, tmp_path, monkeypatch):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    monkeypatch.chdir(tmp_path)
-    try:
-        variables = runpy.run_path(str(DEMOS / f"{name}.py"), run_name="__main__")
-        value, expected, tolerance = CHECKS[name](variables)
-    finally:
-        plt.close("all")
-    assert value == pytest.approx(expected, **tolerance), CHECKS[name].__doc__
-    assert list((tmp_path / "out").rglob("*.png")), "the demo draws its pictures"
+def test_demo(name, site):
+    check = site[1]["checks"].get(name)
+    assert check is not None, f"{name} did not run in the docs build"
+    assert "error" not in check, check.get("error")
+    assert check["value"] == pytest.approx(check["expected"], **check["tolerance"]), check["doc"]
+    assert check["pictures"] > 0, "the demo draws its pictures"

@@ -6,16 +6,12 @@ every internal link must resolve (anchors included), every image load, no page l
 off the machine; opened from disk (file://) the index and a page with math work the same.  Screenshots:
 ``out/browser-artifacts/test_docs/`` and ``index.png`` beside the built site.
 """
-import fcntl
 import functools
 import http.server
-import json
 import re
 import shutil
-import subprocess
 import sys
 import threading
-import time
 import urllib.request
 from html.parser import HTMLParser
 from urllib.parse import urldefrag, urlparse
@@ -97,29 +93,8 @@ def test_markdown_tables_split_rows_as_markdown_does():
     assert [len(row) for row in table] == [2, 2, 2, 4]
 
 
-@pytest.fixture(scope="session")
-def site(tmp_path_factory, worker_id):
-    """(html folder, build record): the site built once for all workers of the session."""
-    base = tmp_path_factory.getbasetemp()
-    root = base if worker_id == "master" else base.parent
-    folder = root / "docs-site"
-    with open(root / "docs-site.lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        if not (folder / "build.json").is_file():
-            folder.mkdir(exist_ok=True)
-            start = time.monotonic()
-            done = subprocess.run([sys.executable, "-m", "sphinx", "-b", "html", "-W", "--keep-going", "-q",
-                                   str(DOCS), str(folder / "html")], capture_output=True, text=True, cwd=ROOT)
-            (folder / "build.json").write_text(json.dumps({
-                "returncode": done.returncode, "seconds": round(time.monotonic() - start, 1),
-                "log": (done.stdout[-4000:] + "\n" + done.stderr[-20000:]).strip()}))
-    record = json.loads((folder / "build.json").read_text())
-    if record["returncode"] != 0:
-        pytest.fail(f"the docs build failed:\n{record['log']}")
-    return folder / "html", record
-
-
 @pytest.mark.slow
+@pytest.mark.xdist_group("site")
 def test_site_builds_with_warnings_as_errors(site):
     html, record = site
     pages = sorted(html.rglob("*.html"))
@@ -224,6 +199,7 @@ def check_page(page, url: str) -> tuple[list[str], set[str]]:
 
 
 @pytest.mark.browser
+@pytest.mark.xdist_group("site")
 def test_every_page_link_and_image_in_chromium(site, served):
     html, _ = site
     shots = Shots("test_docs")
@@ -268,6 +244,7 @@ def test_every_page_link_and_image_in_chromium(site, served):
 
 
 @pytest.mark.browser
+@pytest.mark.xdist_group("site")
 def test_pages_work_opened_from_disk(site):
     """file:// — no server, no network: the index shows its picture, the model page its formulas."""
     html, _ = site
