@@ -6,6 +6,8 @@ problem; with the trapezoidal rule each stop's worn volume is κ/μ times the en
 the friction power, the same rule on the same rows); ``wear.limit`` ends a run as worn out where the remaining
 thickness reaches it; jumps keep the worn volume and the remaining thickness of stop by stop.
 """
+import threading
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -223,12 +225,57 @@ def test_cli_worn_out_exits_0_and_says_where(tmp_path, capsys):
     assert saved.status == WORN_OUT and saved.remaining_thickness[-1].min() <= 0.99 < saved.remaining_thickness[-2].min()
 
 
-def test_a_surface_run_is_not_resumed_after_an_update(tmp_path):
-    from ngwear.results.folder import FolderError
-    run = ngwear.simulate(taper_scene(T=3.0, steps=30), progress=False, checkpoint=tmp_path)
-    assert run.geometry_updates > 0
-    with pytest.raises(FolderError, match="cannot resume after a geometry update"):
-        ngwear.simulate(None, progress=False, resume=tmp_path)
+def interrupted(scene, folder, rows, monkeypatch):
+    """``scene`` run into ``folder`` (a checkpoint), its stop event set once it recorded ``rows`` rows (as a signal)."""
+    from ngwear.results.recording import Recording
+
+    stop, append = threading.Event(), Recording.append
+
+    def counting(recording, step):
+        append(recording, step)
+        if len(recording.result.times) == rows:
+            stop.set()
+
+    with monkeypatch.context() as patched:
+        patched.setattr(Recording, "append", counting)
+        return ngwear.simulate(scene, progress=False, checkpoint=folder, stop=stop)
+
+
+SURFACE_ROWS = ("times", "wear", "total_wear", "remaining_thickness", "pressure", "normal_displacement",
+                "plate_displacement", "removed_rows", "row_weights")
+
+
+@pytest.mark.parametrize("rows", [15, 18])
+def test_a_surface_run_resumes_across_its_updates_to_the_bit(tmp_path, monkeypatch, rows):
+    """Stopped after two geometry updates (15: on the second update's step), resumed: the uninterrupted run's arrays."""
+    scene = taper_scene(T=3.0, steps=30).replace(**{"output.every": 0.5})
+    whole = ngwear.simulate(scene, progress=False)
+    first = interrupted(scene, tmp_path, rows, monkeypatch)
+    assert first.status == "interrupted" and first.geometry_updates == 2 < whole.geometry_updates
+    resumed = ngwear.simulate(None, progress=False, resume=tmp_path)
+    assert resumed.completed and resumed.geometry_updates == whole.geometry_updates == 4
+    for name in SURFACE_ROWS:
+        assert np.array_equal(getattr(resumed, name), getattr(whole, name)), name
+    for step in whole.stored_steps:                 # the frames: their worn body and displacement
+        assert np.array_equal(resumed.body_coordinates(step), whole.body_coordinates(step)), step
+        assert np.array_equal(resumed.displacement(step), whole.displacement(step)), step
+
+
+def test_a_surface_programme_with_jumps_resumes_to_the_bit(tmp_path, monkeypatch):
+    """Jumps bounded by the next update, stopped after the second update: the same stops, jumps and rows."""
+    data = taper_scene().to_dict()
+    data.pop("time")
+    data["output"].pop("every")
+    programme = {"stops": [{"count": 60, "duration": 0.2, "speed": [1.0, 0.0], "dwell": 0.1}], "steps_per_stop": 4,
+                 "jump": True, "jump_tolerance": 1e-2}
+    scene = ngwear.Scene.from_dict({**data, "programme": programme})
+    whole = ngwear.simulate(scene, progress=False)
+    first = interrupted(scene, tmp_path, 17, monkeypatch)
+    assert first.geometry_updates == 2 < whole.geometry_updates and 0 < len(first.jumped) < len(whole.jumped)
+    resumed = ngwear.simulate(None, progress=False, resume=tmp_path)
+    assert resumed.completed and np.array_equal(resumed.jumped, whole.jumped)
+    for name in SURFACE_ROWS:
+        assert np.array_equal(getattr(resumed, name), getattr(whole, name)), name
 
 
 def test_a_programme_with_jumps_resumes_to_the_bit(tmp_path):

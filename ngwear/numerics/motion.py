@@ -157,6 +157,20 @@ class Recession:
         self._incident, self._starts = rows[order], np.searchsorted(cols[order], np.arange(len(contact)))
         self.wear = np.zeros(len(contact))                                      # W at Γ_C's vertices, since X₀
 
+    @classmethod
+    def resumed(cls, mesh: ngs.Mesh, points, nu, held: tuple[str, ...], reference: np.ndarray,
+                wear: np.ndarray) -> Recession:
+        """The recession of a run that goes on from a checkpoint: ``mesh`` moved by ``wear`` (W) from ``reference`` (X₀).
+
+        Built on X₀ as the first update built it (the same extension, to the bit), then the mesh is put back.
+        """
+        now = coordinates(mesh)
+        place(mesh, reference)
+        recession = cls(mesh, points, nu, held)
+        place(mesh, now)
+        recession.wear = np.array(wear, dtype=float)
+        return recession
+
     def at_vertices(self, since: np.ndarray) -> np.ndarray:
         """The wear a move realises at Γ_C's vertices: the least of the points at each."""
         return np.minimum.reduceat(since[self._incident], self._starts)

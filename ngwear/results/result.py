@@ -121,6 +121,7 @@ class Result:
     discretization: object = field(default=None, repr=False)
     recording: object = field(default=None, repr=False)          # the run's Recording: its rows, to go on from
     heating: object = field(default=None, repr=False)            # the run's Heating: thermal expansion's displacement
+    surface: object = field(default=None, repr=False)            # the run's Surface ("surface"): a checkpoint keeps it
     mesh_digest: str | None = field(default=None, repr=False)   # SHA-256 of the mesh.vol written for it
     provenance: dict | None = field(default=None, repr=False)    # versions and scene hash (None: an older file's)
     jumped: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
