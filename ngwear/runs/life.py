@@ -204,7 +204,9 @@ class Surface:
     contact points' weights, d₀, the compliance, the loads, the plate), the contact's factors kept.  The step's row
     is rewritten with the new w (its pressure and displacements are those it was solved with: the update moves the
     wear from the layer into the geometry).  A move that would leave an element below the quality bound or inverted
-    stops the run with :attr:`~ngwear.numerics.motion.Quality.reason` (the run keeps its steps).
+    stops the run with :attr:`~ngwear.numerics.motion.Quality.reason` (the run keeps its steps).  A run's
+    :class:`~ngwear.runs.heating.Heating` goes on on the moved body (:meth:`~ngwear.runs.heating.Heating.moved`: T
+    carried node by node, the heat's matrices rebuilt).
 
     A checkpoint keeps :attr:`state` (X₀, W and the moved vertices, exact); a run resumed from it (``saved``, ``disc``
     on the moved mesh) rebuilds the extension on X₀ as the first update did, so it goes on to the bit.
@@ -272,4 +274,8 @@ class Surface:
             return None
         if isinstance(clock, StopClock):
             clock.contact, clock.drive = disc.contact, disc.contact.drive
-        return Stepper(Problem(disc), StepCheck(result), Validity(result))
+        stepper = Stepper(Problem(disc), StepCheck(result), Validity(result))
+        if result.heating is not None:
+            result.heating.moved(disc)
+            stepper.heating = result.heating
+        return stepper
