@@ -155,6 +155,9 @@ class Recession:
                                      shape=(points.n, len(contact)))            # points ← vertices: interpolation
         order = np.argsort(cols, kind="stable")
         self._incident, self._starts = rows[order], np.searchsorted(cols[order], np.arange(len(contact)))
+        self._own = np.empty(len(contact), dtype=int)                           # the point at each vertex
+        own = np.flatnonzero(np.asarray(points.vertices) >= 0)
+        self._own[[column[int(v)] for v in np.asarray(points.vertices)[own]]] = own
         self.wear = np.zeros(len(contact))                                      # W at Γ_C's vertices, since X₀
 
     @classmethod
@@ -170,6 +173,17 @@ class Recession:
         place(mesh, now)
         recession.wear = np.array(wear, dtype=float)
         return recession
+
+    def after(self, realised: np.ndarray) -> np.ndarray:
+        """The vertices after the updates that realised ``realised`` (U, n: :meth:`accept`'s, at the points).
+
+        A vertex's point realised the vertex's own move, so W is their sum in the order the updates added it, and the
+        vertices are those the updates left (to the bit).
+        """
+        wear = np.zeros(len(self._own))
+        for row in realised:
+            wear += row[self._own]
+        return self.extension.moved(wear)
 
     def at_vertices(self, since: np.ndarray) -> np.ndarray:
         """The wear a move realises at Γ_C's vertices: the least of the points at each."""
