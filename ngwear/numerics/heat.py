@@ -18,7 +18,9 @@ surface temperature at the points is E T.  Since Σ_j φ_j = 1, 1ᵀ M (T − T�
     ∫ ρc (T^{n+1} − T^n) dx = Δt (η Σ_i m_i q_i^{n+1} − r·(T^{n+1} − T_∞)),
 
 the energy balance, holds to the round-off of the solve (:meth:`Heat.balance`).  The matrix is factorised
-(PARDISO) once per step size; the last :data:`FACTORS` sizes are kept (adaptive steps change it).
+(PARDISO) once per step size; the last :data:`FACTORS` sizes are kept (adaptive steps change it).  A geometry update
+(``wear.geometry = "surface"``) moves the mesh: :meth:`Heat.moved` keeps T at the vertices, assembles the matrices
+anew and counts the heat the shrinking capacity takes away in the balance.
 """
 from __future__ import annotations
 
