@@ -6,6 +6,8 @@ problem; with the trapezoidal rule each stop's worn volume is κ/μ times the en
 the friction power, the same rule on the same rows); ``wear.limit`` ends a run as worn out where the remaining
 thickness reaches it; jumps keep the worn volume and the remaining thickness of stop by stop.
 """
+import threading
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -223,12 +225,87 @@ def test_cli_worn_out_exits_0_and_says_where(tmp_path, capsys):
     assert saved.status == WORN_OUT and saved.remaining_thickness[-1].min() <= 0.99 < saved.remaining_thickness[-2].min()
 
 
-def test_a_surface_run_is_not_resumed_after_an_update(tmp_path):
-    from ngwear.results.folder import FolderError
-    run = ngwear.simulate(taper_scene(T=3.0, steps=30), progress=False, checkpoint=tmp_path)
-    assert run.geometry_updates > 0
-    with pytest.raises(FolderError, match="cannot resume after a geometry update"):
-        ngwear.simulate(None, progress=False, resume=tmp_path)
+def interrupted(scene, folder, rows, monkeypatch):
+    """``scene`` run into ``folder`` (a checkpoint), its stop event set once it recorded ``rows`` rows (as a signal)."""
+    from ngwear.results.recording import Recording
+
+    stop, append = threading.Event(), Recording.append
+
+    def counting(recording, step):
+        append(recording, step)
+        if len(recording.result.times) == rows:
+            stop.set()
+
+    with monkeypatch.context() as patched:
+        patched.setattr(Recording, "append", counting)
+        return ngwear.simulate(scene, progress=False, checkpoint=folder, stop=stop)
+
+
+SURFACE_ROWS = ("times", "wear", "total_wear", "remaining_thickness", "pressure", "normal_displacement",
+                "plate_displacement", "removed_rows", "row_weights")
+
+
+HEATED = {"material.conductivity": 0.01, "material.density": 1.0, "material.heat_capacity": 1.0,
+          "heat.model": "conduction", "heat.partition": 1.0, "contact.friction": "0.3 - 0.1 * T"}
+
+
+@pytest.mark.parametrize("rows, heat", [(15, {}), (18, {**HEATED, "material.expansion": 0.01})])
+def test_a_surface_run_resumes_across_its_updates_to_the_bit(tmp_path, monkeypatch, rows, heat):
+    """Stopped after two of four updates (15: on the update's step; 18: heated, μ(T), expansion): the same arrays."""
+    scene = taper_scene(T=3.0, steps=30).replace(**{"output.every": 0.5, **heat})
+    whole = ngwear.simulate(scene, progress=False)
+    first = interrupted(scene, tmp_path, rows, monkeypatch)
+    assert first.status == "interrupted" and first.geometry_updates == 2 < whole.geometry_updates
+    resumed = ngwear.simulate(None, progress=False, resume=tmp_path)
+    assert resumed.completed and resumed.geometry_updates == whole.geometry_updates == 4
+    for name in SURFACE_ROWS + (("surface_temperature", "step_friction", "heat_flux") if heat else ()):
+        assert np.array_equal(getattr(resumed, name), getattr(whole, name)), name
+    for step in whole.stored_steps:                 # the frames: their worn body, displacement and temperature
+        assert np.array_equal(resumed.body_coordinates(step), whole.body_coordinates(step)), step
+        assert np.array_equal(resumed.displacement(step), whole.displacement(step)), step
+        assert not heat or np.array_equal(resumed.temperatures[step], whole.temperatures[step]), step
+
+
+def test_a_surface_programme_with_jumps_resumes_to_the_bit(tmp_path, monkeypatch):
+    """Jumps bounded by the next update, stopped after the second update: the same stops, jumps and rows."""
+    data = taper_scene().to_dict()
+    data.pop("time")
+    data["output"].pop("every")
+    programme = {"stops": [{"count": 60, "duration": 0.2, "speed": [1.0, 0.0], "dwell": 0.1}], "steps_per_stop": 4,
+                 "jump": True, "jump_tolerance": 1e-2}
+    scene = ngwear.Scene.from_dict({**data, "programme": programme})
+    whole = ngwear.simulate(scene, progress=False)
+    first = interrupted(scene, tmp_path, 17, monkeypatch)
+    assert first.geometry_updates == 2 < whole.geometry_updates and 0 < len(first.jumped) < len(whole.jumped)
+    resumed = ngwear.simulate(None, progress=False, resume=tmp_path)
+    assert resumed.completed and np.array_equal(resumed.jumped, whole.jumped)
+    for name in SURFACE_ROWS:
+        assert np.array_equal(getattr(resumed, name), getattr(whole, name)), name
+
+
+def test_a_heated_surface_run_keeps_its_energy_balance_across_updates(monkeypatch):
+    """μ(T) and an adiabatic body across 4 updates: ∫ρc(T − T₀) = Σ Δt η Q − (the heat the worn material took).
+
+    The temperature is carried node by node (``Heat.moved``): the body's capacity c = M 1 shrinks with the worn
+    volume ΔV, and the heat (c − c')·(T − T₀) leaves with it, at most ρc ΔV max(T − T₀); the balance with it closes
+    to round-off at every step, and μ is read from the last step's temperature on the moved body as on the first.
+    """
+    from test_heat_coupled import balances
+
+    seen = balances(monkeypatch)
+    scene = taper_scene(T=3.0, steps=30).replace(**HEATED)
+    r = ngwear.simulate(scene, progress=False)
+    assert r.completed and r.geometry_updates == 4
+    assert np.array_equal(r.step_friction[1:], 0.3 - 0.1 * r.surface_temperature[:-1]), "μ_{j+1} = μ(T_j)"
+    supplied = np.cumsum(np.diff(r.times) * r.heat_flux[1:])
+    assert [b.supplied for b in seen] == pytest.approx(supplied, rel=1e-13)
+    assert max(abs(b.residual) / b.supplied for b in seen) < 1e-12 and all(b.convected == 0 for b in seen)
+    removed = np.array([b.removed for b in seen])             # after steps 1 … N
+    assert np.array_equal(np.flatnonzero(np.diff(removed, prepend=0.0)) + 1, r.removed_rows + 1), "at the updates"
+    lost = np.diff(removed[r.removed_rows], prepend=0.0)
+    worn = np.einsum("ki,ki->k", r.removed, r.row_weights[r.removed_rows])    # ΔV = Σ m W of each update
+    assert np.all(lost > 0) and np.all(lost <= worn * r.max_temperature[r.removed_rows])
+    assert 0.02 < removed[-1] / supplied[-1] < 0.2
 
 
 def test_a_programme_with_jumps_resumes_to_the_bit(tmp_path):

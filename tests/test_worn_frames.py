@@ -74,3 +74,41 @@ def test_a_loaded_surface_run_writes_the_same_frames(saved, tmp_path):
         for j in run.stored_steps:
             assert np.array_equal(first[j].points, second[j].points), (kind, j)
             assert np.array_equal(first[j].point_data["displacement"], second[j].point_data["displacement"])
+
+
+def test_the_pictures_draw_each_frame_on_its_worn_body(saved):
+    """fig*.png: the renderer is given the frame's body, X of the step's mesh + u, not the last mesh's.
+
+    Under the plate the face stays on the foundation (the plate follows the wear down): the mesh drawn recedes.
+    """
+    from ngwear.views import render
+    from ngwear.views.picture_data import vertex_displacement
+
+    run, _ = saved
+    early, late = run.removed_rows[0] - 1, run.stored_steps[-1]
+    nu = np.array(run.scene.contact.direction)
+    with render.Canvas(field="wear") as canvas:
+        for j in (early, late):
+            canvas.frame(run, j, render.picture_steps(run))
+            drawn = canvas._parts["body"].grid.points[:, :2]                 # what VTK draws
+            assert np.array_equal(drawn, run.body_coordinates(j) + vertex_displacement(run, j)), j
+    built, final = run.body_coordinates(early), run.body_coordinates(late)
+    assert np.array_equal(built, run.meshes[0]) and np.array_equal(final, coordinates(run.discretization.mesh))
+    face = (built - final) @ nu                                         # how far each vertex receded, along −ν
+    on = np.isclose(built @ nu, (built @ nu).max())
+    removed = (run.total_wear - run.wear)[late]
+    assert face[on].min() == pytest.approx(removed.min(), rel=1e-12)
+    assert face[on].max() == pytest.approx(removed.max(), rel=1e-12)
+
+
+def test_a_run_makes_again_the_bodies_no_frame_kept(saved):
+    """A step between frames draws on its own body: the run rebuilds it from the updates' wear, to the bit."""
+    run = saved[0]
+    kept = dict(run.meshes)
+    try:
+        for k in range(1, run.geometry_updates + 1):
+            step = int(run.removed_rows[k - 1])                      # the first step on mesh k
+            run.meshes.pop(k)
+            assert np.array_equal(run.body_coordinates(step), kept[k]), k
+    finally:
+        run.meshes.update(kept)

@@ -140,8 +140,8 @@ MEANING = {
         "scene": ("()", "the scene, as JSON"),
         "checksums": ("()", "CRC-32 of each file of the steps' rows, as JSON: a damaged row file is refused"),
         "heat_temperature": ("(P1 DOFs,)", "only with `heat`: the nodal temperature at the last step"),
-        "heat_heat": ("(4,)", "only with `heat`: its time, the last step's frictional power, the heat supplied and "
-                              "convected so far"),
+        "heat_heat": ("(5,)", "only with `heat`: its time, the last step's frictional power, the heat supplied, "
+                              "convected and removed with the worn material (`wear.geometry = \"surface\"`) so far"),
         "heat_counterface": ("(·,)", "only with `heat`: a lumped counterface's T_f, heat received and cooled (none: "
                                      "given)"),
         "temperature_steps": ("(·,)", "only with `heat`: the steps whose nodal temperature is kept for the frames"),

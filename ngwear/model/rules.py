@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from .coefficients import NAMES, bound, describe, state_of, stateful
+from .coefficients import NAMES, bound, describe, state_of
 from .compliance import COMPLIANCES, largest_slope
 from .keys import SceneError, range_text
 from .kinds import KINDS, check_features, owners
@@ -27,10 +27,6 @@ def check(scene) -> None:
     _check_time(scene)
     _check_heat(scene)
     _check_programme(scene)
-    if scene.wear.geometry == "surface" and (scene.heat.model != "none" or stateful(scene.contact)):
-        raise SceneError("wear.geometry: 'surface' does not carry a temperature or coefficients of the state (T, p, v) "
-                         "across its geometry updates yet; use 'layer' with heat.model = 'conduction' or with T, p, v in "
-                         "contact.friction and contact.wear")
     if scene.solver.method == "full" and scene.wear.integrator != "explicit":
         raise SceneError(f"solver.method: 'full' supports only wear.integrator = 'explicit' "
                          f"(got {scene.wear.integrator!r}; use solver.method = 'condensed')")

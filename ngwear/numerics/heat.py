@@ -18,7 +18,9 @@ surface temperature at the points is E T.  Since Σ_j φ_j = 1, 1ᵀ M (T − T�
     ∫ ρc (T^{n+1} − T^n) dx = Δt (η Σ_i m_i q_i^{n+1} − r·(T^{n+1} − T_∞)),
 
 the energy balance, holds to the round-off of the solve (:meth:`Heat.balance`).  The matrix is factorised
-(PARDISO) once per step size; the last :data:`FACTORS` sizes are kept (adaptive steps change it).
+(PARDISO) once per step size; the last :data:`FACTORS` sizes are kept (adaptive steps change it).  A geometry update
+(``wear.geometry = "surface"``) moves the mesh: :meth:`Heat.moved` keeps T at the vertices, assembles the matrices
+anew and counts the heat the shrinking capacity takes away in the balance.
 """
 from __future__ import annotations
 
@@ -41,16 +43,21 @@ FACTORS = 4
 
 @dataclass(frozen=True)
 class Balance:
-    """The body's heat so far: ``stored`` ∫ ρc (T − T₀) dx = ``supplied`` Σ Δt η Q − ``convected`` Σ Δt r·(T − T_∞)."""
+    """The body's heat so far: ``stored`` = ``supplied`` − ``convected`` − ``removed``.
+
+    ``stored`` ∫ ρc (T − T₀) dx, ``supplied`` Σ Δt η Q, ``convected`` Σ Δt r·(T − T_∞), ``removed`` the heat of the
+    material the geometry updates took away (:meth:`Heat.moved`; 0 in the layer mode).
+    """
 
     stored: float
     supplied: float
     convected: float
+    removed: float = 0.0
 
     @property
     def residual(self) -> float:
-        """The balance's defect, stored − (supplied − convected): zero to round-off."""
-        return self.stored - (self.supplied - self.convected)
+        """The balance's defect, stored − (supplied − convected − removed): zero to round-off."""
+        return self.stored - (self.supplied - self.convected - self.removed)
 
 
 class Heat:
@@ -84,7 +91,15 @@ class Heat:
     def __init__(self, scene, mesh: ngs.Mesh, points):
         if scene.heat.model != "conduction":
             raise ValueError(f"heat: the scene has no temperature (heat.model = {scene.heat.model!r})")
-        props, heat = region_properties(scene), scene.heat
+        self.scene, self.ambient, self.start = scene, scene.heat.ambient, scene.heat.start
+        self._assemble(mesh, points)
+        self.temperature = np.full(self.space.ndof, self.start)
+        self.counterface = counterface(scene)
+        self.time = self.power = self.supplied = self.convected = self.removed = 0.0
+
+    def _assemble(self, mesh: ngs.Mesh, points) -> None:
+        """M, A, R, r, E and the contact points' weights on the mesh as it is; no factorisation yet."""
+        props, heat = region_properties(self.scene), self.scene.heat
         self.space = ngs.H1(mesh, order=1)
         u, v = self.space.TnT()
         capacity = mesh.MaterialCF({name: p.capacity for name, p in props.items()})
@@ -100,14 +115,23 @@ class Heat:
         self.evaluation = _evaluation(self.space, points)
         self.weights = points.weights
         touching = mesh.Boundaries("contact").Neighbours(ngs.VOL).Mask()
-        self.partition = partition(scene, [name for i, name in enumerate(mesh.GetMaterials()) if touching[i]])
-        self.ambient, self.start = heat.ambient, heat.start
+        self.partition = partition(self.scene, [name for i, name in enumerate(mesh.GetMaterials()) if touching[i]])
         self._spread = (self.evaluation.T @ sp.diags(self.partition * self.weights)).tocsr()     # Eᵀ diag(η m)
         self._surroundings = self.ambient * self.exchange                                        # T_∞ r
-        self.temperature = np.full(self.space.ndof, self.start)
-        self.counterface = counterface(scene)
-        self.time = self.power = self.supplied = self.convected = 0.0
         self._factors: OrderedDict[float, Pardiso] = OrderedDict()
+
+    def moved(self, mesh: ngs.Mesh, points) -> float:
+        """The body's mesh moved (a geometry update, same vertices): T carried node by node, the matrices rebuilt.
+
+        ``mesh`` and ``points`` are the moved body's.  T_j stays T_j at vertex j (a P1 DOF is a vertex): the material
+        does not move, but the worn material near the face leaves with the heat it holds; the heat the body's
+        capacity lost, (c − c')·(T − T₀) with c = M 1, goes to :attr:`removed` (the balance's ``removed``).  Returns it.
+        """
+        before = self.capacity
+        self._assemble(mesh, points)
+        lost = float((before - self.capacity) @ (self.temperature - self.start))
+        self.removed += lost
+        return lost
 
     def advance(self, dt: float, generated: np.ndarray) -> np.ndarray:
         """T at the end of a step of length ``dt`` (backward Euler), the counterface's too; returns T (nodal).
@@ -157,19 +181,20 @@ class Heat:
     def balance(self) -> Balance:
         """The body's heat so far: what it stores, what friction supplied, what convection took."""
         stored = float(self.capacity @ (self.temperature - self.start))
-        return Balance(stored, self.supplied, self.convected)
+        return Balance(stored, self.supplied, self.convected, self.removed)
 
     @property
     def state(self) -> dict[str, np.ndarray]:
-        """What a checkpoint keeps: T, (time, Q, supplied, convected) and the counterface's state."""
+        """What a checkpoint keeps: T, (time, Q, supplied, convected, removed) and the counterface's state."""
         return {"temperature": self.temperature.copy(),
-                "heat": np.array([self.time, self.power, self.supplied, self.convected]),
+                "heat": np.array([self.time, self.power, self.supplied, self.convected, self.removed]),
                 "counterface": np.array(self.counterface.state, dtype=float)}
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
-        """Go on from a :attr:`state` (of a heat on the same mesh)."""
+        """Go on from a :attr:`state` (of a heat on the same mesh; an older one without ``removed``: 0)."""
         self.temperature = np.array(state["temperature"], dtype=float)
-        self.time, self.power, self.supplied, self.convected = (float(v) for v in state["heat"])
+        values = [float(v) for v in state["heat"]] + [0.0]         # an older state has no ``removed``
+        self.time, self.power, self.supplied, self.convected, self.removed = values[:5]
         self.counterface.state = state["counterface"]
 
 

@@ -155,7 +155,35 @@ class Recession:
                                      shape=(points.n, len(contact)))            # points ← vertices: interpolation
         order = np.argsort(cols, kind="stable")
         self._incident, self._starts = rows[order], np.searchsorted(cols[order], np.arange(len(contact)))
+        self._own = np.empty(len(contact), dtype=int)                           # the point at each vertex
+        own = np.flatnonzero(np.asarray(points.vertices) >= 0)
+        self._own[[column[int(v)] for v in np.asarray(points.vertices)[own]]] = own
         self.wear = np.zeros(len(contact))                                      # W at Γ_C's vertices, since X₀
+
+    @classmethod
+    def resumed(cls, mesh: ngs.Mesh, points, nu, held: tuple[str, ...], reference: np.ndarray,
+                wear: np.ndarray) -> Recession:
+        """The recession of a run that goes on from a checkpoint: ``mesh`` moved by ``wear`` (W) from ``reference`` (X₀).
+
+        Built on X₀ as the first update built it (the same extension, to the bit), then the mesh is put back.
+        """
+        now = coordinates(mesh)
+        place(mesh, reference)
+        recession = cls(mesh, points, nu, held)
+        place(mesh, now)
+        recession.wear = np.array(wear, dtype=float)
+        return recession
+
+    def after(self, realised: np.ndarray) -> np.ndarray:
+        """The vertices after the updates that realised ``realised`` (U, n: :meth:`accept`'s, at the points).
+
+        A vertex's point realised the vertex's own move, so W is their sum in the order the updates added it, and the
+        vertices are those the updates left (to the bit).
+        """
+        wear = np.zeros(len(self._own))
+        for row in realised:
+            wear += row[self._own]
+        return self.extension.moved(wear)
 
     def at_vertices(self, since: np.ndarray) -> np.ndarray:
         """The wear a move realises at Γ_C's vertices: the least of the points at each."""

@@ -48,7 +48,8 @@ def write_checkpoint(folder, result: Result) -> Path:
     mesh = keep_mesh(result, folder)
     history.flush()
     with replacing(folder / CHECKPOINT) as tmp:
-        np.savez(tmp, **result.header(), **_heat(result), rows=np.array(rows), history=np.array(history.folder.name),
+        np.savez(tmp, **result.header(), **_heat(result), **_moved(result), rows=np.array(rows),
+                 history=np.array(history.folder.name),
                  checksums=np.array(json.dumps(history.checksums(rows))), mesh_sha256=np.array(mesh),
                  x=x, lam=lam, step=np.array(step), scene=np.array(json.dumps(result.scene.to_dict())))
     remove_others(folder, history.folder)
@@ -62,6 +63,22 @@ def _heat(result: Result) -> dict[str, np.ndarray]:
     steps = sorted(result.temperatures)
     return {**result.heating.state, "temperature_steps": np.array(steps, dtype=int),
             "temperature_fields": np.array([result.temperatures[s] for s in steps])}
+
+
+def _moved(result: Result) -> dict[str, np.ndarray]:
+    """What a run that moved its worn surface needs to go on (none before the first update).
+
+    The :class:`~ngwear.runs.life.Surface`'s state (X₀, W, the vertices now, exact: ``mesh.vol`` is not), the bodies
+    its frames show (:attr:`Result.meshes`) and the displacements recovered on an earlier body (up to the last update).
+    """
+    if not result.geometry_updates or result.surface is None:
+        return {}
+    steps = sorted(j for j in result.fields if j <= result.removed_rows[-1])
+    meshes = sorted(result.meshes)
+    return {**result.surface.state, "body_meshes": np.array(meshes, dtype=int),
+            "body_coordinates": np.array([result.meshes[k] for k in meshes]),
+            "moved_steps": np.array(steps, dtype=int),
+            "moved_fields": np.array([result.fields[j] for j in steps])}
 
 
 def saved_scene(folder) -> Scene:
@@ -107,12 +124,10 @@ class Checkpoint:
         data = _read(folder)
         saved = _scene(data, folder / CHECKPOINT)
         self.scene = saved if scene is None else _continuing(saved, scene)
-        updates = len(data.get("removed_rows", ()))
-        if updates:
-            raise FolderError("resume", f"the run in {folder} moved its worn surface {updates} times (wear.geometry = "
-                                        "'surface'); a run cannot resume after a geometry update yet: run it again")
-        disc = Discretization(self.scene, checked_mesh(folder, data, self.scene.dim, "resume"))
-        _check_counts(folder / CHECKPOINT, data, disc)
+        mesh = checked_mesh(folder, data, self.scene.dim, "resume")
+        self.surface = _surface(folder / CHECKPOINT, data, mesh)
+        disc = Discretization(self.scene, mesh)
+        _check_counts(folder / CHECKPOINT, data, disc, moved=bool(self.surface))
         if "history" in data:
             if not re.fullmatch(rf"{PREFIX}[0-9a-f]{{12}}", str(data["history"])):    # a folder of its own, here
                 raise FolderError("resume", f"{folder / CHECKPOINT} names no history folder of its own "
@@ -134,12 +149,35 @@ class Checkpoint:
         if "temperature_steps" in data:
             self.result.temperatures = {int(s): np.array(f) for s, f in zip(data["temperature_steps"],
                                                                             data["temperature_fields"])}
+        if self.surface:
+            self.result.meshes = dict(zip(data["body_meshes"].tolist(), data["body_coordinates"]))
+            self.result.fields.update(zip(data["moved_steps"].tolist(), data["moved_fields"]))
         self.result.status = "completed"
 
 
-def _check_counts(path: Path, data: dict, disc) -> None:
-    """The checkpoint's contact points are the mesh's; its Newton records are one per counted row (+ a failure)."""
-    if not np.array_equal(data["contact_points"], disc.points.coords):
+def _surface(path: Path, data: dict, mesh) -> dict[str, np.ndarray]:
+    """A moved body's state (see :func:`_moved`), its mesh put where the run left it; {} before the first update."""
+    from ..numerics.motion import place
+
+    updates = len(data.get("removed_rows", ()))
+    if not updates:
+        return {}
+    if "surface_coordinates" not in data:
+        raise FolderError("resume", f"{path} moved its worn surface {updates} times but keeps no moved mesh (written "
+                                    "by an ngwear that could not resume across geometry updates): run it again")
+    coords = np.array(data["surface_coordinates"])
+    if coords.shape != (mesh.nv, mesh.dim):
+        raise FolderError("resume", f"{path.parent / 'mesh.vol'} is not the mesh of {path.name} ({mesh.nv} vertices, "
+                                    f"its moved mesh has {len(coords)})")
+    place(mesh, coords)
+    return {key: np.array(data[key]) for key in ("surface_reference", "surface_wear")}
+
+
+def _check_counts(path: Path, data: dict, disc, moved: bool = False) -> None:
+    """The checkpoint's contact points are the mesh's (``moved``: as many); one Newton record per row (+ a failure)."""
+    built = len(data["contact_points"]) == disc.points.n if moved else \
+        np.array_equal(data["contact_points"], disc.points.coords)
+    if not built:
         raise FolderError("resume", f"{path.parent / 'mesh.vol'} is not the mesh of {path.name} (its contact "
                                     "points differ)")
     rows = int(data["rows"]) if "rows" in data else len(data["times"])

@@ -121,6 +121,7 @@ class Result:
     discretization: object = field(default=None, repr=False)
     recording: object = field(default=None, repr=False)          # the run's Recording: its rows, to go on from
     heating: object = field(default=None, repr=False)            # the run's Heating: thermal expansion's displacement
+    surface: object = field(default=None, repr=False)            # the run's Surface ("surface"): a checkpoint keeps it
     mesh_digest: str | None = field(default=None, repr=False)   # SHA-256 of the mesh.vol written for it
     provenance: dict | None = field(default=None, repr=False)    # versions and scene hash (None: an older file's)
     jumped: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
@@ -279,11 +280,14 @@ class Result:
 
         None while the geometry never moved (the discretization's mesh is the body's).  After k updates the
         body is mesh k (0: as built), kept (:attr:`meshes`) for the frames that show it; the last (the
-        discretization's) always.
+        discretization's) always.  A run's other meshes are made again from the first k updates' wear
+        (:meth:`~ngwear.numerics.motion.Recession.after`); a result read from its files has only the frames'.
         """
         if not len(self.removed_rows):
             return None
         k = self.updates_by(step)
+        if k not in self.meshes and self.surface is not None and self.surface.recession is not None:
+            return self.surface.recession.after(self.removed[:k])
         if k not in self.meshes:
             raise KeyError(f"the body's mesh at step {step} (after {k} geometry updates) was not kept; the frames' "
                            f"steps: {self.stored_steps}")

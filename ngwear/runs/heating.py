@@ -43,7 +43,7 @@ class Heating:
     """
 
     def __init__(self, scene, disc):
-        self.contact, self.disc = disc.contact, disc
+        self.scene, self.contact, self.disc = scene, disc.contact, disc
         self.contact.reset()
         self.heat = Heat(scene, disc.mesh, disc.points) if scene.heat.model == "conduction" else None
         load = None if self.heat is None else ThermalLoad(scene, disc.fes, self.heat.space)
@@ -61,6 +61,19 @@ class Heating:
         if saved and heating.heat is not None:
             heating.heat.restore({k: saved[f"heat_{k}"] for k in ("temperature", "heat", "counterface")})
         return heating
+
+    def moved(self, disc) -> None:
+        """After a geometry update (``wear.geometry = "surface"``): go on on ``disc``, the moved body's discretization.
+
+        Its contact (the coefficients of state are read from the last step's state before each step: nothing to
+        carry), the temperature carried node by node onto the moved mesh with its matrices rebuilt
+        (:meth:`~ngwear.numerics.heat.Heat.moved`), and the thermal load's G assembled there.
+        """
+        self.contact, self.disc = disc.contact, disc
+        if self.heat is not None:
+            self.heat.moved(disc.mesh, disc.points)
+            if self.load is not None:
+                self.load = ThermalLoad(self.scene, disc.fes, self.heat.space)
 
     def prepare(self, stepper, t: float, pressure: np.ndarray) -> str | None:
         """Before the step after t: the coefficients at the state of t (p = ``pressure``), the thermal load of T(t).

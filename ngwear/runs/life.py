@@ -204,14 +204,34 @@ class Surface:
     contact points' weights, d₀, the compliance, the loads, the plate), the contact's factors kept.  The step's row
     is rewritten with the new w (its pressure and displacements are those it was solved with: the update moves the
     wear from the layer into the geometry).  A move that would leave an element below the quality bound or inverted
-    stops the run with :attr:`~ngwear.numerics.motion.Quality.reason` (the run keeps its steps).
+    stops the run with :attr:`~ngwear.numerics.motion.Quality.reason` (the run keeps its steps).  A run's
+    :class:`~ngwear.runs.heating.Heating` goes on on the moved body (:meth:`~ngwear.runs.heating.Heating.moved`: T
+    carried node by node, the heat's matrices rebuilt).
+
+    A checkpoint keeps :attr:`state` (X₀, W and the moved vertices, exact); a run resumed from it (``saved``, ``disc``
+    on the moved mesh) rebuilds the extension on X₀ as the first update did, so it goes on to the bit.
     """
 
-    def __init__(self, scene, disc):
+    def __init__(self, scene, disc, saved: dict | None = None):
         self.scene, self.disc = scene, disc
         self.recession = None                          # built on a copy of the mesh at the first update
+        if saved:
+            self.recession = Recession.resumed(disc.mesh, disc.points, disc.condensation.nu, self._held(),
+                                               saved["surface_reference"], saved["surface_wear"])
         self.threshold = self._threshold(disc.mesh)
-        self.updates = 0
+
+    def _held(self) -> tuple[str, ...]:
+        """The boundaries held in place besides those not parallel to ν: the clamped ones and a plate's."""
+        plate = self.scene.loads.plate
+        return tuple(self.scene.geometry.dirichlet) + (() if plate is None else (plate.boundary,))
+
+    @property
+    def state(self) -> dict[str, np.ndarray]:
+        """What a checkpoint keeps to go on across updates: X₀, W at Γ_C's vertices, the vertices now ({}: none yet)."""
+        if self.recession is None:
+            return {}
+        return {"surface_reference": self.recession.extension.reference, "surface_wear": self.recession.wear,
+                "surface_coordinates": coordinates(self.recession.mesh)}
 
     def _threshold(self, mesh) -> float:
         """``wear.update`` × the smaller of h (the smallest element's height at Γ_C) and g: never through the layer."""
@@ -226,9 +246,7 @@ class Surface:
         disc, scene = self.disc, self.scene
         if self.recession is None:
             mesh = ngs.Mesh(disc.mesh.ngmesh.Copy())          # the mesh as built may serve other runs
-            plate = () if scene.loads.plate is None else (scene.loads.plate.boundary,)
-            self.recession = Recession(mesh, disc.points, disc.condensation.nu,
-                                       tuple(scene.geometry.dirichlet) + plate)
+            self.recession = Recession(mesh, disc.points, disc.condensation.nu, self._held())
         coords, quality = self.recession.trial(wear)
         if not quality.acceptable:
             result.status = (f"step {result.steps} (t = {result.times[-1]:.4g}): wear.geometry = 'surface': "
@@ -241,7 +259,6 @@ class Surface:
         if drive is not None:
             self.disc.contact.drive.at(drive.stop, drive.step)
         self.threshold = self._threshold(self.recession.mesh)
-        self.updates += 1
         result.moved(realised, self.disc, before)
         return self.disc
 
@@ -257,4 +274,8 @@ class Surface:
             return None
         if isinstance(clock, StopClock):
             clock.contact, clock.drive = disc.contact, disc.contact.drive
-        return Stepper(Problem(disc), StepCheck(result), Validity(result))
+        stepper = Stepper(Problem(disc), StepCheck(result), Validity(result))
+        if result.heating is not None:
+            result.heating.moved(disc)
+            stepper.heating = result.heating
+        return stepper

@@ -125,7 +125,7 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
     scene, disc, recording = start.scene, start.disc, start.recording
     result = recording.result
     stages.prepare(disc)
-    surface = Surface(scene, disc) if scene.wear.geometry == "surface" else None
+    surface = result.surface = Surface(scene, disc, start.surface) if scene.wear.geometry == "surface" else None
     clock = (Clock(scene, disc.contact.largest_rate(), result.rejected, start.step) if scene.programme is None
              else StopClock(scene, disc.contact, result, surface))      # its drive set where the rows end
     clock.replay(result.times, [disc.contact.alpha(t) * p for t, p in zip(result.times, result.pressure)])
@@ -202,6 +202,7 @@ class _Start:
     step: float | None = None
     kept: int = 0
     heat: dict | None = None
+    surface: dict | None = None
 
 
 def _start(scene, discretization, checkpoint, stages, stop) -> _Start:
@@ -239,7 +240,7 @@ def _resume(scene, resume, checkpoint, stages) -> _Start:
     recording.continuation = (saved.x, saved.lam, saved.step)
     kept = len(saved.result.times) if recording.history.is_in(resume) else 0
     return _Start(saved.scene, saved.result.discretization, recording, saved.x, saved.lam, folder, saved.step, kept,
-                  saved.heat)
+                  saved.heat, saved.surface)
 
 
 @dataclass

@@ -1,8 +1,9 @@
 """The arrays of a result's picture: points, the layer's surfaces, colour ranges, the rotor, the camera's bounds.
 
 The picture (paper, Figs. 1–4) in the reference frame with vertical axis e_d (ν = −e_d): the body
-is drawn at X + m u(X).  The rigid foundation's surface stays at x_d = −g and moves with v*: a block
-with an arrow for v*, or, for a counterface turning about an axis along ν (a brake disc, the
+is drawn at X + m u(X), X its vertices at the step (``wear.geometry = "surface"``: the mesh the geometry updates at or
+before the step moved, as the step's VTU frame shows it).  The rigid foundation's surface stays at x_d = −g and moves
+with v*: a block with an arrow for v*, or, for a counterface turning about an axis along ν (a brake disc, the
 rotor), a sector of the rotor under the part with an arc arrow for ω.  Under a rigid plate the
 body is coloured by its elastic displacement |u − δν| (the plate's translation δ moves it rigidly).
 The soft layer is drawn on Γ_C, offset along ν: under a contact point X with displacement u, wear
@@ -94,7 +95,7 @@ class PictureData:
         self.result, self.field, self.magnify, self.mesh = result, field, magnify, mesh
         shown = {s: vertex_displacement(result, s) for s in sorted(set(result.stored_steps) | set(steps))}
         self.scales = Scales.of(result, [elastic(result, s, u) for s, u in shown.items()])
-        self.moved = np.array([mesh.points + magnify * u for u in shown.values()])
+        self.moved = np.array([self.points(s) + magnify * u for s, u in shown.items()])
         self.lo, self.hi = self.moved.min(axis=(0, 1)), self.moved.max(axis=(0, 1))
         self.at_vertices = result.discretization.points.at_vertices
 
@@ -102,10 +103,18 @@ class PictureData:
     def dim(self) -> int:
         return self.result.scene.dim
 
+    def points(self, step: int) -> np.ndarray:
+        """The body's vertices X at ``step``: as built, or as the updates at or before it left them ("surface").
+
+        See :meth:`~ngwear.results.result.Result.body_coordinates`.
+        """
+        moved = self.result.body_coordinates(step)
+        return self.mesh.points if moved is None else moved
+
     def body(self, step: int) -> tuple[np.ndarray, np.ndarray]:
         """Vertices at X + m u and |u| there (|u − δν| under a plate)."""
         u = vertex_displacement(self.result, step)
-        return self.mesh.points + self.magnify * u, np.linalg.norm(elastic(self.result, step, u), axis=1)
+        return self.points(step) + self.magnify * u, np.linalg.norm(elastic(self.result, step, u), axis=1)
 
     def layer(self, step: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Per mesh vertex: the body's surface t, the layer's bottom b, the worn part's bottom, the field (w or p).
@@ -115,7 +124,7 @@ class PictureData:
         result, m, g = self.result, self.magnify, self.result.scene.contact.gap
         at = self.at_vertices
         nu = np.asarray(result.scene.contact.direction)
-        top = self.mesh.points + m * vertex_displacement(result, step)
+        top = self.points(step) + m * vertex_displacement(result, step)
         wear, squeeze = at @ result.wear[step], np.maximum(at @ result.compression[step], 0.0)
         bottom = top + np.maximum(g - m * wear - m * squeeze, 0.0)[:, None] * nu
         worn = bottom + np.clip(m * wear, 0.0, m * g)[:, None] * nu
