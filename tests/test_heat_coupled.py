@@ -14,6 +14,7 @@ import pytest
 
 import ngwear
 from ngwear.model.scene import Scene
+from ngwear.numerics import contact, solver
 from ngwear.numerics.heat import Heat
 from ngwear.results.recording import Recording
 from ngwear.results.result import ARRAYS
@@ -118,6 +119,30 @@ def test_fading_friction_through_a_stop_is_the_hand_computed_recursion():
     assert np.allclose(result.step_friction, np.array(mu)[:, None], rtol=2e-6)
     assert np.allclose(result.friction_force, force, rtol=2e-6)
     assert result.friction_force[-1] < 0.8 * result.friction_force[0]         # it faded
+
+
+
+def test_a_friction_of_temperature_keeps_newtons_factorisations_and_agrees_with_refactorising(monkeypatch):
+    """μ(T) changes at every step: the Newton matrices of a reference μ are factorised once.
+
+    They refine each step's (numerics.solver.Factors); the run agrees with one that factorises them for every μ to
+    Newton's tolerance (1e-10 of its scale g).  Here μ falls by 11 %: with the reference kept within 50 % of it, one
+    factorisation, and one at the last step, where the disc stops (n* = 0).
+    """
+    factorised, lu = [], solver.sla.lu_factor
+    monkeypatch.setattr(solver.sla, "lu_factor", lambda *a, **k: factorised.append(1) or lu(*a, **k))
+    monkeypatch.setattr(contact, "DRIFT", 0.5)
+    kept = ngwear.simulate(lumped_stop(), progress=False)
+    once = len(factorised)
+    monkeypatch.setattr(solver, "SWEEPS", 0)                      # no refinement: each μ's own factorisation
+    fresh = ngwear.simulate(lumped_stop(), progress=False)
+    assert kept.completed and fresh.completed and once == 2 and len(factorised) - once >= 20
+    assert kept.step_friction[-1].max() < 0.9 * kept.step_friction[0].min()
+    length = 1e-10 * 0.5                                          # Newton's merit: relative to g = 0.5 here
+    assert np.abs(kept.normal_displacement - fresh.normal_displacement).max() <= length
+    assert np.abs(kept.pressure - fresh.pressure).max() <= 1e3 * length      # p = L (s − d₀)
+    for name in ("surface_temperature", "foundation_temperature", "step_friction", "friction_force"):
+        assert np.allclose(getattr(kept, name), getattr(fresh, name), rtol=1e-10, atol=0), name
 
 
 def test_a_programme_with_heat_cools_over_its_dwells_and_tabulates_each_stops_temperatures(monkeypatch):

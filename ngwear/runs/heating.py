@@ -24,6 +24,9 @@ from ..model.scene import SceneError
 from ..numerics.expansion import ThermalLoad
 from ..numerics.heat import Heat, frictional_power
 
+REFERENCE = "heat_friction_reference"
+"""A checkpoint's key of the reference μ."""
+
 
 class Heating:
     """The temperature of a run's body and counterface, and the contact coefficients of state, step by step.
@@ -60,6 +63,8 @@ class Heating:
         heating = cls(scene, disc)
         if saved and heating.heat is not None:
             heating.heat.restore({k: saved[f"heat_{k}"] for k in ("temperature", "heat", "counterface")})
+        if saved and REFERENCE in saved:
+            heating.contact.reference = np.asarray(saved[REFERENCE], dtype=float)
         return heating
 
     def prepare(self, stepper, t: float, pressure: np.ndarray) -> str | None:
@@ -106,5 +111,12 @@ class Heating:
 
     @property
     def state(self) -> dict[str, np.ndarray]:
-        """What a checkpoint keeps to go on bit for bit: the temperature's state (the coefficients come from it)."""
-        return {} if self.heat is None else {f"heat_{k}": v for k, v in self.heat.state.items()}
+        """What a checkpoint keeps to go on bit for bit.
+
+        The temperature's state (the coefficients come from it), and the reference μ of the Newton matrices
+        (:attr:`~ngwear.numerics.contact.Contact.reference`).
+        """
+        state = {} if self.heat is None else {f"heat_{k}": v for k, v in self.heat.state.items()}
+        if self.contact.reference is not None:
+            state[REFERENCE] = self.contact.reference
+        return state
