@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import ngwear
+from ngwear.model.examples import scene_file
 from ngwear.model.scene import Scene
 from ngwear.numerics import contact, solver
 from ngwear.numerics.heat import Heat
@@ -288,10 +289,42 @@ def test_thermal_expansion_lifts_a_force_controlled_plate_by_alpha_dT_H():
 
 
 def test_the_explorer_shows_the_temperatures_and_sweeps_a_heat_key():
+    """The summary names the highest temperature; the plots gain a row of temperatures, and lose it without heat."""
     from ngwear.views.explore import Explorer
 
     explorer = Explorer(lumped_stop(**{"contact.friction": 0.5}))
     before = explorer.result.max_temperature.max()
     assert f"max T {before:.4g} at t = " in explorer.summary()
     explorer.set(**{"heat.partition": 0.8})                       # more of the heat into the body: hotter
-    assert explorer.result.max_temperature.max() > before and "reuses everything" in explorer.summary()
+    result = explorer.result
+    assert result.max_temperature.max() > before and "reuses everything" in explorer.summary()
+    explorer.scrub(5)
+    heated, lines = explorer.plots(), explorer.dashboard._lines
+    x, shown = lines["surface_temperature"].get_data()
+    order = np.argsort(result.contact_points[:, 0])
+    assert np.array_equal(shown, result.surface_temperature[5, order]) and np.array_equal(x, np.sort(x))
+    assert np.array_equal(lines["max_temperature"].get_ydata(), result.max_temperature)
+    assert lines["now_heat"].get_xdata()[0] == result.times[5]
+    explorer.set(**{"heat.model": "none"})
+    cold = explorer.plots()
+    assert heated.shape == (2 * cold.shape[0], cold.shape[1], 3) and "surface_temperature" not in explorer.dashboard._lines
+    assert "max T" not in explorer.summary()
+
+
+def test_the_dashboard_maps_the_temperature_of_a_pads_face():
+    """3D: the contact face's points coloured by T over the two coordinates across ν (x, y for the pad)."""
+    from ngwear.views.plots import Dashboard
+
+    scene = ngwear.load_scene(scene_file("brake_pad")).replace(**{
+        "mesh.maxh": 0.012, "time.T": 20.0, "time.steps": 4, "output.every": 20.0, "heat.model": "conduction",
+        "heat.partition": 0.2, "material.conductivity": 1.2, "material.density": 2600.0,
+        "material.heat_capacity": 1465.0})
+    result = ngwear.simulate(scene, progress=False)
+    board = Dashboard(size=(8, 2.5), dpi=80)
+    image, face = board.image(result, -1), board._lines["surface_temperature"]
+    order = np.argsort(result.contact_points[:, 0])
+    assert image.shape == (400, 640, 3)
+    assert np.array_equal(face.get_offsets(), result.contact_points[order][:, :2])
+    assert np.array_equal(face.get_array(), result.surface_temperature[-1, order])
+    assert face.get_clim() == (result.surface_temperature.min(), result.max_temperature.max())
+    assert np.ptp(result.surface_temperature[-1]) > 0
