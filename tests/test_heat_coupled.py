@@ -13,7 +13,9 @@ import numpy as np
 import pytest
 
 import ngwear
+from ngwear.model.examples import scene_file
 from ngwear.model.scene import Scene
+from ngwear.numerics import contact, solver
 from ngwear.numerics.heat import Heat
 from ngwear.results.recording import Recording
 from ngwear.results.result import ARRAYS
@@ -120,11 +122,36 @@ def test_fading_friction_through_a_stop_is_the_hand_computed_recursion():
     assert result.friction_force[-1] < 0.8 * result.friction_force[0]         # it faded
 
 
+
+def test_a_friction_of_temperature_keeps_newtons_factorisations_and_agrees_with_refactorising(monkeypatch):
+    """μ(T) changes at every step: the Newton matrices of a reference μ are factorised once.
+
+    They refine each step's (numerics.solver.Factors); the run agrees with one that factorises them for every μ to
+    Newton's tolerance (1e-10 of its scale g).  Here μ falls by 11 %: with the reference kept within 50 % of it, one
+    factorisation, and one at the last step, where the disc stops (n* = 0).
+    """
+    factorised, lu = [], solver.sla.lu_factor
+    monkeypatch.setattr(solver.sla, "lu_factor", lambda *a, **k: factorised.append(1) or lu(*a, **k))
+    monkeypatch.setattr(contact, "DRIFT", 0.5)
+    kept = ngwear.simulate(lumped_stop(), progress=False)
+    once = len(factorised)
+    monkeypatch.setattr(solver, "SWEEPS", 0)                      # no refinement: each μ's own factorisation
+    fresh = ngwear.simulate(lumped_stop(), progress=False)
+    assert kept.completed and fresh.completed and once == 2 and len(factorised) - once >= 20
+    assert kept.step_friction[-1].max() < 0.9 * kept.step_friction[0].min()
+    length = 1e-10 * 0.5                                          # Newton's merit: relative to g = 0.5 here
+    assert np.abs(kept.normal_displacement - fresh.normal_displacement).max() <= length
+    assert np.abs(kept.pressure - fresh.pressure).max() <= 1e3 * length      # p = L (s − d₀)
+    for name in ("surface_temperature", "foundation_temperature", "step_friction", "friction_force"):
+        assert np.allclose(getattr(kept, name), getattr(fresh, name), rtol=1e-10, atol=0), name
+
+
 def test_a_programme_with_heat_cools_over_its_dwells_and_tabulates_each_stops_temperatures(monkeypatch):
     """The fading stop above twice (v: 1 → 0 over 4, 10 steps), a dwell of 6 between: a hand recursion through both.
 
-    The crossing slides nothing: the adiabatic body keeps its heat to round-off, the disc relaxes to T_∞ by backward
-    Euler's factor C_d / (C_d + Δt H_d) = 3 / (3 + 6 · 0.5) = ½, ``heat_flux`` is 0; in the stops the body and the disc
+    The crossing slides nothing: the adiabatic body keeps its heat to round-off, the disc relaxes to T_∞ over the dwell
+    by 15 backward-Euler steps of the stop's 0.4, (C_d / (C_d + Δt H_d))¹⁵ = (3 / 3.2)¹⁵ = 0.38 (e⁻¹ = 0.37 exactly,
+    one step's ½ before), ``heat_flux`` is 0; in the stops the body and the disc
     follow the recursion of the single stop, μ_j = μ(T_{j−1}) (the crossing's row included).  The stop table's
     temperatures are the rows' at the stop's first and last rows and the maximum over them; its energy is ∫ F_t v dt
     with the μ each step used (it fades: the second stop dissipates less).
@@ -138,18 +165,20 @@ def test_a_programme_with_heat_cools_over_its_dwells_and_tabulates_each_stops_te
                                                               "dwell": 6.0}], "steps_per_stop": 10}})
     result = ngwear.simulate(scene, progress=False)
     assert result.completed and result.steps == 21 and result.times[11] == 10.0
-    crossing = seen[10]                                             # row 11: the Heat.advance calls start at row 1
-    assert crossing.supplied == seen[9].supplied and crossing.convected == seen[9].convected == 0
-    # to the solve's round-off: cond(M + Δt A) ≈ Δt k / (ρc h²) = 6 · 1e4 / (2 · 0.05²) ≈ 1e7, so ~1e7 · 1e-16
+    crossing = seen[24]                         # row 11: 15 Heat.advance calls (seen[10:25]), which start at row 1
+    assert len(seen) == 35 and crossing.supplied == seen[9].supplied and crossing.convected == seen[9].convected == 0
+    # to the solve's round-off: cond(M + Δt A) ≈ Δt k / (ρc h²) = 0.4 · 1e4 / (2 · 0.05²) ≈ 1e6, 15 times
     assert crossing.stored == pytest.approx(seen[9].stored, rel=1e-8, abs=0)
     assert result.heat_flux[11] == 0 and result.heat_flux[12] > 0
     body, disc, mu = [1.0], [1.0], [0.45]
     for j in range(1, 22):
         mu.append(0.5 - 0.05 * body[-1])
-        dt, power = (6.0, 0.0) if j == 11 else (0.4, mu[-1] * (1 - 0.1 * (j % 11)))    # N = 1
-        body.append(body[-1] + dt * 0.5 * power / 0.2)
-        disc.append((3.0 * disc[-1] + dt * (0.5 * power + 0.5 * 1.0)) / (3.0 + dt * 0.5))
-    assert disc[11] - 1.0 == pytest.approx(0.5 * (disc[10] - 1.0), rel=1e-12)
+        steps, power = (15, 0.0) if j == 11 else (1, mu[-1] * (1 - 0.1 * (j % 11)))    # N = 1
+        body.append(body[-1] + 0.4 * 0.5 * power / 0.2)
+        disc.append(disc[-1])
+        for _ in range(steps):
+            disc[-1] = (3.0 * disc[-1] + 0.4 * (0.5 * power + 0.5 * 1.0)) / (3.0 + 0.4 * 0.5)
+    assert disc[11] - 1.0 == pytest.approx((3 / 3.2) ** 15 * (disc[10] - 1.0), rel=1e-12)
     assert np.allclose(result.max_temperature, body, rtol=2e-6)
     assert np.allclose(result.foundation_temperature, disc, rtol=2e-6)
     assert np.allclose(result.step_friction, np.array(mu)[:, None], rtol=2e-6)
@@ -171,6 +200,49 @@ def test_a_programme_with_heat_cools_over_its_dwells_and_tabulates_each_stops_te
     assert stops.loc[0, "foundation_temperature_peak"] > stops.loc[0, "foundation_temperature_end"]   # it cooled
     assert stops.loc[1, "energy"] < 0.95 * stops.loc[0, "energy"]                                      # fade
 
+
+
+def test_a_cycle_jump_heats_the_body_and_the_disc_as_the_stops_it_applies(tmp_path, monkeypatch):
+    """Eight fading stops (μ = 0.45, κ > 0), cycle jumps on: stops 4-6 are applied at once after stop 3.
+
+    A jump takes the heat as it takes the wear, N cycles of the last simulated one (start to start): the adiabatic
+    body, which every stop heats by the same 2.025, starts stop 7 at 1 + 7 · 2.025 (a crossing that only cooled
+    started it at 1 + 4 · 2.025); the disc at its cooled state plus 3 × its change over stop 3's cycle; the heat's
+    clock is the run's and the energy balance holds.  A run resumed in the stop the jump repeats goes on bit for bit.
+    """
+    seen = balances(monkeypatch)
+    data = lumped_stop(**{"contact.wear": 1e-3, "contact.friction": 0.45}).to_dict()
+    data.pop("time")
+    data["foundation"].pop("speed_table")
+    data["output"].pop("every", None)
+    scene = Scene.from_dict({**data, "programme": {"stops": [{"count": 8, "duration": 4.0, "speed": [1.0, 0.0],
+                                                              "dwell": 6.0}], "steps_per_stop": 10, "jump": True,
+                                                   "jump_tolerance": 0.5}})
+    result = ngwear.simulate(scene, progress=False)
+    assert result.completed and result.jumped.tolist() == [4, 5, 6] and result.times[44] == 70.0
+    starts = result.max_temperature[[0, 11, 22, 33, 44]]                  # rows of the simulated stops' starts
+    assert np.allclose(starts, 1 + 2.025 * np.array([0, 1, 2, 3, 7]), rtol=1e-8)
+    disc = result.foundation_temperature
+    cooled = 1.0 + (3 / 3.2) ** 15 * (disc[43] - 1.0)                     # stop 3's end over one dwell
+    assert disc[44] == pytest.approx(cooled + 3 * (cooled - disc[33]), rel=1e-10)
+    assert result.heating.heat.time == pytest.approx(result.times[-1], rel=1e-14)
+    assert abs(seen[-1].residual) < 1e-8 * seen[-1].supplied          # the dwells' solves: cond ≈ 1e6 each
+    # the state of the stop the jump extrapolates from goes into a checkpoint: resumed after it, the same to the bit
+    stop, original, count = threading.Event(), Recording.append, []
+
+    def counting(recording, step):
+        original(recording, step)
+        count.append(1)
+        if len(count) == 40:                                              # in stop 3, the cycle the jump repeats
+            stop.set()
+
+    monkeypatch.setattr(Recording, "append", counting)
+    part = ngwear.simulate(scene, progress=False, checkpoint=tmp_path, stop=stop)
+    monkeypatch.undo()
+    resumed = ngwear.simulate(scene, progress=False, resume=tmp_path)
+    assert part.status == "interrupted" and resumed.jumped.tolist() == [4, 5, 6]
+    for name in ("max_temperature", "foundation_temperature", "surface_temperature", "wear"):
+        assert np.array_equal(getattr(resumed, name), getattr(result, name)), name
 
 def test_archards_discrete_identity_with_a_wear_coefficient_of_temperature():
     """Explicit: w_{j+1} = w_j + Δt κ(T_j) ‖v‖ p_j at every point, κ read from the last step's surface temperature."""
@@ -263,10 +335,42 @@ def test_thermal_expansion_lifts_a_force_controlled_plate_by_alpha_dT_H():
 
 
 def test_the_explorer_shows_the_temperatures_and_sweeps_a_heat_key():
+    """The summary names the highest temperature; the plots gain a row of temperatures, and lose it without heat."""
     from ngwear.views.explore import Explorer
 
     explorer = Explorer(lumped_stop(**{"contact.friction": 0.5}))
     before = explorer.result.max_temperature.max()
     assert f"max T {before:.4g} at t = " in explorer.summary()
     explorer.set(**{"heat.partition": 0.8})                       # more of the heat into the body: hotter
-    assert explorer.result.max_temperature.max() > before and "reuses everything" in explorer.summary()
+    result = explorer.result
+    assert result.max_temperature.max() > before and "reuses everything" in explorer.summary()
+    explorer.scrub(5)
+    heated, lines = explorer.plots(), explorer.dashboard._lines
+    x, shown = lines["surface_temperature"].get_data()
+    order = np.argsort(result.contact_points[:, 0])
+    assert np.array_equal(shown, result.surface_temperature[5, order]) and np.array_equal(x, np.sort(x))
+    assert np.array_equal(lines["max_temperature"].get_ydata(), result.max_temperature)
+    assert lines["now_heat"].get_xdata()[0] == result.times[5]
+    explorer.set(**{"heat.model": "none"})
+    cold = explorer.plots()
+    assert heated.shape == (2 * cold.shape[0], cold.shape[1], 3) and "surface_temperature" not in explorer.dashboard._lines
+    assert "max T" not in explorer.summary()
+
+
+def test_the_dashboard_maps_the_temperature_of_a_pads_face():
+    """3D: the contact face's points coloured by T over the two coordinates across ν (x, y for the pad)."""
+    from ngwear.views.plots import Dashboard
+
+    scene = ngwear.load_scene(scene_file("brake_pad")).replace(**{
+        "mesh.maxh": 0.012, "time.T": 20.0, "time.steps": 4, "output.every": 20.0, "heat.model": "conduction",
+        "heat.partition": 0.2, "material.conductivity": 1.2, "material.density": 2600.0,
+        "material.heat_capacity": 1465.0})
+    result = ngwear.simulate(scene, progress=False)
+    board = Dashboard(size=(8, 2.5), dpi=80)
+    image, face = board.image(result, -1), board._lines["surface_temperature"]
+    order = np.argsort(result.contact_points[:, 0])
+    assert image.shape == (400, 640, 3)
+    assert np.array_equal(face.get_offsets(), result.contact_points[order][:, :2])
+    assert np.array_equal(face.get_array(), result.surface_temperature[-1, order])
+    assert face.get_clim() == (result.surface_temperature.min(), result.max_temperature.max())
+    assert np.ptp(result.surface_temperature[-1]) > 0

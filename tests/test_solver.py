@@ -12,8 +12,9 @@ with the exact solution (to round-off, far below the tolerance), however stiff t
 """
 import numpy as np
 import pytest
+import scipy.linalg as sla
 
-from ngwear.numerics.solver import CondensedSystem, PointLaw, semismooth_newton
+from ngwear.numerics.solver import CondensedSystem, Factors, PointLaw, semismooth_newton
 
 H = 0.01 * np.array([[2.0, 0.5, 0.2, 0.1], [0.5, 2.0, 0.5, 0.2], [0.2, 0.5, 2.0, 0.5], [0.1, 0.2, 0.5, 2.0]])
 F = 0.01 * np.array([[0.3, -0.2, 0.1, 0.0], [0.2, 0.3, -0.2, 0.1], [-0.1, 0.2, 0.3, -0.2], [0.0, -0.1, 0.2, 0.3]])
@@ -74,3 +75,30 @@ def test_a_smooth_law_converges_but_does_not_end():
     assert record.converged and np.abs(s - s_star).max() < 1e-12
     assert merits[1] > 1e-8                                   # one step does not land on it, as it does above ...
     assert merits[2] < 10 * merits[1] ** 2                    # ... it converges quadratically instead
+
+
+def test_the_factors_of_a_reference_friction_refine_newton_to_the_exact_solution(monkeypatch):
+    """μ changed since the Newton matrices were factorised (a μ of the temperature): no new factorisation.
+
+    The LU of M(μ_ref) (:class:`Factors` with the reference's A) preconditions iterative refinement with M(μ), and
+    Newton lands on the exact solution of μ; a μ too far off for refinement to contract is solved with its own LU.
+    """
+    L, solved = 1e3, []
+    lu = sla.lu_factor
+    monkeypatch.setattr(sla, "lu_factor", lambda *a, **k: solved.append(1) or lu(*a, **k))
+    factors = Factors((H + 0.8 * F, None))
+
+    def solve(mu):
+        system, s_star = problem(L, mu)
+        system.factors = system.store = factors
+        s, lam, record = semismooth_newton(system, np.zeros(4), np.zeros(4), tol=1e-10)
+        assert record.converged and np.abs(s - s_star).max() < 1e-12 * system.scale
+        assert np.allclose(lam, REACTION, rtol=1e-9, atol=0)
+        return record.iterations
+
+    iterations = solve(0.8)                                   # the reference itself
+    first = len(solved)
+    assert first == len(factors) > 1
+    assert solve(0.82) == iterations and len(solved) == first   # refined: the same patterns, no factorisation
+    solve(8.0)                                                # refinement does not contract: M's own LU, not kept
+    assert len(solved) > first and len(factors) == first

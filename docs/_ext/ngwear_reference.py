@@ -146,6 +146,9 @@ MEANING = {
                                      "given)"),
         "temperature_steps": ("(·,)", "only with `heat`: the steps whose nodal temperature is kept for the frames"),
         "temperature_fields": ("(·, P1 DOFs)", "only with `heat`: those temperatures"),
+        "heat_friction_reference": ("(n,)", "only with a `contact.friction` of T, p or v: the reference μ whose "
+                                            "Newton matrices refine the steps' (a programme with `heat` also keeps "
+                                            "`heat_started_*`, the heat's state at the last simulated stop's start)"),
     },
 }
 HEADER = ("contact_points weights newton_iterations newton_converged newton_active newton_damped newton_lengths "

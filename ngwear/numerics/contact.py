@@ -25,6 +25,10 @@ from ..model.kinematics import Slip
 from ..model.programme import Drive, Schedule
 from ..model.rules import BIG
 
+DRIFT = 0.1
+"""Largest change of a μ of the state, relative to its largest value, within which the dense Newton matrices of the
+reference μ are kept (:attr:`Contact.reference`)."""
+
 
 class Contact:
     """The contact's data at the points: coefficients, compliance p, slip v*, and their values at each step t.
@@ -50,6 +54,10 @@ class Contact:
         The compliance p with L = L_i.
     slip : Slip
         The foundation's velocity at the points.
+    reference : ndarray or None
+        With a μ of the state, the reference μ_ref whose dense Newton matrices are factorised and precondition the
+        steps' (:class:`~ngwear.numerics.solver.Factors`): the μ of a step, kept while max |μ − μ_ref| ≤ ``DRIFT``
+        max |μ_ref| (a checkpoint keeps it: a resumed run refines from the same factors); None for μ of x.
     """
 
     def __init__(self, scene, points, nu: np.ndarray):
@@ -62,7 +70,7 @@ class Contact:
                              "(friction and wear are): give a number or a field of x, y, z")
         state = self.initial_state()
         self.coefficients = Coefficients.of(scene.contact, points.coords, state, None if state is None else 0.0)
-        self.current = self.coefficients
+        self.reset()
         self.law = compliance_from(scene.contact, self.coefficients.stiffness)
         self._check_motion()
 
@@ -79,10 +87,14 @@ class Contact:
         A value out of range is a SceneError naming the key, the point, the state there and t.
         """
         self.current = self.current.updated(self.scene.contact, self.coords, state, t)
+        friction, reference = self.current.friction, self.reference
+        if reference is not None and np.abs(friction - reference).max() > DRIFT * np.abs(reference).max(initial=0.0):
+            self.reference = friction
 
     def reset(self) -> None:
         """Back to the coefficients of the initial state (a new run on this contact)."""
         self.current = self.coefficients
+        self.reference = self.coefficients.friction if "friction" in self.stateful else None
 
     def _check_motion(self) -> None:
         """Friction and wear need the foundation to slide; the fastest wear rate stays finite (the fields' values)."""

@@ -74,10 +74,10 @@ class PatchSystem(CondensedSystem):
     """
 
     def __init__(self, columns, compliance, weights, s_load, d0, gap, law: PointLaw, store: dict,
-                 plate: PlateRows | None = None):
+                 plate: PlateRows | None = None, tolerance: float = 1e-10):
         self.columns, self.store = columns, store
         self.factors = store.setdefault("patterns", {})
-        self._setup(compliance, weights, s_load, d0, gap, law, plate)
+        self._setup(compliance, weights, s_load, d0, gap, law, plate, tolerance)
         self.modes = 0 if plate is None else len(self.rows)
 
     def response(self, directed, normal):

@@ -17,7 +17,7 @@ from .bulk import Remainder
 from .columns import Columns
 from .patch import PatchSystem
 from .recycle import ComplianceMemory, Recycler
-from .solver import CondensedSystem, FullSystem, KrylovSystem, PlateRows, PointLaw
+from .solver import CondensedSystem, Factors, FullSystem, KrylovSystem, PlateRows, PointLaw
 from .wear import WearIntegrator
 
 PATCH_SHARE = 0.9
@@ -45,7 +45,10 @@ class Problem:
         self.full = self.scene.solver.method == "full"
         self.n, self.d0 = disc.points.n, self.condensation.d0
         self.matrices: dict = {}                # the Newton matrices of the last μ n* (dense: with their LU factors)
-        self.factors: dict = {}
+        self.factors: dict = Factors()
+        self.slip: np.ndarray | None = None     # with μ of the state: n*, F(n*) and the reference μ of the factors
+        self.unit: np.ndarray | None = None
+        self.referred: np.ndarray | None = None
         self.shifted: tuple | None = None       # N K⁻¹ n(u), Dᵀ n(u) of the bulk's current iterate
         self.thermal: np.ndarray | None = None  # f_th, the thermal load of the step (:meth:`expand`)
 
@@ -144,7 +147,7 @@ class Problem:
             if key not in self.matrices:
                 before = next(iter(self.matrices.values()), None)
                 self.matrices = {key: self._columns(friction, before) if self.patch else self._recycler(friction)}
-                self.factors = {}
+                self.factors = Factors()
             directed = None if cond.plate is None else cond.plate.directed(directions)
             s_load, plate = self._loads(directed, load_factor)
             if self.patch:
@@ -154,15 +157,33 @@ class Problem:
                                 self.scene.contact.gap, law, self.scene.solver.tolerance, plate)
         key = friction.tobytes()
         if key not in self.matrices:
-            H = cond.normal_compliance
-            A = H + cond.friction_compliance(friction) if friction.any() else H
+            A = self._compliance(t, friction)
             directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + friction)
             self.matrices = {key: (A, directed)}
-            self.factors = {}
         A, directed = self.matrices[key]
         s_load, plate = self._loads(directed, load_factor)
         return CondensedSystem(cond.normal_compliance, A, disc.points.weights, s_load, cond.d0,
-                               self.scene.contact.gap, law, self.factors, plate)
+                               self.scene.contact.gap, law, self.factors, plate, self.scene.solver.tolerance)
+
+    def _compliance(self, t: float, friction: np.ndarray) -> np.ndarray:
+        """A = H + F(μ n*) for a new μ n* at t, F_ij = ν·G_ij·(μ n*)_j.
+
+        With μ a coefficient of the state it changes at every step while n* keeps its direction: A = H + F(n*) diag(μ)
+        with F(n*) kept for the direction, and the dense factors are those of the contact's reference μ
+        (:attr:`~ngwear.numerics.contact.Contact.reference`, :class:`~ngwear.numerics.solver.Factors`), kept while it is.
+        """
+        cond, reference = self.condensation, self.contact.reference
+        H = cond.normal_compliance
+        if reference is None:
+            self.factors = Factors()
+            return H + cond.friction_compliance(friction) if friction.any() else H
+        slip = self.contact.n_star(t)
+        if self.slip is None or not np.array_equal(slip, self.slip):
+            self.slip, self.unit, self.factors = slip, cond.friction_compliance(slip), Factors()
+        if self.factors.reference is None or self.referred is not reference:
+            directed = None if cond.plate is None else cond.plate.directed(cond.nu[None, :] + reference[:, None] * slip)
+            self.referred, self.factors = reference, Factors((H + self.unit * reference[None, :], directed))
+        return H + self.unit * self.contact.coefficients_at(t).friction[None, :]
 
     def _loads(self, directed, load_factor: float):
         """The normal displacements under the loads, s_F N K⁻¹ f, and the plate's rows, less the bulk's shift."""

@@ -68,6 +68,25 @@ MEMORY = 5
 UNDAMPED = 20
 FACTOR_BYTES = 2.5e8
 """Memory for the LU factors of the dense Newton matrices kept for patterns that recur (at most 16, LRU)."""
+SWEEPS = 8
+"""Most sweeps of iterative refinement with a reference μ's factors (:class:`Factors`) before M itself is factorised."""
+CONTRACTION = 4.0
+"""Least factor by which a sweep must shrink the residual, else refining costs more than a factorisation."""
+
+
+class Factors(dict):
+    """The factorised Newton matrices of a run by pattern (active set, p'), kept across iterations and steps.
+
+    ``reference``: (A, b_i·Φ_i) of a reference μ, with which the matrices are factorised instead of the step's (None:
+    the step's own).  While μ is a coefficient of the state it changes at every step (:mod:`ngwear.runs.heating`):
+    the matrices M̃ of the reference μ (:attr:`~ngwear.numerics.contact.Contact.reference`) are factorised once and
+    precondition iterative refinement with the step's M, z ← z + M̃⁻¹ (b − M z), M applied by products
+    (:meth:`CondensedSystem.solve`).
+    """
+
+    def __init__(self, reference: tuple | None = None):
+        super().__init__()
+        self.reference = reference
 
 
 def semismooth_newton(system, x, lam, tol: float = 1e-10, max_iterations: int = 50):
@@ -171,18 +190,26 @@ class CondensedSystem:
     exact: the force balance holds to round-off).
     """
 
-    def __init__(self, H, A, weights, s_load, d0, gap, law: PointLaw, factors: dict | None = None,
-                 plate: PlateRows | None = None):
-        self.H, self.A = H, A
-        self.factors = {} if factors is None else factors
-        self._setup(np.diag(H), weights, s_load, d0, gap, law, plate)
+    store = None
+    """The :class:`Factors` the Newton matrices are kept in (None: not factorised, matrix-free)."""
 
-    def _setup(self, compliance, weights, s_load, d0, gap, law, plate):
-        """Scalings from the point compliances ``compliance`` (H_ii, or an estimate of it)."""
+    def __init__(self, H, A, weights, s_load, d0, gap, law: PointLaw, factors: Factors | None = None,
+                 plate: PlateRows | None = None, tolerance: float = 1e-10):
+        self.H, self.A = H, A
+        self.factors = self.store = Factors() if factors is None else factors
+        self._setup(np.diag(H), weights, s_load, d0, gap, law, plate, tolerance)
+
+    def _setup(self, compliance, weights, s_load, d0, gap, law, plate, tolerance):
+        """Scalings from the point compliances ``compliance`` (H_ii, or an estimate of it); a solve's tolerance.
+
+        A Newton step solved inexactly (matrix-free, or refined) meets ‖M z − b‖∞ ≤ ``atol``, 1/100 of Newton's
+        ``tolerance`` on the problem's length scale, so that Newton's merit test sees exact steps.
+        """
         self.m, self.s_load, self.d0, self.g, self.law = weights, s_load, d0, gap, law
         self.n = len(weights)
         self.c = 1.0 / np.maximum(compliance * weights, 1e-300)
         self.scale = max(np.abs(s_load).max(initial=0.0), gap)
+        self.atol = 1e-2 * tolerance * self.scale
         self.plate, self._last = plate, (None, None)
         if plate is not None:
             reach = np.maximum(np.abs(plate.normal).max(axis=0, initial=0.0), 1e-300)
@@ -232,19 +259,29 @@ class CondensedSystem:
                    gap.max(initial=0) / self.g)
 
     def _factor(self, active, dp):
-        """LU of M = [J_{:,I} | H_{:,A} diag(m_A) | −Ψ] with J = I + A diag(m p'), bordered by the plate's rows."""
-        def build():
-            inactive = ~active
-            M = self.A * (self.m * dp * inactive)[None, :] + self.H * (self.m * active)[None, :]
-            M[np.diag_indices(len(dp))] += inactive
-            if self.plate is not None:
-                plate = self.plate
-                below = (plate.directed * (self.m * dp * inactive)[:, None]
-                         + plate.normal * (self.m * active)[:, None]).T
-                M = np.block([[M, -plate.normal],
-                              [self.rows[:, None] * below, self.rows[:, None] * self.jacobian_stiffness]])
-            return sla.lu_factor(M, check_finite=False)
-        return self._remember(active.tobytes() + dp.tobytes(), build)
+        """LU of the pattern's Newton matrix (:meth:`matrix`), of the reference μ with :attr:`Factors.reference`."""
+        reference = getattr(self.store, "reference", None)
+        A, directed = self._own() if reference is None else reference
+        return self._remember(active.tobytes() + dp.tobytes(),
+                              lambda: sla.lu_factor(self.matrix(active, dp, A, directed), check_finite=False))
+
+    def _own(self) -> tuple:
+        """(A, b_i·Φ_i) of this step."""
+        return self.A, None if self.plate is None else self.plate.directed
+
+    def matrix(self, active, dp, A, directed) -> np.ndarray:
+        """The Newton matrix of the pattern (active, dp) with the compliance A and the plate's b_i·Φ_i ``directed``.
+
+        M = [J_{:,I} | H_{:,A} diag(m_A) | −Ψ], J = I + A diag(m p'), bordered by the plate's rows.
+        """
+        inactive = ~active
+        M = A * (self.m * dp * inactive)[None, :] + self.H * (self.m * active)[None, :]
+        M[np.diag_indices(len(dp))] += inactive
+        if self.plate is None:
+            return M
+        plate = self.plate
+        below = (directed * (self.m * dp * inactive)[:, None] + plate.normal * (self.m * active)[:, None]).T
+        return np.block([[M, -plate.normal], [self.rows[:, None] * below, self.rows[:, None] * self.jacobian_stiffness]])
 
     def step(self, x, lam, active):
         n = self.n
@@ -259,11 +296,45 @@ class CondensedSystem:
         if self.plate is not None:
             plate = self.plate
             known[n:] = self.rows * (plate.normal.T @ (self.m * lam) - plate.directed.T @ (self.m * dp * ds))
-        sol = self._solve(active, dp, -self.residual(x, lam) + known, lam)
+        sol = self.solve(active, dp, -self.residual(x, lam) + known, lam)
         lam_new = np.where(active, sol[:n], 0.0)
         dx = sol.copy()
         dx[:n] = np.where(active, ds, sol[:n])
         return dx, lam_new
+
+    def solve(self, active, dp, rhs, lam):
+        """The Newton step's solve: z = M⁻¹ rhs, M the Newton matrix of the pattern (active, dp).
+
+        With the factors of a reference μ (:class:`Factors`) refined to ‖rhs − M z‖∞ ≤ ``atol``; should a sweep not
+        shrink the residual ``CONTRACTION``-fold, or ``SWEEPS`` not reach it, M itself is factorised (not kept).
+        """
+        z = self._solve(active, dp, rhs, lam)
+        if getattr(self.store, "reference", None) is None:
+            return z
+        last = np.inf
+        for _ in range(SWEEPS):
+            r = rhs - self.apply(active, dp, z)
+            size = np.abs(r).max(initial=0.0)
+            if size <= self.atol:
+                return z
+            if size > last / CONTRACTION:
+                break
+            z, last = z + self._solve(active, dp, r, lam), size
+        return sla.lu_solve(sla.lu_factor(self.matrix(active, dp, *self._own()), check_finite=False), rhs,
+                            check_finite=False)
+
+    def apply(self, active, dp, z):
+        """M z by products (M of :meth:`matrix` with this step's A)."""
+        n, inactive = self.n, ~active
+        directed, normal = self.m * dp * inactive * z[:n], self.m * active * z[:n]
+        out = np.empty_like(z)
+        out[:n] = inactive * z[:n] + self.response(directed, normal)
+        if self.plate is not None:
+            plate = self.plate
+            out[:n] -= plate.normal @ z[n:]
+            out[n:] = self.rows * (plate.directed.T @ directed + plate.normal.T @ normal
+                                   + self.jacobian_stiffness @ z[n:])
+        return out
 
     def _solve(self, active, dp, rhs, lam):
         return sla.lu_solve(self._factor(active, dp), rhs, check_finite=False)
@@ -300,8 +371,7 @@ class KrylovSystem(CondensedSystem):
     def __init__(self, recycler, compliance, weights, s_load, d0, gap, law: PointLaw, tolerance: float,
                  plate: PlateRows | None = None):
         self.recycler = recycler
-        self._setup(compliance, weights, s_load, d0, gap, law, plate)
-        self.atol = 1e-2 * tolerance * self.scale
+        self._setup(compliance, weights, s_load, d0, gap, law, plate, tolerance)
 
     def response(self, directed, normal):
         return self.recycler.memory(directed, normal)

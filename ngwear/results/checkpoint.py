@@ -57,9 +57,9 @@ def write_checkpoint(folder, result: Result) -> Path:
 
 
 def _heat(result: Result) -> dict[str, np.ndarray]:
-    """The temperature's state (``heat_*``) and the kept nodal temperatures of a run with heat (none else)."""
+    """The heating's state (``heat_*``) and the kept nodal temperatures of a run with heat (none else)."""
     if result.heating is None or result.heating.heat is None:
-        return {}
+        return {} if result.heating is None else result.heating.state
     steps = sorted(result.temperatures)
     return {**result.heating.state, "temperature_steps": np.array(steps, dtype=int),
             "temperature_fields": np.array([result.temperatures[s] for s in steps])}

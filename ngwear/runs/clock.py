@@ -89,6 +89,10 @@ class Clock:
         """
         integrator.prepare(w, p, contact.alpha(t), contact.alpha(t_next), t_next - t)
 
+    def heating(self, t: float, t_next: float) -> tuple[int, tuple[float, ...]]:
+        """(The stops a cycle jump applied, the heat's backward-Euler steps) over the step from t to t_next: itself."""
+        return 0, (t_next - t,)
+
     def judge(self, times: list[float], rates: list[np.ndarray]) -> bool:
         """Accept the step to ``times[-1]`` from the rates at the last (up to three) times; set the next step."""
         if not self.adaptive:

@@ -30,6 +30,8 @@ from .jumps import CycleJumps, rigid_modes
 
 WORN_OUT = "worn_out"
 """The status of a run ended by ``wear.limit``."""
+DWELL_STEPS = 64
+"""Most backward-Euler steps of the heat over a dwell (steps of the stop's d/m; longer ones over a longer dwell)."""
 
 
 class StopClock:
@@ -112,6 +114,20 @@ class StopClock:
     def still(self) -> bool:
         """Whether the step being solved is a crossing: no sliding over it (no frictional heat)."""
         return self.target[1] == 0
+
+    def heating(self, t: float, t_next: float) -> tuple[int, tuple[float, ...]]:
+        """(The stops a cycle jump applied, the heat's backward-Euler steps) over the step just solved, t to t_next.
+
+        A stop's step: itself.  A crossing: the dwell before the stop it reached, in steps of that block's d/m (at most
+        :data:`DWELL_STEPS`); with a jump of N stops, one dwell, and the heat then takes the N cycles (stop and dwell)
+        as the jump does the wear (:meth:`~ngwear.runs.heating.Heating.advance`).
+        """
+        if self.step:
+            return 0, (t_next - t,)
+        s, before = self.schedule, self.stop - 1
+        length = float(s.dwell[before]) if self.added else t_next - t
+        count = min(math.ceil(length * self.m / s.duration[before]), DWELL_STEPS) if length > 0 else 0
+        return int(self.added), (length / count,) * count
 
     def judge(self, times, rates) -> bool:
         """Every step is accepted (a stop's steps are uniform); the run is now at the step solved."""

@@ -267,8 +267,13 @@ def _solve(stepper, integrator, t: float, t_prev: float | None, x, lam) -> _Atte
     return _Attempt(x, lam, s, delta, pressure, integrator.wear_at(s - problem.d0), record)
 
 
-def _record(recording: Recording, stepper, t: float, attempt: _Attempt, dt: float = 0.0, still: bool = False) -> bool:
-    """Record the step (of length ``dt``; ``still``: it slid nothing) if it keeps the invariants; else stop the run."""
+def _record(recording: Recording, stepper, t: float, attempt: _Attempt, heating: tuple = (0, ()),
+            still: bool = False) -> bool:
+    """Record the step if it keeps the invariants; else stop the run.
+
+    ``heating``: (the stops a cycle jump applied, the heat's steps) over it (:meth:`~ngwear.runs.clock.Clock.heating`;
+    none at step 0); ``still``: it slid nothing.
+    """
     broken = stepper.check(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam)
     if broken is not None:
         name, value = broken
@@ -277,7 +282,8 @@ def _record(recording: Recording, stepper, t: float, attempt: _Attempt, dt: floa
                        f"try wear.integrator = 'implicit' or more time.steps", attempt.record)
         return False
     forces = stepper.problem.contact.forces(attempt.pressure, attempt.lam, t)
-    heated = {} if stepper.heating is None else stepper.heating.advance(dt, t, attempt.pressure, still)
+    heated = {} if stepper.heating is None else stepper.heating.advance(heating[1], t, attempt.pressure, still,
+                                                                        heating[0])
     recording.append(StepRecord({"times": t, "wear": attempt.wear, "normal_displacement": attempt.s,
                                  "pressure": attempt.pressure, "reaction": attempt.lam, "forces": forces,
                                  "plate_displacement": attempt.delta, **heated}, attempt.record))
@@ -333,7 +339,7 @@ def _next(stepper, integrator, clock: Clock, recording: Recording, x, lam):
             _failed(recording, stepper.scene, j + 1, t_next, err)
             return None
         if clock.judge([*times, t_next], [*rates, contact.alpha(t_next) * attempt.pressure]):
-            kept = _record(recording, stepper, t_next, attempt, t_next - t, clock.still)
+            kept = _record(recording, stepper, t_next, attempt, clock.heating(t, t_next), clock.still)
             return (attempt.x, attempt.lam) if kept else None
 
 

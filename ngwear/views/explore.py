@@ -196,7 +196,8 @@ class Explorer:
     def plots(self) -> np.ndarray:
         """RGB image of wear and pressure along Γ_C at the step on show and of the maxima over time.
 
-        With a pinned run A, the A/B panels (current run B against A, and the difference of wear).
+        With heat, a row of temperatures below (:class:`~ngwear.views.plots.Dashboard`).  With a pinned run A, the
+        A/B panels (current run B against A, and the difference of wear).
         """
         with self._lock:
             if self.pinned is not None:

@@ -119,35 +119,53 @@ class Panels:
 
 
 class Dashboard(Panels):
-    """Three small panels at one step of a run (the explorer's plots).
+    """Three small panels at one step of a run (the explorer's plots); with heat, two more below them.
 
     Left: the wear w along Γ_C at the step, at the end of the run (thin grey) and g (dashed).
     Middle: the pressure p and the rigid reaction λ along Γ_C at the step.
     Right: max w and max u_ν − d₀ over the run, g dashed, the step's time as a vertical line.
+    A run with a temperature (``heat.model = "conduction"``) adds a row, the figure twice as tall: the surface
+    temperature T at the step along Γ_C (2D: at the end of the run thin grey) or as a map of the contact face (3D: the
+    points coloured by T over the two coordinates most across ν), and the body's highest temperature and the
+    counterface's over the run, the step's time as a vertical line.
     Axis ranges are fixed per result over the whole run, so that scrubbing through it compares.
     """
 
     _result = None
+    _heated = False
 
     def image(self, result, step: int) -> np.ndarray:
         """RGB image (height, width, 3) of the panels for ``step`` of ``result``."""
         step = result.step_index(step)
-        if self._dim != result.scene.dim:
-            self._build(result.scene.dim)
+        heated = result.scene.heat.model == "conduction"
+        if (self._dim, self._heated) != (result.scene.dim, heated):
+            self._build(result.scene.dim, heated)
         if self._result is not result:
             self._show_run(result)
         x = result.contact_points[self._order, 0]
         for name in ("wear", "pressure", "reaction"):
             self._lines[name].set_data(x, getattr(result, name)[step, self._order])
         self._lines["now"].set_xdata([result.times[step]] * 2)
+        if heated:
+            temperature = result.surface_temperature[step, self._order]
+            if result.scene.dim == 2:
+                self._lines["surface_temperature"].set_data(x, temperature)
+            else:
+                self._lines["surface_temperature"].set_array(temperature)
+            self._lines["now_heat"].set_xdata([result.times[step]] * 2)
         self._lines["title"].set_text(f"t = {result.times[step]:.2f}")
         return self._pixels()
 
-    def _build(self, dim: int) -> None:
+    def _build(self, dim: int, heated: bool = False) -> None:
         """Axes, labels and (empty) lines; contact points are joined in 2D and marked in 3D."""
         self.figure.clear()
-        self.figure.subplots_adjust(left=0.06, right=0.99, bottom=0.18, top=0.85, wspace=0.25)
-        wear, traction, history = self.figure.subplots(1, 3)
+        width, height = self.figure.get_size_inches() / (1, 2 if self._heated else 1)
+        self.figure.set_size_inches(width, 2 * height if heated else height)
+        rows = 2 if heated else 1
+        self.figure.subplots_adjust(left=0.06, right=0.99, bottom=0.18 / rows, top=1 - 0.15 / rows, wspace=0.25,
+                                    hspace=0.5)
+        grid = self.figure.add_gridspec(rows, 6)
+        wear, traction, history = (self.figure.add_subplot(grid[0, 2 * i:2 * i + 2]) for i in range(3))
         style = {} if dim == 2 else dict(marker=".", ms=3, ls="none")
         dotted = dict(ls=":") if dim == 2 else dict(style, marker="x")
         lines = {
@@ -165,16 +183,34 @@ class Dashboard(Panels):
         wear.set(xlabel="x on Γ_C", title="wear w")
         traction.set(xlabel="x on Γ_C", title="pressure p, reaction λ")
         history.set(xlabel="time t", title="max wear and penetration")
-        for ax in (wear, traction, history):
-            ax.legend(fontsize=7, loc="upper left")
+        axes = [wear, traction, history]
+        if heated:
+            face, heat = self.figure.add_subplot(grid[1, :3]), self.figure.add_subplot(grid[1, 3:])
+            if dim == 2:
+                lines["end_temperature"] = face.plot([], [], color="0.7", lw=1, label="end of run")[0]
+                lines["surface_temperature"] = face.plot([], [], color="C5", label="T at t")[0]
+            else:
+                lines["surface_temperature"] = face.scatter([], [], c=[], s=6, cmap="inferno")
+                self.figure.colorbar(lines["surface_temperature"], ax=face).ax.tick_params(labelsize=7)
+            lines.update({
+                "max_temperature": heat.plot([], [], color="C3", label="body, highest")[0],
+                "foundation_temperature": heat.plot([], [], color="C0", label="counterface T_f")[0],
+                "now_heat": heat.axvline(0, color="0.4", lw=1),
+            })
+            face.set(xlabel="x on Γ_C", title="surface temperature T" + (" on Γ_C" if dim == 3 else ""))
+            heat.set(xlabel="time t", title="temperatures over time")
+            axes += [face, heat]
+        for ax in axes:
+            if ax.get_legend_handles_labels()[0]:
+                ax.legend(fontsize=7, loc="upper left")
             ax.tick_params(labelsize=7)
             ax.title.set_fontsize(9)
             ax.xaxis.label.set_fontsize(8)
-        self._axes, self._lines, self._dim, self._result = (wear, traction, history), lines, dim, None
+        self._axes, self._lines, self._dim, self._heated, self._result = axes, lines, dim, heated, None
 
     def _show_run(self, result) -> None:
         """Lines and axis ranges that stay while scrubbing through ``result``."""
-        wear, traction, history = self._axes
+        wear, traction, history = self._axes[:3]
         g, t = result.scene.contact.gap, result.times
         self._order = np.argsort(result.contact_points[:, 0])
         x = result.contact_points[self._order, 0]
@@ -184,13 +220,38 @@ class Dashboard(Panels):
         lines["gap_t"].set_ydata([g, g])
         lines["max_wear"].set_data(t, result.wear.max(axis=1, initial=0.0))
         lines["max_pen"].set_data(t, (result.normal_displacement - result.d0).max(axis=1, initial=0.0))
-        span = (x.min(), x.max()) if x.max() > x.min() else (x.min() - 1, x.max() + 1)
+        span = _span(x)
         top = 1.1 * max(g, result.wear.max(initial=0.0), lines["max_pen"].get_ydata().max(initial=0.0))
         traction_top = max(result.pressure.max(initial=0.0), result.reaction.max(initial=0.0))
+        times = (t[0], max(t[-1], t[0] + 1e-12))
         wear.set(xlim=span, ylim=(0, top))
         traction.set(xlim=span, ylim=(0, 1.1 * positive(traction_top)))
-        history.set(xlim=(t[0], max(t[-1], t[0] + 1e-12)), ylim=(0, top))
+        history.set(xlim=times, ylim=(0, top))
+        if self._heated:
+            face, heat = self._axes[3:]
+            lines["max_temperature"].set_data(t, result.max_temperature)
+            lines["foundation_temperature"].set_data(t, result.foundation_temperature)
+            low = min(result.surface_temperature.min(), result.foundation_temperature.min())
+            high = max(result.max_temperature.max(), result.foundation_temperature.max())
+            pad = 0.05 * (high - low) or 0.05 * abs(high) or 1.0
+            heat.set(xlim=times, ylim=(low - pad, high + pad))
+            if result.scene.dim == 2:
+                lines["end_temperature"].set_data(x, result.surface_temperature[-1, self._order])
+                face.set(xlim=span, ylim=(low - pad, high + pad))
+            else:
+                across = np.argsort(np.abs(result.scene.contact.direction))[:2]
+                u, v = np.sort(across)
+                lines["surface_temperature"].set_offsets(result.contact_points[self._order][:, [u, v]])
+                lines["surface_temperature"].set_clim(result.surface_temperature.min(), high)
+                face.set(xlim=_span(result.contact_points[:, u], 0.03), ylim=_span(result.contact_points[:, v], 0.03),
+                         xlabel="xyz"[u], ylabel="xyz"[v])
         self._result = result
+
+
+def _span(values: np.ndarray, margin: float = 0.0) -> tuple[float, float]:
+    """An axis range over ``values``, widened by ``margin`` of it on each side (±1 around a single value)."""
+    lo, hi = values.min(), values.max()
+    return (lo - margin * (hi - lo), hi + margin * (hi - lo)) if hi > lo else (lo - 1, hi + 1)
 
 
 def positive(value: float) -> float:
