@@ -126,7 +126,9 @@ class StopClock:
             return 0, (t_next - t,)
         s, before = self.schedule, self.stop - 1
         length = float(s.dwell[before]) if self.added else t_next - t
-        count = min(math.ceil(length * self.m / s.duration[before]), DWELL_STEPS) if length > 0 else 0
+        if length <= 0:
+            return int(self.added), ()
+        count = min(math.ceil(length * self.m / s.duration[before]), DWELL_STEPS)
         return int(self.added), (length / count,) * count
 
     def judge(self, times, rates) -> bool:
