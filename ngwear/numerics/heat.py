@@ -204,15 +204,18 @@ def frictional_power(friction: np.ndarray, pressure: np.ndarray, speed: np.ndarr
 
 
 def _evaluation(space: ngs.FESpace, points) -> sp.csr_matrix:
-    """E (n × ndof): E_ij = φ_j(x_i) of the P1 basis at the contact points (vertices, or P2's edge midpoints)."""
-    mesh, rows, cols, vals = space.mesh, [], [], []
+    """E (n × ndof): E_ij = φ_j(x_i) of the P1 basis at the contact points (vertices, or P2's edge midpoints).
 
-    def dof(vertex: int) -> int:
-        return space.GetDofNrs(ngs.NodeId(NODE_TYPE.VERTEX, vertex))[0]
-
-    for i, (vertex, edge) in enumerate(zip(points.vertices, points.edges)):
-        ends = [int(vertex)] if vertex >= 0 else [v.nr for v in mesh[ngs.NodeId(NODE_TYPE.EDGE, int(edge))].vertices]
-        rows += [i] * len(ends)
-        cols += [dof(v) for v in ends]
-        vals += [1.0 / len(ends)] * len(ends)
+    A P1 space's DOF j is vertex j (NGSolve numbers an order-1 H1 space's DOFs by the vertices).
+    """
+    mesh = space.mesh
+    assert space.ndof == mesh.nv, "a P1 space: one DOF per vertex"
+    vertices, edges = np.asarray(points.vertices), np.asarray(points.edges)
+    on_edge = np.flatnonzero(vertices < 0)
+    ends = np.array([[v.nr for v in mesh[ngs.NodeId(NODE_TYPE.EDGE, int(edges[i]))].vertices] for i in on_edge],
+                    dtype=int).reshape(-1, 2)
+    at_vertex = np.flatnonzero(vertices >= 0)
+    rows = np.concatenate([at_vertex, np.repeat(on_edge, 2)])
+    cols = np.concatenate([vertices[at_vertex], ends.ravel()])
+    vals = np.concatenate([np.ones(len(at_vertex)), np.full(2 * len(on_edge), 0.5)])
     return sp.csr_matrix((vals, (rows, cols)), shape=(points.n, space.ndof))
