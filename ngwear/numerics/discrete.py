@@ -130,6 +130,22 @@ class Discretization:
         new._assemble(self.body if rebuilt > Level.SPACE else Body(scene, self.body.mesh), *kept)
         return new
 
+    def moved(self, mesh: ngs.Mesh, regions: tuple[str, ...]) -> Discretization:
+        """The discretization of ``mesh``: this one's elements, the vertices of ``regions`` moved (a geometry update).
+
+        Everything is built anew on the moved mesh (the space, the contact points, K and its factorisation, d₀, the
+        loads, the plate) but what the move leaves: the gradient blocks of the other regions, and K's fill-in
+        reducing ordering (its pattern is the same; :class:`~ngwear.numerics.operators.ElasticOperator`).
+        """
+        new = Discretization.__new__(Discretization)
+        new.scene, new.contact_solve = self.scene, self.contact_solve
+        built, root = vars(self.body).get("gradient_blocks"), self.elastic.root
+        body = Body(self.scene, mesh, {region: blocks for region, blocks in built.built.items() if region not in regions}
+                    if built is not None else None)
+        ordering = root.operator.ordering if "operator" in vars(root) else None
+        new._assemble(body, Elastic(self.scene, body, schur=new._dense(self.scene, body), ordering=ordering))
+        return new
+
     def tangent(self, state: np.ndarray, columns: dict | None = None) -> Discretization:
         """The discretization with K the laws' tangent at the displacement ``state``.
 

@@ -34,10 +34,13 @@ LOW_RANK = 32
 
 
 class Body:
-    """Mesh, displacement space (clamped on the Dirichlet and plate boundaries) and contact points."""
+    """Mesh, displacement space (clamped on the Dirichlet and plate boundaries) and contact points.
 
-    def __init__(self, scene: Scene, mesh: ngs.Mesh):
-        self.mesh = mesh
+    ``blocks``: gradient blocks kept from a body of the same elements, by region (see :class:`GradientBlocks`).
+    """
+
+    def __init__(self, scene: Scene, mesh: ngs.Mesh, blocks: dict[str, dict] | None = None):
+        self.mesh, self._blocks = mesh, blocks
         self.fes = displacement_space(mesh, scene)
         self.free = np.array(list(self.fes.FreeDofs()), dtype=bool)
         self.points = contact_points(self.fes, scene.dim, scene.mesh.order)
@@ -45,7 +48,7 @@ class Body:
     @cached_property
     def gradient_blocks(self) -> GradientBlocks:
         """The scalar gradient matrices of each region: the stiffness of any linear laws by sparse sums."""
-        return GradientBlocks(self.fes)
+        return GradientBlocks(self.fes, self._blocks)
 
     @cached_property
     def contact_regions(self) -> tuple[str, ...]:
@@ -93,11 +96,14 @@ class Elastic:
     displacement (the Newton iterate of a nonlinear law's step solver).  ``schur``: factorise with the
     Schur complement on the contact DOFs (the dense contact solve).  A tangent follows the operator ``base``; when it
     is an update of ``base``'s factorisation, ``columns`` caches that factorisation's K⁻¹Dᵀ (default: ``base``'s).
+    ``ordering``: the fill-in reducing ordering of a factorised K of the same pattern (a geometry update's mesh
+    before the move; :class:`~ngwear.numerics.operators.ElasticOperator`).
     """
 
     def __init__(self, scene: Scene, body: Body, schur: bool, state: np.ndarray | None = None,
-                 base: Elastic | None = None, columns: dict | None = None):
+                 base: Elastic | None = None, columns: dict | None = None, ordering: np.ndarray | None = None):
         self.scene, self.body, self.schur, self.state = scene, body, schur, state
+        self.ordering = ordering
         self.laws = region_laws(scene)
         self.root, self.columns = self, {}  # the Elastic whose factorisation K's operator is; its K⁻¹Dᵀ by point
         self.changed = np.zeros(0, dtype=int)   # the kink points whose branch differs from the root's
@@ -177,7 +183,8 @@ class Elastic:
         """
         root, changed = self.root, self.changed
         if root is self:
-            return ElasticOperator(self.stiffness, self.body.free, self.body.contact_dofs, schur=self.schur)
+            return ElasticOperator(self.stiffness, self.body.free, self.body.contact_dofs, schur=self.schur,
+                                   ordering=self.ordering)
         if not len(changed):
             return root.operator
         return UpdatedOperator(root.operator, self.kink.D[changed], self.kink.c[changed] * self._change, self.columns,

@@ -24,7 +24,6 @@ import ngsolve as ngs
 import numpy as np
 
 from ..model.programme import Schedule
-from ..numerics.discrete import Discretization
 from ..numerics.motion import Recession, contact_height, coordinates
 from .jumps import CycleJumps, rigid_modes
 
@@ -243,7 +242,7 @@ class Surface:
 
     def update(self, result, wear: np.ndarray):
         """Move the mesh by ``wear`` (the last row's); the new discretization, or None with the run stopped."""
-        disc, scene = self.disc, self.scene
+        disc = self.disc
         if self.recession is None:
             mesh = ngs.Mesh(disc.mesh.ngmesh.Copy())          # the mesh as built may serve other runs
             self.recession = Recession(mesh, disc.points, disc.condensation.nu, self._held())
@@ -255,7 +254,7 @@ class Surface:
         before = coordinates(self.recession.mesh)         # the mesh in force until now: frames may show it
         realised = self.recession.accept(coords, wear)
         drive = disc.contact.drive
-        self.disc = Discretization(scene, self.recession.mesh, disc.contact_solve)
+        self.disc = disc.moved(self.recession.mesh, self.recession.extension.regions)
         if drive is not None:
             self.disc.contact.drive.at(drive.stop, drive.step)
         self.threshold = self._threshold(self.recession.mesh)
