@@ -29,21 +29,17 @@ SOFT_LIMIT = 1_000
 class ElasticOperator:
     """K⁻¹ on the free DOFs (full numbering); with ``schur``, also S⁻¹ on the free contact DOFs.
 
-    ``contact_dofs`` are the free DOFs among the given ones, sorted; S is kept as its Cholesky factor.  ``ordering``:
-    the fill-in reducing :attr:`ordering` of an operator of a K of the same pattern on the same free DOFs (a moved
-    mesh's), used without ``schur`` (no METIS, :class:`~ngwear.numerics.pardiso.Pardiso`).
+    ``contact_dofs`` are the free DOFs among the given ones, sorted; S is kept as its Cholesky factor.
     """
 
-    def __init__(self, K: sp.csr_matrix, free: np.ndarray, contact_dofs: np.ndarray, schur: bool = True,
-                 ordering: np.ndarray | None = None):
+    def __init__(self, K: sp.csr_matrix, free: np.ndarray, contact_dofs: np.ndarray, schur: bool = True):
         self.ndof = K.shape[0]
         self.free = np.flatnonzero(free)
         local = np.full(self.ndof, -1)
         local[self.free] = np.arange(len(self.free))
         self.contact_dofs = np.unique([d for d in contact_dofs if free[d]]).astype(int)
         c = local[self.contact_dofs]
-        self._factor = Pardiso(K[self.free][:, self.free], c if schur and len(c) else None,
-                               ordering if not (schur and len(c)) else None)
+        self._factor = Pardiso(K[self.free][:, self.free], c if schur and len(c) else None)
         self._cholesky = None
         if self._factor.schur_upper is not None:   # S's upper triangle, row-major: the lower one of its transpose
             self._cholesky = sla.cho_factor(self._factor.schur_upper.T, lower=True, overwrite_a=True,
@@ -66,11 +62,6 @@ class ElasticOperator:
     @property
     def factor_nonzeros(self) -> int:
         return self._factor.factor_nonzeros
-
-    @property
-    def ordering(self) -> np.ndarray | None:
-        """The fill-in reducing permutation of the free DOFs K was factorised in (None with ``schur``)."""
-        return self._factor.ordering
 
     def contact_solve(self, rhs: np.ndarray) -> np.ndarray:
         """S⁻¹ rhs = (K⁻¹)_cc rhs for rhs on the contact DOFs (1D or columns)."""

@@ -54,13 +54,10 @@ class Pardiso:
 
     With ``schur`` rows, ``schur_upper`` holds S as PARDISO hands it back (row-major, upper triangle
     valid, the rest undefined; no copies of an n_c × n_c matrix are made) and ``schur_complement``
-    builds the whole symmetric S from it; without, both are None.  Without Schur rows, ``ordering`` is the
-    fill-in reducing permutation of the analysis (METIS's, or the one given): a K of the same pattern (a moved
-    mesh's) given it skips METIS (a third of the analysis and factorisation of the pad at 323k DOFs) and comes out
-    as with METIS's own.
+    builds the whole symmetric S from it; without, both are None.
     """
 
-    def __init__(self, K: sp.spmatrix, schur: np.ndarray | None = None, ordering: np.ndarray | None = None):
+    def __init__(self, K: sp.spmatrix, schur: np.ndarray | None = None):
         global _MKL
         _MKL = _MKL or _library()
         upper = sp.triu(K, format="csr")
@@ -73,7 +70,6 @@ class Pardiso:
         self.iparm = np.zeros(64, dtype=np.int32)
         self.iparm[[0, 1, 17, 34]] = 1, 3, -1, 1  # own settings, parallel METIS, report nnz(L), 0-based
         self._perm = np.zeros(self.n, dtype=np.int32)
-        self.ordering = None
         weakref.finalize(self, _release, self._pt, self.iparm)
         self.schur = np.zeros(0, dtype=int) if schur is None else np.sort(np.asarray(schur, dtype=int))
         self.schur_upper = None
@@ -83,12 +79,7 @@ class Pardiso:
             self.schur_upper = np.zeros((len(self.schur), len(self.schur)))
             self._call(12, np.zeros(self.n), self.schur_upper)
         else:
-            if ordering is not None:
-                self._perm[:] = ordering
-            self.iparm[4] = 1 if ordering is not None else 2      # the permutation given, or handed back
             self._call(12, np.zeros(self.n), np.zeros(self.n))
-            self.iparm[4] = 0
-            self.ordering = self._perm.copy()
 
     def _call(self, phase: int, b: np.ndarray, x: np.ndarray) -> None:
         nrhs = 1 if b.ndim == 1 else b.shape[1]

@@ -200,11 +200,10 @@ class Surface:
     Γ_C by the least wear of the points at it), the wear it realised at the points, W, leaves the layer (w −= W,
     w ≥ 0) and goes to ``Result.removed`` (``total_wear`` = w + ΣW), and the discretization is rebuilt on the moved
     mesh: everything a change of geometry invalidates (the space's element maps, K and its factorisation, the
-    contact points' weights, d₀, the compliance, the loads, the plate), the contact's factors kept, and the
-    unmoved regions' stiffness blocks and K's fill-in reducing ordering
-    (:meth:`~ngwear.numerics.discrete.Discretization.moved`).  The step's row is rewritten with the new w (its
-    pressure and displacements are those it was solved with: the update moves the wear from the layer into the
-    geometry).  A move that would leave an element below the quality bound or inverted
+    contact points' weights, d₀, the compliance, the loads, the plate), the contact's factors and the unmoved
+    regions' stiffness blocks kept (:meth:`~ngwear.numerics.discrete.Discretization.moved`).  The step's row is
+    rewritten with the new w (its pressure and displacements are those it was solved with: the update moves the
+    wear from the layer into the geometry).  A move that would leave an element below the quality bound or inverted
     stops the run with :attr:`~ngwear.numerics.motion.Quality.reason` (the run keeps its steps).  A run's
     :class:`~ngwear.runs.heating.Heating` goes on on the moved body (:meth:`~ngwear.runs.heating.Heating.moved`: T
     carried node by node, the heat's matrices rebuilt).
