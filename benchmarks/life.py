@@ -40,16 +40,16 @@ def scene(quick: bool, jump: bool, maxh: float | None = None):
 def child(mode: str, quick: bool, maxh: float | None) -> dict:
     """One run in this process: its numbers as a dict (printed as JSON)."""
     spent = []
-    update = life.Surface.update
+    apply = life.Surface.apply
 
-    def timed_update(self, *args):
+    def timed_apply(self, *args):
         began = time.perf_counter()
         try:
-            return update(self, *args)
+            return apply(self, *args)
         finally:
             spent.append(time.perf_counter() - began)
 
-    life.Surface.update = timed_update
+    life.Surface.apply = timed_apply
     run = scene(quick, mode == "jumps", maxh)
     began = time.perf_counter()
     result = ngwear.simulate(run, progress=False)

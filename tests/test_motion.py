@@ -174,3 +174,19 @@ def test_the_height_of_the_smallest_element_at_the_contact():
     touching = (np.abs(y[nodes]) < 1e-14).sum(axis=1) == 2
     assert contact_height(mesh) == pytest.approx(np.where(touching[:, None], y[nodes], 0).max(axis=1)[touching].min())
     assert 0 < contact_height(build_mesh(BOX)) <= BOX.mesh.maxh
+
+
+def test_a_moved_discretization_rebuilds_only_the_moved_regions_stiffness():
+    """``Discretization.moved`` keeps the backing's gradient blocks (no vertex of it moves); K is the fresh one's."""
+    disc = Discretization(STRIP)
+    K = disc.elastic.stiffness
+    recession = Recession(ngs.Mesh(disc.mesh.ngmesh.Copy()), disc.points, np.array(STRIP.contact.direction))
+    coords, _ = recession.trial(np.full(disc.points.n, 0.2))
+    recession.accept(coords, np.full(disc.points.n, 0.2))
+    assert recession.extension.regions == ("body",)
+    moved = disc.moved(recession.mesh, recession.extension.regions)
+    fresh = Discretization(STRIP, recession.mesh).elastic.stiffness
+    assert (abs(moved.elastic.stiffness - fresh)).max() == 0 and (abs(moved.elastic.stiffness - K)).max() > 0
+    kept, old = moved.body.gradient_blocks.built, disc.body.gradient_blocks.built
+    assert all(kept["backing"][ab] is old["backing"][ab] for ab in old["backing"])
+    assert all(kept["body"][ab] is not old["body"][ab] for ab in old["body"])

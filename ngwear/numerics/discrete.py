@@ -130,6 +130,21 @@ class Discretization:
         new._assemble(self.body if rebuilt > Level.SPACE else Body(scene, self.body.mesh), *kept)
         return new
 
+    def moved(self, mesh: ngs.Mesh, regions: tuple[str, ...]) -> Discretization:
+        """The discretization of ``mesh``: this one's elements, the vertices of ``regions`` moved (a geometry update).
+
+        Everything is built anew on the moved mesh (the space, the contact points, K and its factorisation, d₀, the
+        loads, the plate) but what the move leaves: the gradient blocks of the other regions (those of the pad's
+        backing plate: 10 of the 24 s of K's assembly at 323k DOFs).
+        """
+        new = Discretization.__new__(Discretization)
+        new.scene, new.contact_solve = self.scene, self.contact_solve
+        built = vars(self.body).get("gradient_blocks")
+        body = Body(self.scene, mesh, {region: blocks for region, blocks in built.built.items() if region not in regions}
+                    if built is not None else None)
+        new._assemble(body)
+        return new
+
     def tangent(self, state: np.ndarray, columns: dict | None = None) -> Discretization:
         """The discretization with K the laws' tangent at the displacement ``state``.
 

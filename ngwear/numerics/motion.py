@@ -102,6 +102,9 @@ class Extension:
         fixed = np.zeros(mesh.nv, bool)
         fixed[faces[np.isin(names, held + tilted(self.reference, faces, names, self.nu))]] = True
         self.free = np.flatnonzero(moving & ~fixed & ~np.isin(np.arange(mesh.nv), self.contact))
+        touched = np.isin(nodes, np.concatenate([self.free, self.contact])).any(axis=1)
+        self.regions = tuple(mesh.GetMaterials()[r] for r in np.unique(regions[touched]))
+        """The regions whose elements a move changes: those with a vertex that may move."""
         laplacian = _laplacian(mesh, [mesh.GetMaterials()[r] for r in carrying])
         self._coupling = laplacian[self.free][:, self.contact]
         self._factor = Pardiso(laplacian[self.free][:, self.free]) if len(self.free) else None
@@ -251,13 +254,12 @@ def contact_height(mesh: ngs.Mesh) -> float:
     """
     nodes, _ = simplices(mesh)
     faces, names = facets(mesh)
-    contact = faces[names == "contact"]
+    on = _keys(faces[names == "contact"])
     coords = coordinates(mesh)
-    on = {tuple(sorted(face)) for face in contact}
     d = mesh.dim
     heights = []
     for facet in itertools.combinations(range(d + 1), d):
-        touching = np.array([tuple(sorted(row)) in on for row in nodes[:, facet]])
+        touching = np.isin(_keys(nodes[:, facet]), on)
         if touching.any():
             elements = nodes[touching]
             sides = coords[elements[:, list(facet)[1:]]] - coords[elements[:, [facet[0]]]]
@@ -265,6 +267,12 @@ def contact_height(mesh: ngs.Mesh) -> float:
                 np.linalg.norm(sides[:, 0], axis=1)
             heights.append(d * np.abs(signed_volumes(coords, elements)) / area)
     return float(np.concatenate(heights).min())
+
+
+def _keys(rows: np.ndarray) -> np.ndarray:
+    """One comparable key per row of vertex numbers, whatever their order (the sorted row's bytes)."""
+    rows = np.ascontiguousarray(np.sort(rows, axis=1), dtype=np.int64)
+    return rows.view(np.dtype((np.void, rows.dtype.itemsize * rows.shape[1]))).ravel()
 
 
 def signed_volumes(coords: np.ndarray, nodes: np.ndarray) -> np.ndarray:

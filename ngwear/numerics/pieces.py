@@ -34,10 +34,13 @@ LOW_RANK = 32
 
 
 class Body:
-    """Mesh, displacement space (clamped on the Dirichlet and plate boundaries) and contact points."""
+    """Mesh, displacement space (clamped on the Dirichlet and plate boundaries) and contact points.
 
-    def __init__(self, scene: Scene, mesh: ngs.Mesh):
-        self.mesh = mesh
+    ``blocks``: gradient blocks kept from a body of the same elements, by region (see :class:`GradientBlocks`).
+    """
+
+    def __init__(self, scene: Scene, mesh: ngs.Mesh, blocks: dict[str, dict] | None = None):
+        self.mesh, self._blocks = mesh, blocks
         self.fes = displacement_space(mesh, scene)
         self.free = np.array(list(self.fes.FreeDofs()), dtype=bool)
         self.points = contact_points(self.fes, scene.dim, scene.mesh.order)
@@ -45,7 +48,7 @@ class Body:
     @cached_property
     def gradient_blocks(self) -> GradientBlocks:
         """The scalar gradient matrices of each region: the stiffness of any linear laws by sparse sums."""
-        return GradientBlocks(self.fes)
+        return GradientBlocks(self.fes, self._blocks)
 
     @cached_property
     def contact_regions(self) -> tuple[str, ...]:

@@ -20,14 +20,23 @@ from ..model import mandel
 
 
 class GradientBlocks:
-    """S^r_jl of every region r of the space's mesh (built on first use of each region)."""
+    """S^r_jl of every region r of the space's mesh (built on first use of each region).
 
-    def __init__(self, fes: ngs.FESpace):
+    ``kept``: the blocks of regions whose elements are those of another mesh's, unmoved (a geometry update leaves
+    the regions that do not carry Γ_C), by region.
+    """
+
+    def __init__(self, fes: ngs.FESpace, kept: dict[str, dict] | None = None):
         self.mesh, self.dim = fes.mesh, fes.mesh.dim
         self.scalar = ngs.H1(fes.mesh, order=fes.globalorder)
         if fes.ndof != self.dim * self.scalar.ndof:
             raise ValueError("GradientBlocks: the space is not d copies of H1 of its order")
-        self._regions: dict[str, dict] = {}
+        self._regions: dict[str, dict] = dict(kept or {})
+
+    @property
+    def built(self) -> dict[str, dict]:
+        """The blocks built so far, by region."""
+        return dict(self._regions)
 
     def of(self, region: str) -> dict:
         """{(a, b): S_ab} of ``region`` (CSR, both triangles)."""

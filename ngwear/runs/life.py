@@ -24,7 +24,6 @@ import ngsolve as ngs
 import numpy as np
 
 from ..model.programme import Schedule
-from ..numerics.discrete import Discretization
 from ..numerics.motion import Recession, contact_height, coordinates
 from .jumps import CycleJumps, rigid_modes
 
@@ -219,8 +218,9 @@ class Surface:
     Γ_C by the least wear of the points at it), the wear it realised at the points, W, leaves the layer (w −= W,
     w ≥ 0) and goes to ``Result.removed`` (``total_wear`` = w + ΣW), and the discretization is rebuilt on the moved
     mesh: everything a change of geometry invalidates (the space's element maps, K and its factorisation, the
-    contact points' weights, d₀, the compliance, the loads, the plate), the contact's factors kept.  The step's row
-    is rewritten with the new w (its pressure and displacements are those it was solved with: the update moves the
+    contact points' weights, d₀, the compliance, the loads, the plate), the contact's factors and the unmoved
+    regions' stiffness blocks kept (:meth:`~ngwear.numerics.discrete.Discretization.moved`).  The step's row is
+    rewritten with the new w (its pressure and displacements are those it was solved with: the update moves the
     wear from the layer into the geometry).  A move that would leave an element below the quality bound or inverted
     stops the run with :attr:`~ngwear.numerics.motion.Quality.reason` (the run keeps its steps).  A run's
     :class:`~ngwear.runs.heating.Heating` goes on on the moved body (:meth:`~ngwear.runs.heating.Heating.moved`: T
@@ -261,7 +261,7 @@ class Surface:
 
     def update(self, result, wear: np.ndarray):
         """Move the mesh by ``wear`` (the last row's); the new discretization, or None with the run stopped."""
-        disc, scene = self.disc, self.scene
+        disc = self.disc
         if self.recession is None:
             mesh = ngs.Mesh(disc.mesh.ngmesh.Copy())          # the mesh as built may serve other runs
             self.recession = Recession(mesh, disc.points, disc.condensation.nu, self._held())
@@ -273,7 +273,7 @@ class Surface:
         before = coordinates(self.recession.mesh)         # the mesh in force until now: frames may show it
         realised = self.recession.accept(coords, wear)
         drive = disc.contact.drive
-        self.disc = Discretization(scene, self.recession.mesh, disc.contact_solve)
+        self.disc = disc.moved(self.recession.mesh, self.recession.extension.regions)
         if drive is not None:
             self.disc.contact.drive.at(drive.stop, drive.step)
         self.threshold = self._threshold(self.recession.mesh)
