@@ -19,9 +19,14 @@ On the shipped pad also each coupling of ``coupled`` alone on ``conduction`` (``
 """
 from __future__ import annotations
 
+import subprocess
+import sys
+import tempfile
 import time
+from pathlib import Path
 
 import common as C
+import tomli_w
 
 import ngwear
 from ngwear.model.examples import scene_file
@@ -51,11 +56,40 @@ def run(scene, mesh, cpu: list) -> None:
     assert result.completed, result.status
 
 
+def cli_runs(args, header) -> None:
+    """``ngwear run`` of the shipped pad with each variant, fresh processes, interleaved (``--cli``)."""
+    base = ngwear.load_scene(scene_file("brake_pad"))
+    with tempfile.TemporaryDirectory() as folder:
+        files = {}
+        for name, changes in VARIANTS.items():
+            files[name] = Path(folder) / f"{name}.toml"
+            files[name].write_text(tomli_w.dumps(base.replace(**changes).to_dict()))
+
+        def run_cli(name):
+            subprocess.run([sys.executable, "-m", "ngwear.cli", "run", str(files[name]), "--out",
+                            str(Path(folder) / f"out-{name}"), "--quiet"], check=True, capture_output=True)
+
+        times, _ = C.interleaved({name: (lambda n=name: run_cli(n)) for name in VARIANTS}, args.reps)
+    rows = [{"variant": name, "seconds": C.median(times[name]), "reps": args.reps,
+             "ratio": C.median(times[name]) / C.median(times["none"])} for name in VARIANTS]
+    for row in rows:
+        row["target"] = C.verdict(row["ratio"] <= TARGET) if row["variant"] != "none" else ""
+    columns = [("variant", "heat", None), ("seconds", "ngwear run s", ".2f"), ("ratio", "/ none", ".2f"),
+               ("target", "target", None)]
+    C.finish("heat_cost_cli", "ngwear run of the shipped brake pad: heat.model none vs conduction", header + [
+        "ngwear run of each variant's scene file (mesh from the cache, results, frames, pictures), fresh processes"],
+        rows, columns, quick=False)
+
+
 def main():
-    args = C.parser(__doc__.splitlines()[0]).parse_args()
+    p = C.parser(__doc__.splitlines()[0])
+    p.add_argument("--cli", action="store_true", help="time `ngwear run` of the shipped pad instead")
+    args = p.parse_args()
     header = C.machine_lines(args) + [
         "brake_pad.toml from the cached mesh, Discretization + simulate in one process; medians of interleaved "
         f"repetitions; target: conduction, coupled <= {TARGET:g} x none on the shipped pad"]
+    if args.cli:
+        return cli_runs(args, header)
     base = ngwear.load_scene(scene_file("brake_pad"))
     sizes = ((SHIPPED, 150),) if args.quick else ((SHIPPED, 150), (0.00135, 20))
     rows = []
