@@ -90,7 +90,7 @@ def test_the_factors_of_a_reference_friction_refine_newton_to_the_exact_solution
 
     def solve(mu):
         system, s_star = problem(L, mu)
-        system.factors = system.store = factors
+        system.factors, system.reference = factors, factors.reference
         s, lam, record = semismooth_newton(system, np.zeros(4), np.zeros(4), tol=1e-10)
         assert record.converged and np.abs(s - s_star).max() < 1e-12 * system.scale
         assert np.allclose(lam, REACTION, rtol=1e-9, atol=0)

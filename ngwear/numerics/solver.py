@@ -190,13 +190,15 @@ class CondensedSystem:
     exact: the force balance holds to round-off).
     """
 
-    store = None
-    """The :class:`Factors` the Newton matrices are kept in (None: not factorised, matrix-free)."""
+    reference = None
+    """(A, b_i·Φ_i) of the reference μ whose factors precondition this step's solves (:class:`Factors`); None: the
+    step's own matrices are factorised (and the matrix-free systems factorise none)."""
 
     def __init__(self, H, A, weights, s_load, d0, gap, law: PointLaw, factors: Factors | None = None,
                  plate: PlateRows | None = None, tolerance: float = 1e-10):
         self.H, self.A = H, A
-        self.factors = self.store = Factors() if factors is None else factors
+        self.factors = Factors() if factors is None else factors
+        self.reference = self.factors.reference
         self._setup(np.diag(H), weights, s_load, d0, gap, law, plate, tolerance)
 
     def _setup(self, compliance, weights, s_load, d0, gap, law, plate, tolerance):
@@ -260,8 +262,7 @@ class CondensedSystem:
 
     def _factor(self, active, dp):
         """LU of the pattern's Newton matrix (:meth:`matrix`), of the reference μ with :attr:`Factors.reference`."""
-        reference = getattr(self.store, "reference", None)
-        A, directed = self._own() if reference is None else reference
+        A, directed = self._own() if self.reference is None else self.reference
         return self._remember(active.tobytes() + dp.tobytes(),
                               lambda: sla.lu_factor(self.matrix(active, dp, A, directed), check_finite=False))
 
@@ -309,7 +310,7 @@ class CondensedSystem:
         shrink the residual ``CONTRACTION``-fold, or ``SWEEPS`` not reach it, M itself is factorised (not kept).
         """
         z = self._solve(active, dp, rhs, lam)
-        if getattr(self.store, "reference", None) is None:
+        if self.reference is None:
             return z
         last = np.inf
         for _ in range(SWEEPS):
