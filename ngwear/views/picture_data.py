@@ -94,6 +94,7 @@ class PictureData:
     def __init__(self, result, steps, field: str, magnify: float, mesh: MeshArrays):
         self.result, self.field, self.magnify, self.mesh = result, field, magnify, mesh
         shown = {s: vertex_displacement(result, s) for s in sorted(set(result.stored_steps) | set(steps))}
+        self._shown, self._last = shown, (None, None)
         self.scales = Scales.of(result, [elastic(result, s, u) for s, u in shown.items()])
         self.moved = np.array([self.points(s) + magnify * u for s, u in shown.items()])
         self.lo, self.hi = self.moved.min(axis=(0, 1)), self.moved.max(axis=(0, 1))
@@ -111,9 +112,17 @@ class PictureData:
         moved = self.result.body_coordinates(step)
         return self.mesh.points if moved is None else moved
 
+    def displacement(self, step: int) -> np.ndarray:
+        """The displacement at the vertices at ``step``: kept for the picture's steps and the last other one asked."""
+        if step in self._shown:
+            return self._shown[step]
+        if self._last[0] != step:
+            self._last = step, vertex_displacement(self.result, step)
+        return self._last[1]
+
     def body(self, step: int) -> tuple[np.ndarray, np.ndarray]:
         """Vertices at X + m u and |u| there (|u − δν| under a plate)."""
-        u = vertex_displacement(self.result, step)
+        u = self.displacement(step)
         return self.points(step) + self.magnify * u, np.linalg.norm(elastic(self.result, step, u), axis=1)
 
     def layer(self, step: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -124,7 +133,7 @@ class PictureData:
         result, m, g = self.result, self.magnify, self.result.scene.contact.gap
         at = self.at_vertices
         nu = np.asarray(result.scene.contact.direction)
-        top = self.points(step) + m * vertex_displacement(result, step)
+        top = self.points(step) + m * self.displacement(step)
         wear, squeeze = at @ result.wear[step], np.maximum(at @ result.compression[step], 0.0)
         bottom = top + np.maximum(g - m * wear - m * squeeze, 0.0)[:, None] * nu
         worn = bottom + np.clip(m * wear, 0.0, m * g)[:, None] * nu
