@@ -29,10 +29,9 @@ from ..numerics.heat import Heat, frictional_power
 
 REFERENCE = "heat_friction_reference"
 """A checkpoint's key of the reference μ."""
-log = logging.getLogger(__name__)
-
 STARTED = "heat_started_"
 """The prefix of a checkpoint's keys of the heat's state at the last simulated stop's start (a programme's)."""
+log = logging.getLogger(__name__)
 
 
 class Heating:
