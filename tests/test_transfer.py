@@ -76,3 +76,19 @@ def test_points_far_from_the_body_are_refused():
     coarse, _ = pair("brake_pad", 1)
     with pytest.raises(ValueError, match=r"^points: .* is not in the body"):
         Locator(coarse.mesh, reach=1e-3)(np.array([[0.125, 0.0, -0.01]]))
+
+
+@pytest.mark.parametrize("order", [1, 2])
+@pytest.mark.parametrize("name", ["hertz", "brake_pad"])
+def test_on_the_reference_mesh_the_gram_matrix_gives_the_rules_error(name, order):
+    """A run on the reference's own mesh (loaded again: another Mesh object) is compared by eᵀ G e, no points."""
+    _, fine = pair(name, order)
+    again = Discretization(fine.scene)
+    quadrature = StrainQuadrature(fine.fes, 2 * order + 1)
+    assert quadrature.on(again.mesh) is None
+    rng = np.random.default_rng(1)
+    u, u_ref = ngs.GridFunction(again.fes), rng.standard_normal(fine.fes.ndof)
+    u.vec.FV().NumPy()[:] = u_ref + 1e-3 * rng.standard_normal(fine.fes.ndof)
+    by_points = quadrature.error2(u, quadrature.mips, u_ref)
+    assert by_points > 0
+    assert quadrature.error2(u, None, u_ref) == pytest.approx(by_points, rel=1e-11)

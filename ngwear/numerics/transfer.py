@@ -12,15 +12,20 @@ an extension that reproduces the element's polynomials and leaves every point in
 * :class:`Locator`: NGSolve mesh points for points of (or just outside) a region, the body by default;
 * :class:`StrainQuadrature`: ‖ε(u) − ε(u_ref)‖_{L²} over every region of the reference mesh, u of the other mesh
   evaluated at the reference's quadrature points, each in its own region (no interpolation onto the reference's
-  space);
+  space); on the reference's own mesh eᵀ G e with G the Gram matrix of ε (a k-study: no point evaluations);
 * :class:`ContactTrace`: the nodal wear of Γ_C as the finite element function it is (P1: linear on each facet;
   P2: quadratic through the vertex and edge-midpoint values) at points on (or near) Γ_C.
 """
 from __future__ import annotations
 
+from functools import cached_property
+
 import ngsolve as ngs
 import numpy as np
+import scipy.sparse as sp
 from scipy.spatial import cKDTree
+
+from .stiffness import assembled
 
 CANDIDATES = 16
 
@@ -64,6 +69,12 @@ def _corners(mesh: ngs.Mesh, elements) -> np.ndarray:
 def _elements(mesh: ngs.Mesh) -> np.ndarray:
     """Netgen's volume elements in NGSolve's order (a structured array: ``index`` of the region from 1, ``nodes``)."""
     return (mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()).NumPy()
+
+
+def _same(mesh: ngs.Mesh, other: ngs.Mesh) -> bool:
+    """Whether two meshes are one: the same vertices and the same elements (their nodes and regions) in the same order."""
+    return all(np.array_equal(a, b) for a, b in ((mesh.ngmesh.Coordinates(), other.ngmesh.Coordinates()),
+                                                 (_elements(mesh), _elements(other))))
 
 
 def _element_regions(mesh: ngs.Mesh) -> np.ndarray:
@@ -135,15 +146,30 @@ class StrainQuadrature:
         """The mesh points of this rule's points on another mesh, each in its own region (once per mesh).
 
         ε jumps across the faces between regions, so a point is taken from its region's elements (:class:`Locator`).
+        None for the reference's own mesh (the same vertices and elements): :meth:`error2` needs no points there.
         """
+        if _same(mesh, self.ref.space.mesh):
+            return None
         at = self.mips.copy()
         for region in np.unique(self.regions):
             inside = self.regions == region
             at[inside] = Locator(mesh, region=region)(self.points[inside])
         return at
 
+    @cached_property
+    def gram(self) -> sp.csr_matrix:
+        """G_ij = ∫_Ω ε(φ_j) : ε(φ_i) dx over every region, the reference space's basis φ (exact: a polynomial)."""
+        u, v = self.ref.space.TnT()
+        return assembled(ngs.BilinearForm(ngs.InnerProduct(ngs.Sym(ngs.Grad(u)), ngs.Sym(ngs.Grad(v))) * ngs.dx))
+
     def error2(self, u: ngs.GridFunction, at, u_ref: np.ndarray) -> float:
-        """‖ε(u) − ε(u_ref)‖², u on the other mesh (``at`` from :meth:`on`), u_ref the reference's DOF vector."""
+        """‖ε(u) − ε(u_ref)‖², u on the other mesh (``at`` from :meth:`on`), u_ref the reference's DOF vector.
+
+        On the reference's own mesh (``at`` None): eᵀ G e, e = u − u_ref (:attr:`gram`).
+        """
+        if at is None:
+            e = u.vec.FV().NumPy() - u_ref
+            return float(e @ (self.gram @ e))
         self.ref.vec.FV().NumPy()[:] = u_ref
         strain = lambda gf, mips: np.asarray(ngs.Sym(ngs.Grad(gf))(mips)).reshape(len(mips), -1)  # noqa: E731
         diff = strain(u, at) - strain(self.ref, self.mips)

@@ -46,9 +46,10 @@ class StoppedRun(RuntimeError):
     """A run of a study did not complete (its status says why)."""
 
 
-def _run(scene: Scene) -> tuple[Result, float]:
+def _run(scene: Scene, like: Result | None = None) -> tuple[Result, float]:
+    """The completed run of ``scene`` and its seconds; ``like``: a run on the same mesh whose factorisation it reuses."""
     start = time.perf_counter()
-    result = simulate(scene, progress=False)
+    result = simulate(scene, discretization=None if like is None else like.discretization, progress=False)
     if not result.completed:
         raise StoppedRun(f"{scene.name}: {result.status}")
     return result, time.perf_counter() - start
@@ -153,12 +154,12 @@ def h_study(scene: Scene, maxhs, ref_maxh: float) -> list[dict]:
 
 
 def k_study(scene: Scene, steps, ref_steps: int) -> list[dict]:
-    """Errors of the scene with ``steps`` time steps against ``ref_steps`` steps (same mesh)."""
+    """Errors of the scene with ``steps`` time steps against ``ref_steps`` steps (same mesh, factorised once)."""
     final = {"output.every": scene.time.T}
     reference = Reference(_run(scene.replace(**{"time.steps": ref_steps, **final}))[0])
     rows = []
     for n in steps:
-        result, seconds = _run(scene.replace(**{"time.steps": n, **final}))
+        result, seconds = _run(scene.replace(**{"time.steps": n, **final}), like=reference.result)
         rows.append({"k": scene.time.T / n, "steps": n, "seconds": seconds, **reference.errors(result).__dict__})
     return rows
 
@@ -206,7 +207,8 @@ def stability_study(scene: Scene, steps, ref_steps: int = 640) -> list[dict]:
 
     k α L = T α L / steps with the scene's real α (the largest κ‖v*‖ over the contact points and the speed
     table) and L (the largest slope of p on [0, g]); the explicit update is run where it diverges too
-    (``wear.allow_unstable``).  W_final = ‖w(T) − w_ref(T)‖_{L²(Γ_C)} against ``ref_steps`` trapezoidal steps.
+    (``wear.allow_unstable``).  W_final = ‖w(T) − w_ref(T)‖_{L²(Γ_C)} against ``ref_steps`` trapezoidal steps.  Every
+    run reuses the reference's mesh and factorisation.
     """
     rate = alpha_slope(scene)
     final = {"output.every": scene.time.T, "wear.allow_unstable": True}
@@ -219,7 +221,7 @@ def stability_study(scene: Scene, steps, ref_steps: int = 640) -> list[dict]:
         for n in steps:
             row = {"steps": n, "k_alpha_L": scene.time.T * rate / n}
             for integrator in ("explicit", "implicit", "trapezoidal"):
-                result, _ = _run(scene.replace(**{"time.steps": n, "wear.integrator": integrator, **final}))
+                result, _ = _run(scene.replace(**{"time.steps": n, "wear.integrator": integrator, **final}), like=ref)
                 dw = result.wear[-1] - ref.wear[-1]
                 row[f"{integrator}_W_final"] = float(np.sqrt(dw @ (ref.weights * dw)))
                 row[f"{integrator}_overshoot"] = overshoot(result)
