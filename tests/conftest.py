@@ -46,7 +46,7 @@ def site(tmp_path_factory, worker_id):
                                   cwd=ROOT, env={**os.environ, "NGWEAR_DEMO_CHECKS": str(checks)})
             lines = checks.read_text().splitlines() if checks.is_file() else []
             (folder / "build.json").write_text(json.dumps({
-                "returncode": done.returncode, "seconds": round(time.monotonic() - start, 1),
+                "returncode": done.returncode, "seconds": round(time.monotonic() - start, 1), "worker": worker_id,
                 "log": (done.stdout[-4000:] + "\n" + done.stderr[-20000:]).strip(),
                 "checks": {check["name"]: check for check in map(json.loads, lines)}}))
     record = json.loads((folder / "build.json").read_text())

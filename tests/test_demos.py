@@ -21,7 +21,9 @@ def test_every_demo_has_a_check():
 @pytest.mark.slow
 @pytest.mark.xdist_group("site")
 @pytest.mark.parametrize("name", [pytest.param(n, marks=MARKS.get(n, [])) for n in CHECKS])
-def test_demo(name, site):
+def test_demo(name, site, worker_id, request):
+    if request.config.getoption("loadgroup", default=False):   # else the other worker waited for the build
+        assert site[1]["worker"] == worker_id, "--dist loadgroup did not keep the site's tests on its worker"
     check = site[1]["checks"].get(name)
     assert check is not None, f"{name} did not run in the docs build"
     assert "error" not in check, check.get("error")
