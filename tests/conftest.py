@@ -1,4 +1,8 @@
-"""Shared fixtures: the paper's scene and a run of it (computed once per session), the docs site, a small disk."""
+"""Shared fixtures: the paper's scene and a run of it (computed once per session), the docs site, a small disk.
+
+The slow and browser tests run first: on the two workers of ``scripts/test.sh`` the long ones then overlap from the
+start, and the run does not end with one worker idle while the other finishes a long test.
+"""
 import fcntl
 import json
 import os
@@ -13,6 +17,10 @@ import ngwear
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "geometries" / "paper_strip.toml"
+
+
+def pytest_collection_modifyitems(items):
+    items.sort(key=lambda item: not (item.get_closest_marker("slow") or item.get_closest_marker("browser")))
 
 
 @pytest.fixture(scope="session")
