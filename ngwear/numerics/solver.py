@@ -367,7 +367,8 @@ class KrylovSystem(CondensedSystem):
     :class:`CondensedSystem` is applied, never formed, and its systems are solved by GCR with
     recycling (:class:`~ngwear.numerics.recycle.Recycler`), the columns of active points scaled by
     their estimated stiffness 1/(m_i h_i), h_i ≤ H_ii (``compliance``), to an absolute residual of
-    ``tolerance``/100 of the problem's length scale, so that Newton's merit test sees exact steps.
+    ``tolerance``/100 of the problem's length scale, so that Newton's merit test sees exact steps.  A body held by
+    the plate alone first moves rigidly to its force balance (:meth:`start`).
     """
 
     def __init__(self, recycler, compliance, weights, s_load, d0, gap, law: PointLaw, tolerance: float,
