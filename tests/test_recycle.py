@@ -8,6 +8,7 @@ import ngwear
 from ngwear.numerics import recycle
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.problem import Problem
+from ngwear.runs.stepper import Stepper
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -162,3 +163,28 @@ def test_a_run_reuses_products_and_equals_the_dense_solve(monkeypatch):
         a, b = getattr(dense, name), getattr(fast, name)
         assert np.abs(a - b).max() < 1e-9 * np.abs(a).max(), name
     assert len(products) < 3 * 31, len(products)
+
+
+def test_the_stops_of_a_programme_reuse_the_products_of_the_stops_before(monkeypatch):
+    """The life pad's stops to rest, matrix-free: μ n* goes to 0 at each stop's end and back (two sets of products).
+
+    Both are kept across the stops (``problem.KEPT``): a later stop pays a fraction of the first one's
+    back-substitutions (each stop started from none before), and the run is the dense solve's.
+    """
+    scene = ngwear.load_scene(ROOT / "geometries" / "brake_pad_life.toml").replace(**{
+        "programme.jump": False, "output.every": 100.0,
+        "programme.stops": [{"count": 4, "duration": 5.0, "speed": [1.0, 0.0], "dwell": 30.0}]})
+    mesh = Discretization(scene).mesh
+    krylov = Discretization(scene, mesh, contact_solve="krylov")
+    products, stops = [], []
+    respond, solve = Problem.normal_response, Stepper.solve
+    monkeypatch.setattr(Problem, "normal_response", lambda self, *a: (products.append(1), respond(self, *a))[1])
+    monkeypatch.setattr(Stepper, "solve", lambda self, step, *a: (stops.append(len(products)), solve(self, step, *a))[1])
+    fast = ngwear.simulate(scene, discretization=krylov, progress=False)
+    monkeypatch.undo()
+    dense = ngwear.simulate(scene, discretization=Discretization(scene, mesh, contact_solve="dense"), progress=False)
+    for name in ("normal_displacement", "wear", "pressure", "plate_displacement"):
+        a, b = getattr(dense, name), getattr(fast, name)
+        assert np.abs(a - b).max() < 1e-9 * np.abs(a).max(), name
+    per_stop = np.diff(np.append(stops, len(products))[::6])     # 6 solves a stop: its start and 5 steps
+    assert per_stop[-1] <= per_stop[0] / 3, per_stop

@@ -29,9 +29,8 @@ from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg as sla
-import scipy.optimize as spo
 
-from .solver import CondensedSystem, PlateRows, PointLaw
+from .solver import CondensedSystem, KrylovSystem, PlateRows, PointLaw
 
 RANK = 32
 """Most columns a pattern's matrix may differ in from the base's before it is factorised itself."""
@@ -83,42 +82,8 @@ class PatchSystem(CondensedSystem):
     def response(self, directed, normal):
         return self.columns(directed, normal)
 
-    def start(self, x, lam):
-        """The warm start moved rigidly along ν to the plate's force balance, for a body held by the plate alone.
-
-        The balance of the translation's row needs no product (the plate's rows see the contact forces directly):
-        from rest it is the solution with the body rigid, the patch of a soft layer to a few points; from the last
-        step, the wear increment's motion.  Towards the foundation the move stops where the first points reach it
-        (u_ν = d₀ + g), and their reactions λ take the force the layer does not carry: Newton starts with them active
-        instead of sweeping a step's worth of the plate's force over the whole face.
-        """
-        if self.plate is None or not self.floating:
-            return x, lam
-        slope = self.plate.normal[:, 0]
-        rigid = np.concatenate([slope, np.eye(len(x) - self.n)[0]])
-        value = self._plate_rows(x, lam)[0]
-        if value == 0:
-            return x, lam
-        toward = 1.0 if value < 0 else -1.0                                 # the row increases along the move
-        balance = lambda t: self._plate_rows(x + toward * t * rigid, lam)[0]  # noqa: E731
-        reach = np.inf
-        if toward > 0:
-            ahead = slope > 0
-            reach = np.min(-self.gap(x)[ahead] / slope[ahead], initial=np.inf)
-            if reach <= 0:
-                return x, lam
-        near, far = 0.0, min(1e-3 * self.scale, reach)                     # bracketed by doubling, then Brent
-        while np.sign(balance(far)) == np.sign(value):
-            if far >= reach:                                                # points at the foundation carry the rest
-                x = x + reach * rigid
-                touching = (self.gap(x) >= -1e-12 * self.scale) & (slope > 0)
-                lam = lam.copy()
-                lam[touching] += -balance(reach) / (self.m[touching] * slope[touching]).sum()
-                return x, lam
-            if far > 1e30:
-                return x, lam
-            near, far = far, min(2 * far, reach)
-        return x + toward * spo.brentq(balance, near, far, xtol=1e-15 * self.scale) * rigid, lam
+    start = KrylovSystem.start
+    """The warm start moved rigidly to the plate's force balance (:meth:`KrylovSystem.start`)."""
 
     def step(self, x, lam, active):
         self.columns.clearance = x[:self.n] - self.d0

@@ -25,6 +25,11 @@ PATCH_SHARE = 0.9
 the patch 2–11× faster than GCR up to a share of 0.84, GCR 1.1–3.9× faster on pads pressed flat, share 1)."""
 
 
+KEPT = 2
+"""Matrix-free: the remembered products (or columns) of this many μ n* kept, the last used: a programme's stops go
+from sliding to rest (μ n* = 0) and back, and each stop would otherwise start from no product."""
+
+
 class Problem:
     """The step problem of a :class:`~ngwear.numerics.discrete.Discretization` (its K: K₀ or a tangent).
 
@@ -44,7 +49,8 @@ class Problem:
         self.elastic, self.condensation, self.loads = disc.elastic, disc.condensation, disc.loads
         self.full = self.scene.solver.method == "full"
         self.n, self.d0 = disc.points.n, self.condensation.d0
-        self.matrices: dict = {}                # the Newton matrices of the last μ n* (dense: with their LU factors)
+        self.matrices: dict = {}                # the Newton matrices of the last μ n* (dense: with their LU factors;
+                                                # matrix-free: of the last KEPT, the current last)
         self.factors: dict = Factors()
         self.slip: np.ndarray | None = None     # with μ of the state: n*, F(n*) and the reference μ of the factors
         self.unit: np.ndarray | None = None
@@ -144,9 +150,12 @@ class Problem:
                     disc.contact_solve == "auto" and patch_share(self) <= PATCH_SHARE)
             directions = cond.nu[None, :] + friction                         # A's force directions ν + μ n*
             key = ("patch" if self.patch else "krylov", directions.tobytes())
-            if key not in self.matrices:
-                before = next(iter(self.matrices.values()), None)
-                self.matrices = {key: self._columns(friction, before) if self.patch else self._recycler(friction)}
+            if key != next(reversed(self.matrices), None):
+                kept = self.matrices.pop(key, None)
+                if kept is None:
+                    before = next(reversed(self.matrices.values()), None)
+                    kept = self._columns(friction, before) if self.patch else self._recycler(friction)
+                self.matrices = {**dict(list(self.matrices.items())[len(self.matrices) + 1 - KEPT:]), key: kept}
                 self.factors = Factors()
             directed = None if cond.plate is None else cond.plate.directed(directions)
             s_load, plate = self._loads(directed, load_factor)
