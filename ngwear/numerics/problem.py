@@ -155,7 +155,9 @@ class Problem:
                 if kept is None:
                     before = next(reversed(self.matrices.values()), None)
                     kept = self._columns(friction, before) if self.patch else self._recycler(friction)
-                self.matrices = {**dict(list(self.matrices.items())[len(self.matrices) + 1 - KEPT:]), key: kept}
+                self.matrices[key] = kept                                     # the last used last
+                while len(self.matrices) > KEPT:
+                    del self.matrices[next(iter(self.matrices))]
                 self.factors = Factors()
             directed = None if cond.plate is None else cond.plate.directed(directions)
             s_load, plate = self._loads(directed, load_factor)
