@@ -79,6 +79,17 @@ def test_uniform_wear_squeezes_the_worn_region_linearly(scene, height):
         "the point search follows: the worn layer is outside"
 
 
+@pytest.mark.parametrize("scene", [STRIP, ngwear.load_scene(ROOT / "geometries" / "brake_pad.toml")],
+                         ids=["strip-backing", "pad"])
+def test_facets_are_ngsolves_boundary_elements(scene):
+    """Netgen's element arrays give NGSolve's boundary elements: the same vertices and names, in its order."""
+    mesh = build_mesh(scene)
+    faces, names = facets(mesh)
+    elements = list(mesh.Elements(ngs.BND))
+    assert np.array_equal(faces, [[v.nr for v in el.vertices] for el in elements])
+    assert names.tolist() == [el.mat for el in elements] and "interface" in names
+
+
 def test_faces_parallel_to_nu_slide_and_the_others_are_held():
     mesh = build_mesh(BOX)
     faces, names = facets(mesh)

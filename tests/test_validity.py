@@ -15,7 +15,9 @@ from test_cli import COMMAND
 
 import ngwear
 from ngwear.numerics.plate import plate_modes
-from ngwear.numerics.strain import segments
+from ngwear.model.geometry import build_mesh
+from ngwear.numerics.motion import facets
+from ngwear.numerics.strain import _outer_facets, segments
 from ngwear.results.recording import Recording
 from ngwear.results.validity import FAIL, THROUGH, WARN, WORN
 
@@ -60,6 +62,18 @@ def largest_strain(result, j: int) -> float:
 
 def percent(text: str) -> float:
     return float(re.search(r"strains reach at least ([0-9.e+-]+) %", text).group(1)) / 100
+
+
+@pytest.mark.parametrize("name", ["brake_pad", "hertz"])
+def test_the_outer_facets_are_those_of_one_element(name):
+    """The segments' facets (3D: Netgen's surface elements on one domain) are the faces no two elements share."""
+    mesh = build_mesh(ngwear.load_scene(name))
+    elements = (mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()).NumPy()
+    corners = elements["nodes"][:, :mesh.dim + 1].astype(np.int64) - 1
+    faces = np.sort(np.concatenate([np.delete(corners, k, axis=1) for k in range(mesh.dim + 1)]), axis=1)
+    unique, count = np.unique(faces, axis=0, return_counts=True)          # rows sorted lexicographically
+    assert np.array_equal(_outer_facets(mesh), unique[count == 1])
+    assert len(_outer_facets(mesh)) < len(facets(mesh)[0]) or mesh.dim == 2, "the pad's interface is not outer"
 
 
 def test_a_modulus_in_pa_for_gpa_stops_the_run_naming_the_key():

@@ -133,15 +133,15 @@ class Discretization:
     def moved(self, mesh: ngs.Mesh, regions: tuple[str, ...]) -> Discretization:
         """The discretization of ``mesh``: this one's elements, the vertices of ``regions`` moved (a geometry update).
 
-        Everything is built anew on the moved mesh (the space, the contact points, K and its factorisation, d₀, the
-        loads, the plate) but what the move leaves: the gradient blocks of the other regions (those of the pad's
-        backing plate: 10 of the 24 s of K's assembly at 323k DOFs).
+        Everything is built anew on the moved mesh (the contact points, K and its factorisation, d₀, the loads, the
+        plate) but what the move leaves: the space (on the same mesh object), the gradient blocks of the other regions
+        (those of the pad's backing plate: 10 of the 24 s of K's assembly at 323k DOFs).
         """
         new = Discretization.__new__(Discretization)
         new.scene, new.contact_solve = self.scene, self.contact_solve
         built = vars(self.body).get("gradient_blocks")
         body = Body(self.scene, mesh, {region: blocks for region, blocks in built.built.items() if region not in regions}
-                    if built is not None else None)
+                    if built is not None else None, like=self.body)
         new._assemble(body)
         return new
 

@@ -45,9 +45,15 @@ def simplices(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
 
 
 def facets(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
-    """(Vertices of each boundary element (from 0), its boundary's name)."""
-    elements = list(mesh.Elements(ngs.BND))
-    return np.array([[v.nr for v in el.vertices] for el in elements]), np.array([el.mat for el in elements])
+    """(Vertices of each boundary element (from 0), its boundary's name), in NGSolve's order of the elements."""
+    ngmesh = mesh.ngmesh
+    if mesh.dim == 3:
+        elements, name = ngmesh.Elements2D().NumPy(), lambda index: ngmesh.FaceDescriptor(index).bcname
+    else:
+        elements, name = ngmesh.Elements1D().NumPy(), lambda index: ngmesh.GetBCName(index - 1)
+    indices = np.unique(elements["index"])
+    names = np.array([name(int(index)) for index in indices])
+    return elements["nodes"][:, :mesh.dim].astype(int) - 1, names[np.searchsorted(indices, elements["index"])]
 
 
 def coordinates(mesh: ngs.Mesh) -> np.ndarray:
@@ -252,11 +258,13 @@ def contact_height(mesh: ngs.Mesh) -> float:
 
     An update moves Γ_C once the wear since the last reaches ``wear.update`` × this (on the mesh as it is now).
     """
-    nodes, _ = simplices(mesh)
-    faces, names = facets(mesh)
-    on = _keys(faces[names == "contact"])
-    coords = coordinates(mesh)
     d = mesh.dim
+    faces, names = facets(mesh)
+    contact = faces[names == "contact"]
+    nodes, _ = simplices(mesh)
+    nodes = nodes[np.isin(nodes, contact).sum(axis=1) >= d]           # those with d vertices on Γ_C
+    on = _keys(contact)
+    coords = coordinates(mesh)
     heights = []
     for facet in itertools.combinations(range(d + 1), d):
         touching = np.isin(_keys(nodes[:, facet]), on)

@@ -37,12 +37,17 @@ class Body:
     """Mesh, displacement space (clamped on the Dirichlet and plate boundaries) and contact points.
 
     ``blocks``: gradient blocks kept from a body of the same elements, by region (see :class:`GradientBlocks`).
+    ``like``: a body on the same mesh object, its vertices moved since (a geometry update): its space and clamping
+    are kept (a space of the mesh holds its elements, not their coordinates).
     """
 
-    def __init__(self, scene: Scene, mesh: ngs.Mesh, blocks: dict[str, dict] | None = None):
+    def __init__(self, scene: Scene, mesh: ngs.Mesh, blocks: dict[str, dict] | None = None, like: Body | None = None):
         self.mesh, self._blocks = mesh, blocks
-        self.fes = displacement_space(mesh, scene)
-        self.free = np.array(list(self.fes.FreeDofs()), dtype=bool)
+        if like is not None and like.mesh is mesh:
+            self.fes, self.free = like.fes, like.free
+        else:
+            self.fes = displacement_space(mesh, scene)
+            self.free = np.array(list(self.fes.FreeDofs()), dtype=bool)
         self.points = contact_points(self.fes, scene.dim, scene.mesh.order)
 
     @cached_property

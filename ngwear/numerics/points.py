@@ -15,6 +15,8 @@ import numpy as np
 import scipy.sparse as sp
 from ngsolve.fem import NODE_TYPE
 
+from .motion import facets
+
 NODAL_WEIGHTS = {
     # (dimension, order): the weights of a contact facet's vertices and edge midpoints, per unit measure
     (2, 1): (1 / 2, None),       # trapezoidal
@@ -80,22 +82,27 @@ def contact_points(fes: ngs.FESpace, dim: int, order: int) -> ContactPoints:
     def dofs(node_type, nr):
         return [d for d in fes.GetDofNrs(ngs.NodeId(node_type, nr)) if d >= 0]
 
-    for el in mesh.Elements(ngs.BND):
-        if el.mat != "contact":
-            continue
-        xs = [np.array(mesh[v].point) for v in el.vertices]
-        size = np.linalg.norm(xs[1] - xs[0]) if dim == 2 else 0.5 * np.linalg.norm(
-            np.cross(xs[1] - xs[0], xs[2] - xs[0]))
-        if vertex_weight:
-            for v, x in zip(el.vertices, xs):
-                point(("v", v.nr), x, size * vertex_weight)
-        if order == 2:
+    faces, names = facets(mesh)
+    faces = faces[names == "contact"]                                # Γ_C's facets, in NGSolve's order
+    X = np.array(mesh.ngmesh.Coordinates())
+    sides = X[faces[:, 1:]] - X[faces[:, :1]]
+    sizes = [np.linalg.norm(side[0]) for side in sides] if dim == 2 else \
+        [0.5 * np.linalg.norm(normal) for normal in np.cross(sides[:, 0], sides[:, 1])]
+    if order == 1:
+        for corners, size in zip(faces.tolist(), sizes):
+            for v in corners:
+                point(("v", v), X[v], size * vertex_weight)
+    else:
+        contact = (el for el in mesh.Elements(ngs.BND) if el.mat == "contact")
+        for el, corners, size in zip(contact, faces.tolist(), sizes):
+            for v in corners if vertex_weight else ():
+                point(("v", v), X[v], size * vertex_weight)
             if dim == 3:
-                triangles.append((tuple(v.nr for v in el.vertices), tuple(e.nr for e in el.edges)))
+                triangles.append((tuple(corners), tuple(e.nr for e in el.edges)))
             for e in el.edges:
                 a, b = mesh[e].vertices
                 edge_ends[e.nr] = (a.nr, b.nr)
-                point(("e", e.nr), 0.5 * (np.array(mesh[a].point) + np.array(mesh[b].point)), size * midpoint_weight)
+                point(("e", e.nr), 0.5 * (X[a.nr] + X[b.nr]), size * midpoint_weight)
     n = len(coords)
     vertices, edges = np.full(n, -1), np.full(n, -1)
     for (kind, nr), i in index.items():

@@ -83,8 +83,19 @@ def segments(scene, mesh: ngs.Mesh, coords: np.ndarray) -> Segments:
 
 
 def _outer_facets(mesh: ngs.Mesh) -> np.ndarray:
-    """The facets (sorted vertex numbers from 0) of the body's outer boundary: those of one volume element only."""
-    elements = (mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()).NumPy()
+    """The facets (sorted vertex numbers from 0) of the body's outer boundary: those of one volume element only.
+
+    In 3D Netgen's surface elements with a domain on one side only (its face descriptors'), in 2D the faces of the
+    elements that no other element shares; sorted row by row.
+    """
+    if mesh.dim == 3:
+        elements = mesh.ngmesh.Elements2D().NumPy()
+        indices = np.unique(elements["index"])
+        descriptors = [mesh.ngmesh.FaceDescriptor(int(index)) for index in indices]
+        outer = indices[[min(face.domin, face.domout) == 0 for face in descriptors]]
+        faces = np.sort(elements["nodes"][np.isin(elements["index"], outer), :3].astype(np.int64) - 1, axis=1)
+        return faces[np.lexsort(faces.T[::-1])]
+    elements = mesh.ngmesh.Elements2D().NumPy()
     corners = elements["nodes"][:, :mesh.dim + 1].astype(np.int64) - 1
     faces = np.sort(np.concatenate([corners[:, list(face)] for face in combinations(range(mesh.dim + 1), mesh.dim)]),
                     axis=1)
