@@ -51,3 +51,18 @@ def test_a_material_change_reuses_the_blocks():
     assert stiffer.body.gradient_blocks is blocks
     assert abs(stiffer.elastic.stiffness - 2 * K).max() <= 1e-13 * abs(K).max()
     assert isinstance(stiffer.elastic.stiffness, sp.csr_matrix) and np.isfinite(stiffer.elastic.stiffness.data).all()
+
+
+@pytest.mark.parametrize("name", ["strip-P2-backed", "box-P1-tilted"])
+def test_the_taskmanager_assembles_the_same_matrix_to_the_bit(name, monkeypatch):
+    """A large form's threads (forced here on a small one) sum each entry as one thread does."""
+    from ngwear.numerics import stiffness
+
+    scene_name, changes = CASES[name]
+    disc = Discretization(ngwear.load_scene(scene_name).replace(**changes))
+    laws = region_laws(disc.scene)
+    one = assembled(elastic_form(disc.fes, laws))
+    monkeypatch.setattr(stiffness, "PARALLEL", 0)
+    threaded = assembled(elastic_form(disc.fes, laws))
+    assert np.array_equal(one.indptr, threaded.indptr) and np.array_equal(one.indices, threaded.indices)
+    assert np.array_equal(one.data, threaded.data)

@@ -63,13 +63,23 @@ class GradientBlocks:
         return sp.bmat(block, format="csr")
 
 
+PARALLEL = 50_000
+"""The DOFs of a form's space from which NGSolve's TaskManager assembles it (see :func:`assembled`)."""
+
+
 def assembled(form: ngs.BilinearForm) -> sp.csr_matrix:
     """The form's matrix as a scipy CSR matrix (of a symmetric form: both triangles, whichever NGSolve kept).
 
-    Assembled by NGSolve's TaskManager, its threads on element colours: the same matrix to the bit as one thread's
-    (``tests/test_stiffness.py``), in half the time on two cores.
+    A form on :data:`PARALLEL` DOFs or more is assembled by NGSolve's TaskManager, its threads on element colours:
+    the same matrix to the bit as one thread's (``tests/test_stiffness.py``), in half the time on two quiet cores
+    (the pad's 81k-DOF gradient blocks: 4.9 → 2.4 s).  Smaller ones on one thread: the TaskManager's threads wait
+    actively, and on cores another process keeps busy (a test worker, a sweep's) they cost more than they save
+    (the shipped life pad's run, all its forms small: 33 s on one thread, 56 s with the TaskManager, under load).
     """
-    with ngs.TaskManager():
+    if form.space.ndof >= PARALLEL:
+        with ngs.TaskManager():
+            form.Assemble()
+    else:
         form.Assemble()
     vals, cols, ptr = form.mat.CSR()
     K = sp.csr_matrix((np.array(vals), np.array(cols), np.array(ptr)), shape=(form.mat.height, form.mat.width))

@@ -67,7 +67,7 @@ class StopClock:
         jumped = set(result.jumped.tolist())
         for end in range(m, rows - 1, m + 1):         # the last stop's jump is decided when the run goes on
             stop = int(stops[end])
-            self.jumps.simulated(stop, int(self.schedule.block[stop]), result.wear[end] - result.wear[end - m])
+            self.jumps.simulated(stop, int(self.schedule.block[stop]), result.total_wear_at(end) - result.total_wear_at(end - m))
             if stop + 1 in jumped:
                 self.jumps.jumped()
 
@@ -164,13 +164,12 @@ class StopClock:
         sliding = float(np.sum(np.diff(local) * 0.5 * (speed[1:] + speed[:-1]))) * contact.slip.speed
         rate = coefficients.wear * sliding * contact.law.slope(self.gap)
         wear = result.wear[-1]
-        left = [self.gap - wear if self.surface is None else self.surface.threshold - wear]   # the layer, an update
+        room = [self.gap - wear if self.surface is None else self.surface.threshold - wear]   # the layer, an update
         if self.limit is not None:
-            left.append(result.remaining_thickness_of(result.last_total_wear()) - self.limit)
+            room.append(result.remaining_thickness_of(result.last_total_wear()) - self.limit)
         last = s.last_of_block(stop)
         left = last - stop - (last == s.count - 1)      # the programme's last stop is simulated: its state recorded
-        return self.jumps.length(left, rate, self.modes, result.weights,
-                                 to_limit=np.min(left, axis=0))
+        return self.jumps.length(left, rate, self.modes, result.weights, to_limit=np.min(room, axis=0))
 
 
 def worn_out(result) -> bool:
