@@ -116,6 +116,19 @@ def test_wear_limit_ends_the_run_as_worn_out(capsys):
     assert np.array_equal(r.total_wear, r.wear) and np.allclose(r.remaining_thickness, r.thickness - r.wear)
 
 
+def test_a_jump_ends_before_wear_limit():
+    """The shipped life to 9.5 mm of friction material left: worn out at the step that reaches it, within a stop's wear.
+
+    A jump is bounded by the limit (and the next update): it reached it 48 µm deep, 16 stops late, when it was not.
+    """
+    limit = 0.0095
+    r = ngwear.simulate(ngwear.load_scene("brake_pad_life").replace(**{"wear.limit": limit}), progress=False)
+    remaining = r.remaining_thickness.min(axis=1)
+    assert r.status == WORN_OUT and remaining[-1] <= limit < remaining[-2] and len(r.jumped) > 100
+    per_stop = (remaining[0] - remaining[-1]) / len(r.stops)
+    assert limit - remaining[-1] < 0.2 * per_stop
+
+
 def test_a_programme_resumes_to_the_bit(tmp_path):
     scene = strip({"stops": BLOCKS, "steps_per_stop": 4})
     whole = ngwear.simulate(scene, progress=False)
