@@ -14,9 +14,9 @@ import pytest
 from test_cli import COMMAND
 
 import ngwear
-from ngwear.numerics.plate import plate_modes
 from ngwear.model.geometry import build_mesh
 from ngwear.numerics.motion import facets
+from ngwear.numerics.plate import plate_modes
 from ngwear.numerics.strain import _outer_facets, segments
 from ngwear.results.recording import Recording
 from ngwear.results.validity import FAIL, THROUGH, WARN, WORN

@@ -67,7 +67,8 @@ class StopClock:
         jumped = set(result.jumped.tolist())
         for end in range(m, rows - 1, m + 1):         # the last stop's jump is decided when the run goes on
             stop = int(stops[end])
-            self.jumps.simulated(stop, int(self.schedule.block[stop]), result.total_wear_at(end) - result.total_wear_at(end - m))
+            increment = result.total_wear_at(end) - result.total_wear_at(end - m)
+            self.jumps.simulated(stop, int(self.schedule.block[stop]), increment)
             if stop + 1 in jumped:
                 self.jumps.jumped()
 
