@@ -129,6 +129,16 @@ def test_a_jump_ends_before_wear_limit():
     assert limit - remaining[-1] < 0.2 * per_stop
 
 
+def test_an_invariant_broken_by_a_jump_says_so(monkeypatch):
+    """Jumps without their bounds (as before they had them): the layer worn through at a crossing, said as a jump's."""
+    from ngwear.runs import jumps
+
+    monkeypatch.setattr(jumps, "room", lambda increment, left: np.inf)
+    r = ngwear.simulate(ngwear.load_scene("brake_pad_life").replace(**{"wear.update": 0.5}), progress=False)
+    assert r.status.startswith("step ") and "invariant wear_le_penetration broken" in r.status
+    assert "a cycle jump of" in r.status and "programme.jump_tolerance" in r.status and "implicit" not in r.status
+
+
 def test_a_programme_resumes_to_the_bit(tmp_path):
     scene = strip({"stops": BLOCKS, "steps_per_stop": 4})
     whole = ngwear.simulate(scene, progress=False)

@@ -277,9 +277,11 @@ def _record(recording: Recording, stepper, t: float, attempt: _Attempt, heating:
     broken = stepper.check(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam)
     if broken is not None:
         name, value = broken
+        remedy = (f"a cycle jump of {heating[0]} stops ended here: try a smaller programme.jump_tolerance or "
+                  f"programme.jump = false" if heating[0] else "try wear.integrator = 'implicit' or more time.steps")
         recording.fail(f"step {len(recording.result.times)} (t = {t:.4g}): invariant {name} broken by {value:.3g} "
                        f"(allowed {stepper.check.checker.allowed[name]:.0e}; see ngwear.results.invariants); "
-                       f"try wear.integrator = 'implicit' or more time.steps", attempt.record)
+                       f"{remedy}", attempt.record)
         return False
     forces = stepper.problem.contact.forces(attempt.pressure, attempt.lam, t)
     heated = {} if stepper.heating is None else stepper.heating.advance(heating[1], t, attempt.pressure, still,
