@@ -11,6 +11,7 @@ import threading
 import ngsolve as ngs
 import numpy as np
 import pytest
+from netgen.occ import Box, Glue, OCCGeometry, Z
 from test_cli import COMMAND
 
 import ngwear
@@ -64,16 +65,53 @@ def percent(text: str) -> float:
     return float(re.search(r"strains reach at least ([0-9.e+-]+) %", text).group(1)) / 100
 
 
-@pytest.mark.parametrize("name", ["brake_pad", "hertz"])
-def test_the_outer_facets_are_those_of_one_element(name):
-    """The segments' facets (3D: Netgen's surface elements on one domain) are the faces no two elements share."""
-    mesh = build_mesh(ngwear.load_scene(name))
-    elements = (mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()).NumPy()
-    corners = elements["nodes"][:, :mesh.dim + 1].astype(np.int64) - 1
-    faces = np.sort(np.concatenate([np.delete(corners, k, axis=1) for k in range(mesh.dim + 1)]), axis=1)
-    unique, count = np.unique(faces, axis=0, return_counts=True)          # rows sorted lexicographically
-    assert np.array_equal(_outer_facets(mesh), unique[count == 1])
-    assert len(_outer_facets(mesh)) < len(facets(mesh)[0]) or mesh.dim == 2, "the pad's interface is not outer"
+def two_box_msh(path):
+    """A Gmsh 2 file: a pad (region body, face contact) glued to a backing (back) at an interior face `interface`.
+
+    Netgen's mesh of the boxes, written element by element with physical groups.
+    """
+    pad = Box((0, 0, 0), (1, 1, 0.5))
+    pad.mat("body")
+    pad.faces.Min(Z).name = "contact"
+    back = Box((0, 0, 0.5), (1, 1, 0.8))
+    back.mat("backing")
+    back.faces.Max(Z).name = "back"
+    shape = Glue([pad, back])
+    for face in shape.faces:
+        if abs(face.center.z - 0.5) < 1e-9:
+            face.name = "interface"
+    mesh = ngs.Mesh(OCCGeometry(shape).GenerateMesh(maxh=0.4))
+    names = [("b", name) for name in dict.fromkeys(mesh.GetBoundaries())] + [("r", name) for name in mesh.GetMaterials()]
+    tag = {key: k + 1 for k, key in enumerate(names)}
+    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", str(len(tag))]
+    lines += [f'{2 if kind == "b" else 3} {k} "{name}"' for (kind, name), k in tag.items()]
+    points = mesh.ngmesh.Coordinates()
+    lines += ["$EndPhysicalNames", "$Nodes", str(len(points))] + [f"{i + 1} {x} {y} {z}" for i, (x, y, z) in
+                                                                   enumerate(points)]
+    elements = [(2, tag["b", el.mat], el.vertices) for el in mesh.Elements(ngs.BND)]
+    elements += [(4, tag["r", el.mat], el.vertices) for el in mesh.Elements(ngs.VOL)]
+    lines += ["$EndNodes", "$Elements", str(len(elements))]
+    lines += [f"{i + 1} {kind} 2 {k} {k} " + " ".join(str(v.nr + 1) for v in vertices)
+              for i, (kind, k, vertices) in enumerate(elements)]
+    path.write_text("\n".join([*lines, "$EndElements", ""]))
+    return path
+
+
+def test_the_outer_facets_leave_out_an_imported_meshs_interface(tmp_path):
+    """The outer facets are those of one volume element, not the surface elements with one domain.
+
+    An imported Gmsh mesh's interface has surface elements whose face descriptor names one domain only (Netgen's
+    reader sets no other): it is not outer; nor is a Netgen mesh's.
+    """
+    from netgen.read_gmsh import ReadGmsh
+
+    for mesh in (ngs.Mesh(ReadGmsh(str(two_box_msh(tmp_path / "two.msh")))),
+                 build_mesh(ngwear.load_scene("brake_pad"))):
+        faces, names = facets(mesh)
+        outer = {tuple(face) for face in _outer_facets(mesh).tolist()}
+        inner = {tuple(sorted(face)) for face in faces[names == "interface"].tolist()}
+        assert inner and not outer & inner
+        assert outer == {tuple(sorted(face)) for face in faces[names != "interface"].tolist()}
 
 
 def test_a_modulus_in_pa_for_gpa_stops_the_run_naming_the_key():

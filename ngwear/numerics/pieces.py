@@ -27,7 +27,7 @@ from .operators import ElasticOperator, UpdatedOperator
 from .plate import PlateCoupling, plate_modes
 from .points import contact_points, initial_distance
 from .stiffness import GradientBlocks, assembled
-from .strain import Segments, segments
+from .strain import Segments, _outer_facets, segments
 
 LOW_RANK = 32
 """Most kink points whose branch a tangent may change against a factorised K before it is factorised itself."""
@@ -37,14 +37,16 @@ class Body:
     """Mesh, displacement space (clamped on the Dirichlet and plate boundaries) and contact points.
 
     ``blocks``: gradient blocks kept from a body of the same elements, by region (see :class:`GradientBlocks`).
-    ``like``: a body on the same mesh object, its vertices moved since (a geometry update): its space and clamping
-    are kept (a space of the mesh holds its elements, not their coordinates).
+    ``like``: a body on the same mesh object, its vertices moved since (a geometry update): its space, clamping and
+    outer facets are kept (they hold the mesh's elements, not their coordinates).
     """
 
     def __init__(self, scene: Scene, mesh: ngs.Mesh, blocks: dict[str, dict] | None = None, like: Body | None = None):
         self.mesh, self._blocks = mesh, blocks
         if like is not None and like.mesh is mesh:
             self.fes, self.free = like.fes, like.free
+            if "outer_facets" in vars(like):
+                self.outer_facets = like.outer_facets
         else:
             self.fes = displacement_space(mesh, scene)
             self.free = np.array(list(self.fes.FreeDofs()), dtype=bool)
@@ -54,6 +56,11 @@ class Body:
     def gradient_blocks(self) -> GradientBlocks:
         """The scalar gradient matrices of each region: the stiffness of any linear laws by sparse sums."""
         return GradientBlocks(self.fes, self._blocks)
+
+    @cached_property
+    def outer_facets(self) -> np.ndarray:
+        """The facets of the body's outer boundary (sorted vertex numbers; see :func:`~ngwear.numerics.strain.segments`)."""
+        return _outer_facets(self.mesh)
 
     @cached_property
     def contact_regions(self) -> tuple[str, ...]:
@@ -256,7 +263,7 @@ class Condensation:
     @cached_property
     def segments(self) -> Segments:
         """The segments from the contact points along −ν to the supports: the strain estimate's (no solve)."""
-        return segments(self.scene, self.body.mesh, self.body.points.coords)
+        return segments(self.scene, self.body.mesh, self.body.points.coords, self.body.outer_facets)
 
     @cached_property
     def full_basis(self) -> sp.csc_matrix:

@@ -59,12 +59,15 @@ class Segments:
         return np.max(np.abs(moved) / self.lengths, axis=-1, initial=0.0)
 
 
-def segments(scene, mesh: ngs.Mesh, coords: np.ndarray) -> Segments:
-    """Cast the segments from the contact points ``coords`` along −ν through the body of ``mesh`` (no solve)."""
+def segments(scene, mesh: ngs.Mesh, coords: np.ndarray, facets: np.ndarray | None = None) -> Segments:
+    """Cast the segments from the contact points ``coords`` along −ν through the body of ``mesh`` (no solve).
+
+    ``facets``: the mesh's outer facets (:func:`_outer_facets`), if known.
+    """
     nu = np.asarray(scene.contact.direction, dtype=float)
     plate = scene.loads.plate
     vertices = np.array(mesh.ngmesh.Coordinates()[:, :mesh.dim])
-    facets = _outer_facets(mesh)
+    facets = _outer_facets(mesh) if facets is None else facets
     on = {name: _facets_of(mesh, name) for name in (*scene.geometry.dirichlet, *((plate.boundary,) if plate else ()))}
     label_of = {face: k for k, faces in enumerate(on.values()) for face in faces}
     labels = np.array([label_of.get(tuple(face), -1) for face in facets.tolist()], dtype=int)
@@ -85,17 +88,10 @@ def segments(scene, mesh: ngs.Mesh, coords: np.ndarray) -> Segments:
 def _outer_facets(mesh: ngs.Mesh) -> np.ndarray:
     """The facets (sorted vertex numbers from 0) of the body's outer boundary: those of one volume element only.
 
-    In 3D Netgen's surface elements with a domain on one side only (its face descriptors'), in 2D the faces of the
-    elements that no other element shares; sorted row by row.
+    (Not Netgen's surface elements: an imported Gmsh mesh's face descriptors carry no domains, and a boundary with
+    no physical group has none.)  The vertices' positions do not enter: a moved body keeps them (``Body``).
     """
-    if mesh.dim == 3:
-        elements = mesh.ngmesh.Elements2D().NumPy()
-        indices = np.unique(elements["index"])
-        descriptors = [mesh.ngmesh.FaceDescriptor(int(index)) for index in indices]
-        outer = indices[[min(face.domin, face.domout) == 0 for face in descriptors]]
-        faces = np.sort(elements["nodes"][np.isin(elements["index"], outer), :3].astype(np.int64) - 1, axis=1)
-        return faces[np.lexsort(faces.T[::-1])]
-    elements = mesh.ngmesh.Elements2D().NumPy()
+    elements = (mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()).NumPy()
     corners = elements["nodes"][:, :mesh.dim + 1].astype(np.int64) - 1
     faces = np.sort(np.concatenate([corners[:, list(face)] for face in combinations(range(mesh.dim + 1), mesh.dim)]),
                     axis=1)

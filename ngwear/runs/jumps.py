@@ -32,10 +32,10 @@ increment,
 bounds the jump's error by |e_N| ≤ ½ PRESSURE_CHANGE · N max|Δw_k|: half a per cent of the wear it applies, so the
 worn volume and the thickness of a run with jumps stay within 1 % of stop by stop however many jumps it makes.  In
 the worn-in state the increment is rigid ((I − Π)Δw → 0: every point wears at the plate's speed) and only the
-block's end, the next geometry update and ``wear.limit`` bound N.  The same bound tames the Euler step's
-instability on the fast modes (c_i N > 2): such a mode has decayed within a stop to |e| with |(I − Π)Δw| ≈ c |e|,
-so a jump scales it by at most N c ≤ PRESSURE_CHANGE max|Δw| / |e|, and the re-check after the jump (a simulated
-stop against the last simulated one, their change per stop within τ) sees the rest.
+block's end, the layer left (``"layer"``), the next geometry update and ``wear.limit`` bound N.  The same bound
+tames the Euler step's instability on the fast modes (c_i N > 2): such a mode has decayed within a stop to |e| with
+|(I − Π)Δw| ≈ c |e|, so a jump scales it by at most N c ≤ PRESSURE_CHANGE max|Δw| / |e|, and the re-check after the
+jump (a simulated stop against the last simulated one, their change per stop within τ) sees the rest.
 """
 from __future__ import annotations
 
@@ -131,7 +131,8 @@ class CycleJumps:
         modes, weights : ndarray
             The rigid wear fields (:func:`rigid_modes`) and the contact points' weights m_i.
         to_update, to_limit : ndarray or float
-            Per point, the wear left before the next geometry update and before ``wear.limit``.
+            Per point, the wear left before the next geometry update and before a hard bound: ``wear.limit``, and
+            in ``"layer"`` the layer's end (w ≤ g).
         """
         if not self._settled:
             return 0

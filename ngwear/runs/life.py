@@ -165,12 +165,14 @@ class StopClock:
         sliding = float(np.sum(np.diff(local) * 0.5 * (speed[1:] + speed[:-1]))) * contact.slip.speed
         rate = coefficients.wear * sliding * contact.law.slope(self.gap)
         wear = result.wear[-1]
-        room = [self.gap - wear if self.surface is None else self.surface.threshold - wear]   # the layer, an update
+        room = [self.gap - wear] if self.surface is None else []                  # "layer": within the layer
         if self.limit is not None:
             room.append(result.remaining_thickness_of(result.last_total_wear()) - self.limit)
         last = s.last_of_block(stop)
         left = last - stop - (last == s.count - 1)      # the programme's last stop is simulated: its state recorded
-        return self.jumps.length(left, rate, self.modes, result.weights, to_limit=np.min(room, axis=0))
+        return self.jumps.length(left, rate, self.modes, result.weights,
+                                 to_update=math.inf if self.surface is None else self.surface.threshold - wear,
+                                 to_limit=np.min(room, axis=0) if room else math.inf)
 
 
 def worn_out(result) -> bool:
