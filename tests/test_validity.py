@@ -18,7 +18,7 @@ import ngwear
 from ngwear.model.geometry import build_mesh
 from ngwear.numerics.motion import facets
 from ngwear.numerics.plate import plate_modes
-from ngwear.numerics.strain import _outer_facets, segments
+from ngwear.numerics.strain import outer_facets, segments
 from ngwear.results.recording import Recording
 from ngwear.results.validity import FAIL, THROUGH, WARN, WORN
 
@@ -97,7 +97,7 @@ def two_box_msh(path):
     return path
 
 
-def test_the_outer_facets_leave_out_an_imported_meshs_interface(tmp_path):
+def test_theouter_facets_leave_out_an_imported_meshs_interface(tmp_path):
     """The outer facets are those of one volume element, not the surface elements with one domain.
 
     An imported Gmsh mesh's interface has surface elements whose face descriptor names one domain only (Netgen's
@@ -108,7 +108,7 @@ def test_the_outer_facets_leave_out_an_imported_meshs_interface(tmp_path):
     for mesh in (ngs.Mesh(ReadGmsh(str(two_box_msh(tmp_path / "two.msh")))),
                  build_mesh(ngwear.load_scene("brake_pad"))):
         faces, names = facets(mesh)
-        outer = {tuple(face) for face in _outer_facets(mesh).tolist()}
+        outer = {tuple(face) for face in outer_facets(mesh).tolist()}
         inner = {tuple(sorted(face)) for face in faces[names == "interface"].tolist()}
         assert inner and not outer & inner
         assert outer == {tuple(sorted(face)) for face in faces[names != "interface"].tolist()}

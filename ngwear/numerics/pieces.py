@@ -27,7 +27,7 @@ from .operators import ElasticOperator, UpdatedOperator
 from .plate import PlateCoupling, plate_modes
 from .points import contact_points, initial_distance
 from .stiffness import GradientBlocks, assembled
-from .strain import Segments, _outer_facets, segments
+from .strain import Segments, outer_facets, segments
 
 LOW_RANK = 32
 """Most kink points whose branch a tangent may change against a factorised K before it is factorised itself."""
@@ -60,7 +60,7 @@ class Body:
     @cached_property
     def outer_facets(self) -> np.ndarray:
         """The facets of the body's outer boundary (sorted vertex numbers; see :func:`~ngwear.numerics.strain.segments`)."""
-        return _outer_facets(self.mesh)
+        return outer_facets(self.mesh)
 
     @cached_property
     def contact_regions(self) -> tuple[str, ...]:

@@ -62,12 +62,12 @@ class Segments:
 def segments(scene, mesh: ngs.Mesh, coords: np.ndarray, facets: np.ndarray | None = None) -> Segments:
     """Cast the segments from the contact points ``coords`` along −ν through the body of ``mesh`` (no solve).
 
-    ``facets``: the mesh's outer facets (:func:`_outer_facets`), if known.
+    ``facets``: the mesh's outer facets (:func:`outer_facets`), if known.
     """
     nu = np.asarray(scene.contact.direction, dtype=float)
     plate = scene.loads.plate
     vertices = np.array(mesh.ngmesh.Coordinates()[:, :mesh.dim])
-    facets = _outer_facets(mesh) if facets is None else facets
+    facets = outer_facets(mesh) if facets is None else facets
     on = {name: _facets_of(mesh, name) for name in (*scene.geometry.dirichlet, *((plate.boundary,) if plate else ()))}
     label_of = {face: k for k, faces in enumerate(on.values()) for face in faces}
     labels = np.array([label_of.get(tuple(face), -1) for face in facets.tolist()], dtype=int)
@@ -85,7 +85,7 @@ def segments(scene, mesh: ngs.Mesh, coords: np.ndarray, facets: np.ndarray | Non
     return Segments(lengths, normal)
 
 
-def _outer_facets(mesh: ngs.Mesh) -> np.ndarray:
+def outer_facets(mesh: ngs.Mesh) -> np.ndarray:
     """The facets (sorted vertex numbers from 0) of the body's outer boundary: those of one volume element only.
 
     (Not Netgen's surface elements: an imported Gmsh mesh's face descriptors carry no domains, and a boundary with
