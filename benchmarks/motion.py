@@ -36,8 +36,9 @@ import scipy.sparse as sp
 import ngwear
 from ngwear.model.kinds import KINDS
 from ngwear.numerics.discrete import Discretization
-from ngwear.numerics.motion import QUALITY, Extension, coordinates, mean_ratio, place, quality, remeshed, simplices
+from ngwear.numerics.motion import QUALITY, Extension, mean_ratio, quality, remeshed
 from ngwear.numerics.pardiso import Pardiso
+from ngwear.numerics.topology import coordinates, place, simplices
 
 PAD = C.ROOT / "geometries" / "brake_pad.toml"
 NU = np.array([0.0, 0.0, -1.0])

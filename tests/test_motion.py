@@ -24,17 +24,13 @@ from ngwear.numerics.motion import (
     Recession,
     RemeshError,
     contact_height,
-    coordinates,
-    facets,
     mean_ratio,
-    place,
     quality,
     remeshed,
-    signed_volumes,
-    simplices,
     tilted,
 )
 from ngwear.numerics.thickness import thickness
+from ngwear.numerics.topology import coordinates, facets, place, signed_volumes, simplices
 
 BOX = ngwear.load_scene(ROOT / "geometries" / "box3d.toml").replace(**{"mesh.maxh": 0.2})
 STRIP = ngwear.load_scene(PAPER).replace(**{"mesh.maxh": 0.25, "geometry.backing": 0.4})

@@ -16,9 +16,9 @@ from test_cli import COMMAND
 
 import ngwear
 from ngwear.model.geometry import build_mesh
-from ngwear.numerics.motion import facets
 from ngwear.numerics.plate import plate_modes
 from ngwear.numerics.strain import outer_facets, segments
+from ngwear.numerics.topology import facets
 from ngwear.results.recording import Recording
 from ngwear.results.validity import FAIL, THROUGH, WARN, WORN
 

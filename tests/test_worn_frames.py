@@ -11,7 +11,7 @@ import pyvista as pv
 from test_life import taper_scene
 
 import ngwear
-from ngwear.numerics.motion import coordinates
+from ngwear.numerics.topology import coordinates
 from ngwear.results.vtk import frame_name
 
 

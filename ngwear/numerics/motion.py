@@ -30,41 +30,13 @@ import numpy as np
 import scipy.sparse as sp
 
 from .pardiso import Pardiso
+from .topology import coordinates, facets, keys, place, signed_volumes, simplices
 
 PARALLEL = 0.05
 """A boundary whose unit normal n has |n·ν| at most this on average (sin 3°) is parallel to ν: its vertices slide
 along it (by up to this fraction of the wear off a face drafted so much)."""
 QUALITY = 0.1
 """The smallest mean ratio of an element a moved mesh may keep (1: a regular simplex; see :func:`quality`)."""
-
-
-def simplices(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
-    """(Vertices of each volume element (from 0), its region's index into ``mesh.GetMaterials()``)."""
-    elements = (mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()).NumPy()
-    return elements["nodes"][:, :mesh.dim + 1] - 1, elements["index"] - 1
-
-
-def facets(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
-    """(Vertices of each boundary element (from 0), its boundary's name), in NGSolve's order of the elements."""
-    ngmesh = mesh.ngmesh
-    if mesh.dim == 3:
-        elements, name = ngmesh.Elements2D().NumPy(), lambda index: ngmesh.FaceDescriptor(index).bcname
-    else:
-        elements, name = ngmesh.Elements1D().NumPy(), lambda index: ngmesh.GetBCName(index - 1)
-    indices = np.unique(elements["index"])
-    names = np.array([name(int(index)) for index in indices])
-    return elements["nodes"][:, :mesh.dim].astype(int) - 1, names[np.searchsorted(indices, elements["index"])]
-
-
-def coordinates(mesh: ngs.Mesh) -> np.ndarray:
-    """The vertices' coordinates, nv × d (a copy)."""
-    return np.array(mesh.ngmesh.Coordinates()[:, :mesh.dim])
-
-
-def place(mesh: ngs.Mesh, coords: np.ndarray) -> None:
-    """Move the mesh's vertices to ``coords`` (nv × d); Netgen's and NGSolve's point searches follow."""
-    mesh.ngmesh.Coordinates()[:, :mesh.dim] = coords
-    mesh.ngmesh.Update()
 
 
 def tilted(coords: np.ndarray, faces: np.ndarray, names: np.ndarray, nu: np.ndarray) -> tuple[str, ...]:
@@ -263,11 +235,11 @@ def contact_height(mesh: ngs.Mesh) -> float:
     contact = faces[names == "contact"]
     nodes, _ = simplices(mesh)
     nodes = nodes[np.isin(nodes, contact).sum(axis=1) >= d]           # those with d vertices on Γ_C
-    on = _keys(contact)
+    on = keys(contact)
     coords = coordinates(mesh)
     heights = []
     for facet in itertools.combinations(range(d + 1), d):
-        touching = np.isin(_keys(nodes[:, facet]), on)
+        touching = np.isin(keys(nodes[:, facet]), on)
         if touching.any():
             elements = nodes[touching]
             sides = coords[elements[:, list(facet)[1:]]] - coords[elements[:, [facet[0]]]]
@@ -275,18 +247,6 @@ def contact_height(mesh: ngs.Mesh) -> float:
                 np.linalg.norm(sides[:, 0], axis=1)
             heights.append(d * np.abs(signed_volumes(coords, elements)) / area)
     return float(np.concatenate(heights).min())
-
-
-def _keys(rows: np.ndarray) -> np.ndarray:
-    """One comparable key per row of vertex numbers, whatever their order (the sorted row's bytes)."""
-    rows = np.ascontiguousarray(np.sort(rows, axis=1), dtype=np.int64)
-    return rows.view(np.dtype((np.void, rows.dtype.itemsize * rows.shape[1]))).ravel()
-
-
-def signed_volumes(coords: np.ndarray, nodes: np.ndarray) -> np.ndarray:
-    """Signed volumes (areas in 2D) of simplices."""
-    edges = coords[nodes[:, 1:]] - coords[nodes[:, :1]]
-    return np.linalg.det(edges) / math.factorial(coords.shape[1])
 
 
 def mean_ratio(coords: np.ndarray, nodes: np.ndarray) -> np.ndarray:

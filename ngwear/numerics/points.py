@@ -15,7 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 from ngsolve.fem import NODE_TYPE
 
-from .motion import facets
+from .topology import facets
 
 NODAL_WEIGHTS = {
     # (dimension, order): the weights of a contact facet's vertices and edge midpoints, per unit measure

@@ -22,13 +22,14 @@ O(n).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from itertools import combinations
 
 import ngsolve as ngs
 import numpy as np
 from scipy.spatial import cKDTree
 
+from . import topology
 from .plate import rigid_normal
+from .topology import lone_facets, simplices
 
 CLEAR = 1e-9
 """Relative to the body's size: how far along the segment a facet must be (those through x_i itself are not)."""
@@ -68,7 +69,9 @@ def segments(scene, mesh: ngs.Mesh, coords: np.ndarray, facets: np.ndarray | Non
     plate = scene.loads.plate
     vertices = np.array(mesh.ngmesh.Coordinates()[:, :mesh.dim])
     facets = outer_facets(mesh) if facets is None else facets
-    on = {name: _facets_of(mesh, name) for name in (*scene.geometry.dirichlet, *((plate.boundary,) if plate else ()))}
+    faces, names = topology.facets(mesh)
+    on = {name: {tuple(face) for face in np.sort(faces[names == name], axis=1).tolist()}
+          for name in (*scene.geometry.dirichlet, *((plate.boundary,) if plate else ()))}
     label_of = {face: k for k, faces in enumerate(on.values()) for face in faces}
     labels = np.array([label_of.get(tuple(face), -1) for face in facets.tolist()], dtype=int)
     i, f, t = _hits(vertices, facets, coords, -nu)
@@ -91,18 +94,7 @@ def outer_facets(mesh: ngs.Mesh) -> np.ndarray:
     (Not Netgen's surface elements: an imported Gmsh mesh's face descriptors carry no domains, and a boundary with
     no physical group has none.)  The vertices' positions do not enter: a moved body keeps them (``Body``).
     """
-    elements = (mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()).NumPy()
-    corners = elements["nodes"][:, :mesh.dim + 1].astype(np.int64) - 1
-    faces = np.sort(np.concatenate([corners[:, list(face)] for face in combinations(range(mesh.dim + 1), mesh.dim)]),
-                    axis=1)
-    faces = faces[np.lexsort(faces.T[::-1])]
-    twin = (faces[1:] == faces[:-1]).all(axis=1)                     # a face shared with the next one
-    return faces[~(np.r_[twin, False] | np.r_[False, twin])]
-
-
-def _facets_of(mesh: ngs.Mesh, boundary: str) -> set[tuple[int, ...]]:
-    """The facets of a named boundary as sorted vertex tuples."""
-    return {tuple(sorted(v.nr for v in el.vertices)) for el in mesh.Boundaries(boundary).Elements()}
+    return lone_facets(simplices(mesh)[0])[0]
 
 
 def _hits(vertices: np.ndarray, facets: np.ndarray, points: np.ndarray, direction: np.ndarray):

@@ -10,12 +10,10 @@ the mesh as built: the remaining thickness is this minus the accumulated wear.
 """
 from __future__ import annotations
 
-import itertools
-
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .motion import coordinates, facets, simplices
+from .topology import coordinates, facets, lone_facets, simplices
 
 FACING = 0.5
 """The facets a ray along −ν may leave through: those whose outward unit normal n has −n·ν at least this (within
@@ -26,16 +24,6 @@ INSIDE = 1e-9
 OUTSIDE = 0.5
 """A ray that crosses no facet (from a curved rim: outside the chords of the facets above it by their sagitta)
 leaves through the nearest, its barycentric coordinates clipped, if it is within this of it."""
-
-
-def region_boundary(nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(The facets (vertex tuples) of the simplices ``nodes`` that belong to one of them only, that one's other vertex)."""
-    d = nodes.shape[1] - 1
-    local = list(itertools.combinations(range(d + 1), d))
-    faces = np.sort(np.concatenate([nodes[:, list(f)] for f in local]), axis=1)
-    opposite = np.concatenate([nodes[:, ({*range(d + 1)} - {*f}).pop()] for f in local])
-    _, first, count = np.unique(faces, axis=0, return_index=True, return_counts=True)
-    return faces[first[count == 1]], opposite[first[count == 1]]
 
 
 def thickness(mesh, points: np.ndarray, nu) -> np.ndarray:
@@ -51,7 +39,7 @@ def thickness(mesh, points: np.ndarray, nu) -> np.ndarray:
     nodes, regions = simplices(mesh)
     faces, names = facets(mesh)
     carrying = np.unique(regions[np.isin(nodes, faces[names == "contact"]).any(axis=1)])
-    boundary, inner = region_boundary(nodes[np.isin(regions, carrying)])
+    boundary, inner = lone_facets(nodes[np.isin(regions, carrying)])
     plane = np.linalg.svd(nu[None, :])[2][1:]                       # an orthonormal basis of the plane ⟂ ν
     flat, height = coords @ plane.T, -(coords @ nu)
     corners = flat[boundary]                                        # m × d × (d − 1)

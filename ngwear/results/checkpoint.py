@@ -157,7 +157,7 @@ class Checkpoint:
 
 def _surface(path: Path, data: dict, mesh) -> dict[str, np.ndarray]:
     """A moved body's state (see :func:`_moved`), its mesh put where the run left it; {} before the first update."""
-    from ..numerics.motion import place
+    from ..numerics.topology import place
 
     updates = len(data.get("removed_rows", ()))
     if not updates:

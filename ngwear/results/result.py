@@ -40,9 +40,9 @@ from scipy.integrate import cumulative_trapezoid
 from ..model.kinematics import Slip
 from ..model.programme import Schedule
 from ..model.scene import Scene
-from ..numerics.motion import coordinates
 from ..numerics.points import initial_distance
 from ..numerics.solver import NewtonRecord
+from ..numerics.topology import coordinates
 from .folder import replacing
 from .mesh_file import keep_mesh, saved_discretization
 from .provenance import canonical

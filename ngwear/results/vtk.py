@@ -30,7 +30,7 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 
-from ..numerics.motion import coordinates, place
+from ..numerics.topology import coordinates, place
 from .bulk_stress import BulkStress, unknown_normal
 from .contact_file import surface, write_contact
 

@@ -24,7 +24,8 @@ import ngsolve as ngs
 import numpy as np
 
 from ..model.programme import Schedule
-from ..numerics.motion import Recession, contact_height, coordinates
+from ..numerics.motion import Recession, contact_height
+from ..numerics.topology import coordinates
 from .jumps import CycleJumps, rigid_modes
 
 WORN_OUT = "worn_out"
