@@ -11,7 +11,7 @@ from conftest import ROOT
 
 import ngwear
 from ngwear.numerics.discrete import Discretization
-from ngwear.numerics.transfer import ContactTrace, Locator, StrainQuadrature
+from ngwear.numerics.transfer import ContactTrace, Locator, StrainQuadrature, element_strains
 
 PAIRS = {  # scene: (coarse, fine) size overrides
     "hertz": ({"mesh.maxh": 0.3, "mesh.contact_maxh": 0.05}, {"mesh.maxh": 0.1, "mesh.contact_maxh": 0.01}),
@@ -92,3 +92,21 @@ def test_on_the_reference_mesh_the_gram_matrix_gives_the_rules_error(name, order
     by_points = quadrature.error2(u, quadrature.mips, u_ref)
     assert by_points > 0
     assert quadrature.error2(u, None, u_ref) == pytest.approx(by_points, rel=1e-11)
+
+
+@pytest.mark.parametrize("name", ["hertz", "brake_pad"])
+def test_p1_strains_by_element_are_ngsolves_at_the_points(name):
+    """P1: each quadrature point takes its element's constant strain (element_strains), as NGSolve evaluates it there."""
+    coarse, fine = pair(name, 1)
+    quadrature = StrainQuadrature(fine.fes, 2 if coarse.scene.dim == 3 else 3)
+    at = quadrature.on(coarse.mesh)
+    rng = np.random.default_rng(2)
+    u, u_ref = ngs.GridFunction(coarse.fes), rng.standard_normal(fine.fes.ndof)
+    u.vec.FV().NumPy()[:] = rng.standard_normal(coarse.fes.ndof)
+    quadrature.ref.vec.FV().NumPy()[:] = u_ref
+    strain = lambda gf, mips: np.asarray(ngs.Sym(ngs.Grad(gf))(mips)).reshape(len(mips), -1)  # noqa: E731
+    diff = strain(u, at) - strain(quadrature.ref, quadrature.mips)
+    by_points = float(quadrature.weights @ np.einsum("ij,ij->i", diff, diff))
+    assert element_strains(coarse.fes) is not None
+    assert quadrature.error2(u, at, u_ref) == pytest.approx(by_points, rel=1e-12)
+    assert element_strains(pair(name, 2)[0].fes) is None                     # P2: ε varies over an element

@@ -12,7 +12,8 @@ an extension that reproduces the element's polynomials and leaves every point in
 * :class:`Locator`: NGSolve mesh points for points of (or just outside) a region, the body by default;
 * :class:`StrainQuadrature`: ‖ε(u) − ε(u_ref)‖_{L²} over every region of the reference mesh, u of the other mesh
   evaluated at the reference's quadrature points, each in its own region (no interpolation onto the reference's
-  space); on the reference's own mesh eᵀ G e with G the Gram matrix of ε (a k-study: no point evaluations);
+  space); on the reference's own mesh eᵀ G e with G the Gram matrix of ε (a k-study: no point evaluations); P1
+  strains are constant on each simplex (:func:`element_strains`), so there a point takes its element's;
 * :class:`ContactTrace`: the nodal wear of Γ_C as the finite element function it is (P1: linear on each facet;
   P2: quadratic through the vertex and edge-midpoint values) at points on (or near) Γ_C.
 """
@@ -141,6 +142,7 @@ class StrainQuadrature:
         self.weights = np.tile(np.asarray(rule.weights), mesh.ne) * jacobian
         self.points = np.asarray(ngs.CF((ngs.x, ngs.y, ngs.z)[:mesh.dim])(self.mips)).reshape(-1, mesh.dim)
         self.ref = ngs.GridFunction(fes_ref)
+        self._other: tuple = (None, None)           # (a space, its element_strains)
 
     def on(self, mesh: ngs.Mesh):
         """The mesh points of this rule's points on another mesh, each in its own region (once per mesh).
@@ -165,15 +167,57 @@ class StrainQuadrature:
     def error2(self, u: ngs.GridFunction, at, u_ref: np.ndarray) -> float:
         """‖ε(u) − ε(u_ref)‖², u on the other mesh (``at`` from :meth:`on`), u_ref the reference's DOF vector.
 
-        On the reference's own mesh (``at`` None): eᵀ G e, e = u − u_ref (:attr:`gram`).
+        On the reference's own mesh (``at`` None): eᵀ G e, e = u − u_ref (:attr:`gram`).  P1 on both meshes: each
+        point takes the strain of its element (:func:`element_strains`), else NGSolve evaluates ε at the points.
         """
         if at is None:
             e = u.vec.FV().NumPy() - u_ref
             return float(e @ (self.gram @ e))
-        self.ref.vec.FV().NumPy()[:] = u_ref
-        strain = lambda gf, mips: np.asarray(ngs.Sym(ngs.Grad(gf))(mips)).reshape(len(mips), -1)  # noqa: E731
-        diff = strain(u, at) - strain(self.ref, self.mips)
+        if self._elementwise is not None and (other := self._strains(u.space)) is not None:
+            size = self.ref.space.mesh.dim ** 2
+            diff = ((other @ u.vec.FV().NumPy()).reshape(-1, size)[at["nr"]]
+                    - (self._elementwise @ u_ref).reshape(-1, size)[self.mips["nr"]])
+        else:
+            self.ref.vec.FV().NumPy()[:] = u_ref
+            strain = lambda gf, mips: np.asarray(ngs.Sym(ngs.Grad(gf))(mips)).reshape(len(mips), -1)  # noqa: E731
+            diff = strain(u, at) - strain(self.ref, self.mips)
         return float(self.weights @ np.einsum("ij,ij->i", diff, diff))
+
+    @cached_property
+    def _elementwise(self) -> sp.csr_matrix | None:
+        return element_strains(self.ref.space)
+
+    def _strains(self, fes: ngs.FESpace) -> sp.csr_matrix | None:
+        """:func:`element_strains` of another space, kept for the last one asked (a study asks per mesh)."""
+        if self._other[0] is not fes:
+            self._other = (fes, element_strains(fes))
+        return self._other[1]
+
+
+def element_strains(fes: ngs.FESpace) -> sp.csr_matrix | None:
+    """D with (D u)[e d² + d i + j] = ε_ij(u) on element e, for P1 ``VectorH1`` on straight simplices (else None).
+
+    ε is constant on each simplex: with its vertices x_0 … x_d, E = [x_1 − x_0, …, x_d − x_0], the barycentric
+    gradients ∇λ_a (a ≥ 1) are the rows of E⁻¹, ∇λ_0 = −Σ_a ∇λ_a, and ε_ij = ½ Σ_a (u_i,a ∂_j λ_a + u_j,a ∂_i λ_a),
+    u_i,a the i-th component's DOF at vertex a (component i's DOFs are the i-th block, one per vertex).
+    """
+    mesh, d = fes.mesh, fes.mesh.dim
+    if not isinstance(fes, ngs.VectorH1) or fes.globalorder != 1 or fes.ndof != d * mesh.nv:
+        return None
+    nodes = _elements(mesh)["nodes"][:, :d + 1].astype(np.int64) - 1
+    coords = np.asarray(mesh.ngmesh.Coordinates()[:, :d])
+    edges = np.swapaxes(coords[nodes[:, 1:]] - coords[nodes[:, :1]], 1, 2)          # ne × d × d, columns x_a − x_0
+    inner = np.linalg.inv(edges)                                                   # rows: ∇λ_a, a = 1 … d
+    grads = np.concatenate([-inner.sum(axis=1, keepdims=True), inner], axis=1)     # ne × (d+1) × d
+    ne = len(nodes)
+    rows, cols, vals = [], [], []
+    for i in range(d):
+        for j in range(d):
+            row = np.repeat(np.arange(ne) * d * d + d * i + j, d + 1)
+            rows += [row, row]
+            cols += [(i * mesh.nv + nodes).ravel(), (j * mesh.nv + nodes).ravel()]
+            vals += [0.5 * grads[:, :, j].ravel(), 0.5 * grads[:, :, i].ravel()]
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(ne * d * d, fes.ndof))
 
 
 class ContactTrace:
