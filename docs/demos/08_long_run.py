@@ -11,8 +11,8 @@ exactly.
 
 In Python the same is ``simulate(scene, checkpoint=folder, stop=event)`` and ``simulate(None, resume=folder)``;
 the command line's signal handler does nothing but set such an event.  Here a thread plays the part of a batch
-scheduler that ends the job soon after it has written its first checkpoint: the paper's scene with 10 000 implicit
-steps (:math:`w_{j+1} = w_j + k\,\alpha\,p(u_{\nu,j+1} - w_{j+1})`) and a checkpoint every 0.2 s.
+scheduler that ends the job soon after it has written its first checkpoint: the paper's scene with 4 000 implicit
+steps (:math:`w_{j+1} = w_j + k\,\alpha\,p(u_{\nu,j+1} - w_{j+1})`) and a checkpoint every 0.1 s.
 """
 
 # %%
@@ -30,7 +30,7 @@ out = Path("out") / "long_run"
 shutil.rmtree(out, ignore_errors=True)
 out.mkdir(parents=True)
 scene = ngwear.load_scene(scene_file("paper_strip")).replace(**{
-    "mesh.maxh": 0.2, "time.steps": 10_000, "wear.integrator": "implicit", "output.checkpoint_seconds": 0.2})
+    "mesh.maxh": 0.2, "time.steps": 4_000, "wear.integrator": "implicit", "output.checkpoint_seconds": 0.1})
 stop = threading.Event()
 
 
@@ -69,8 +69,8 @@ fig.savefig(out / "resumed.png", dpi=100)
 
 # %%
 # A finished run can also be extended to a later final time (the step k is kept):
-# ``ngwear run --resume OUTDIR --set time.T=2 time.steps=20000``, in Python
-# ``simulate(scene.replace(**{"time.T": 2.0, "time.steps": 20_000}), resume=out)``.  Any other change of the scene
+# ``ngwear run --resume OUTDIR --set time.T=2 time.steps=8000``, in Python
+# ``simulate(scene.replace(**{"time.T": 2.0, "time.steps": 8_000}), resume=out)``.  Any other change of the scene
 # is refused, naming the keys that differ.
 try:
     ngwear.simulate(scene.replace(**{"contact.friction": 0.5}), progress=False, resume=out)
