@@ -329,8 +329,17 @@ class CondensedSystem:
         """M z by products (M of :meth:`matrix` with this step's A)."""
         n, inactive = self.n, ~active
         directed, normal = self.m * dp * inactive * z[:n], self.m * active * z[:n]
+        return self._image(active, z, directed, normal, self.response(directed, normal))
+
+    def _image(self, active, z, directed, normal, response):
+        """M z, given its contact part's inputs (directed, normal) and their response R(directed, normal).
+
+        The inputs are (m p' z, m z) on the (inactive, active) points; :meth:`apply` computes the response by products,
+        :class:`KrylovSystem` has it from its recycler.
+        """
+        n = self.n
         out = np.empty_like(z)
-        out[:n] = inactive * z[:n] + self.response(directed, normal)
+        out[:n] = ~active * z[:n] + response
         if self.plate is not None:
             plate = self.plate
             out[:n] -= plate.normal @ z[n:]
@@ -417,23 +426,11 @@ class KrylovSystem(CondensedSystem):
         return x + toward * spo.brentq(balance, near, far, xtol=1e-15 * self.scale) * rigid, lam
 
     def _solve(self, active, dp, rhs, lam):
-        n, m, inactive = self.n, self.m, ~active
+        n, m = self.n, self.m
         scaling = np.ones(len(rhs))
         scaling[:n][active] = self.c[active]
-        below = None
-        if self.plate is not None:
-            below = (self.plate.directed * (m * dp * inactive)[:, None] + self.plate.normal * (m * active)[:, None]).T
-
-        def image(u, response):
-            """M u, given the response R(m p' u, m u) of its contact part (inactive, active points)."""
-            out = np.empty_like(u)
-            out[:n] = inactive * u[:n] + response
-            if self.plate is not None:
-                out[:n] -= self.plate.normal @ u[n:]
-                out[n:] = self.rows * (below @ u[:n] + self.jacobian_stiffness @ u[n:])
-            return out
-
-        weights = (m * dp * inactive, m * active.astype(float))
+        weights = (m * dp * ~active, m * active.astype(float))
+        image = lambda u, response: self._image(active, u, weights[0] * u[:n], weights[1] * u[:n], response)  # noqa: E731
         return self.recycler.solve(active.tobytes() + dp.tobytes(), weights, image, scaling, rhs, self.atol)
 
 
