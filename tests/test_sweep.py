@@ -131,7 +131,8 @@ def test_cli_sweep_prints_its_table_and_path_not_dask_logs(tmp_path):
     assert lines and all(line.startswith("ngwear: study: ") or line.startswith("ngwear: Dask dashboard: ")
                          for line in lines), done.stderr
     assert "\r" not in done.stderr and "Traceback" not in done.stderr and "INFO" not in done.stderr
-    verbose = subprocess.run([sys.executable, "-m", "ngwear.cli", "sweep", str(path), "--workers", "1", "--out",
+    one = write(tmp_path, GRID.replace("[0.3, 0.9]", "[0.3]").replace("[0.5, 1.5]", "[0.5]"), "one.toml")
+    verbose = subprocess.run([sys.executable, "-m", "ngwear.cli", "sweep", str(one), "--workers", "1", "--out",
                               str(tmp_path / "again"), "--verbose"], capture_output=True, text=True, cwd=tmp_path,
                              timeout=180)
     assert verbose.returncode == 0 and "Scheduler" in verbose.stderr    # Dask's own lines, when asked for
