@@ -110,3 +110,21 @@ def test_p1_strains_by_element_are_ngsolves_at_the_points(name):
     assert element_strains(coarse.fes) is not None
     assert quadrature.error2(u, at, u_ref) == pytest.approx(by_points, rel=1e-12)
     assert element_strains(pair(name, 2)[0].fes) is None                     # P2: ε varies over an element
+
+
+def test_element_strains_only_where_the_strain_is_constant_per_simplex():
+    """None (NGSolve evaluates at the points) for a curved mesh, quadrilaterals, an interleaved or partial space."""
+    from netgen.geom2d import unit_square
+    from netgen.occ import Box, Glue, OCCGeometry
+
+    left, right = Box((0, 0, 0), (1, 1, 1)), Box((1, 0, 0), (2, 1, 1))
+    left.mat("a"), right.mat("b")
+    box = ngs.Mesh(OCCGeometry(Glue([left, right]), dim=3).GenerateMesh(maxh=0.5))
+    assert element_strains(ngs.VectorH1(box, order=1, dirichlet=".*")) is not None
+    assert element_strains(ngs.VectorH1(box, order=1, interleaved=True)) is None
+    assert element_strains(ngs.VectorH1(box, order=1, definedon=box.Materials("a"))) is None
+    triangles = ngs.Mesh(unit_square.GenerateMesh(maxh=0.3))
+    assert element_strains(ngs.VectorH1(triangles, order=1)) is not None
+    assert element_strains(ngs.VectorH1(ngs.Mesh(unit_square.GenerateMesh(maxh=0.3, quad_dominated=True)), order=1)) is None
+    triangles.Curve(2)
+    assert element_strains(ngs.VectorH1(triangles, order=1)) is None

@@ -67,7 +67,7 @@ def segments(scene, mesh: ngs.Mesh, coords: np.ndarray, facets: np.ndarray | Non
     """
     nu = np.asarray(scene.contact.direction, dtype=float)
     plate = scene.loads.plate
-    vertices = np.array(mesh.ngmesh.Coordinates()[:, :mesh.dim])
+    vertices = topology.coordinates(mesh)
     facets = outer_facets(mesh) if facets is None else facets
     faces, names = topology.facets(mesh)
     on = {name: {tuple(face) for face in np.sort(faces[names == name], axis=1).tolist()}

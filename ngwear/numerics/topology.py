@@ -11,6 +11,18 @@ from itertools import combinations
 import ngsolve as ngs
 import numpy as np
 
+TRIG, TET = 10, 20
+"""Netgen's codes of the first-order triangle and tetrahedron (its element tables' ``type``)."""
+
+
+def straight_simplices(mesh: ngs.Mesh) -> bool:
+    """Whether every volume element is a straight simplex: a first-order triangle (2D) or tetrahedron (3D).
+
+    Not when the mesh has a quadrilateral, prism or hexahedron, a second-order node, or a curved geometry.
+    """
+    kind = (mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()).NumPy()["type"]
+    return mesh.GetCurveOrder() == 1 and bool((kind == (TET if mesh.dim == 3 else TRIG)).all())
+
 
 def simplices(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
     """(Vertices of each volume element (from 0), its region's index into ``mesh.GetMaterials()``)."""

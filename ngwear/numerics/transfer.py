@@ -27,6 +27,7 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from .stiffness import assembled
+from .topology import coordinates, simplices, straight_simplices
 
 CANDIDATES = 16
 
@@ -67,20 +68,10 @@ def _corners(mesh: ngs.Mesh, elements) -> np.ndarray:
     return coords[np.array([[v.nr for v in el.vertices] for el in elements])]
 
 
-def _elements(mesh: ngs.Mesh) -> np.ndarray:
-    """Netgen's volume elements in NGSolve's order (a structured array: ``index`` of the region from 1, ``nodes``)."""
-    return (mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()).NumPy()
-
-
 def _same(mesh: ngs.Mesh, other: ngs.Mesh) -> bool:
-    """Whether two meshes are one: the same vertices and the same elements (their nodes and regions) in the same order."""
-    return all(np.array_equal(a, b) for a, b in ((mesh.ngmesh.Coordinates(), other.ngmesh.Coordinates()),
-                                                 (_elements(mesh), _elements(other))))
-
-
-def _element_regions(mesh: ngs.Mesh) -> np.ndarray:
-    """The region of each volume element, as an index into ``mesh.GetMaterials()``."""
-    return _elements(mesh)["index"] - 1
+    """Whether two meshes are one: the same vertices and the same elements (their vertices and regions) in the same order."""
+    return np.array_equal(coordinates(mesh), coordinates(other)) and all(
+        np.array_equal(a, b) for a, b in zip(simplices(mesh), simplices(other)))
 
 
 class Locator:
@@ -89,10 +80,10 @@ class Locator:
     def __init__(self, mesh: ngs.Mesh, reach: float | None = None, region: str = "body"):
         """``reach``: how far outside a point may be (default: the largest edge of the mesh's elements)."""
         self.mesh = mesh
-        self.in_region = _element_regions(mesh) == mesh.GetMaterials().index(region)
+        nodes, regions = simplices(mesh)
+        self.in_region = regions == mesh.GetMaterials().index(region)
         self.numbers = np.flatnonzero(self.in_region)
-        vertices = _elements(mesh)["nodes"][self.numbers, :mesh.dim + 1] - 1              # as el.vertices, from 0
-        corners = mesh.ngmesh.Coordinates()[:, :mesh.dim][vertices]
+        corners = coordinates(mesh)[nodes[self.numbers]]
         self.simplices = Simplices(corners)
         if reach is None:
             pairs = [(a, b) for a in range(mesh.dim + 1) for b in range(a)]
@@ -137,7 +128,7 @@ class StrainQuadrature:
             # its element by a search in another mesh, even an identical one (ε of P1 jumps across faces)
             raise ValueError(f"degree {degree}: the rule has points on the elements' faces; use another degree")
         self.mips = mesh.MapToAllElements(rule, ngs.VOL)
-        self.regions = np.array(mesh.GetMaterials())[_element_regions(mesh)[self.mips["nr"]]]
+        self.regions = np.array(mesh.GetMaterials())[simplices(mesh)[1][self.mips["nr"]]]
         jacobian = np.abs(np.asarray(ngs.Det(ngs.specialcf.JacobianMatrix(mesh.dim))(self.mips))).ravel()
         self.weights = np.tile(np.asarray(rule.weights), mesh.ne) * jacobian
         self.points = np.asarray(ngs.CF((ngs.x, ngs.y, ngs.z)[:mesh.dim])(self.mips)).reshape(-1, mesh.dim)
@@ -202,10 +193,11 @@ def element_strains(fes: ngs.FESpace) -> sp.csr_matrix | None:
     u_i,a the i-th component's DOF at vertex a (component i's DOFs are the i-th block, one per vertex).
     """
     mesh, d = fes.mesh, fes.mesh.dim
-    if not isinstance(fes, ngs.VectorH1) or fes.globalorder != 1 or fes.ndof != d * mesh.nv:
+    flags = fes.flags.ToDict()
+    if (not isinstance(fes, ngs.VectorH1) or fes.globalorder != 1 or fes.ndof != d * mesh.nv
+            or "interleaved" in flags or "definedon" in flags or not straight_simplices(mesh)):
         return None
-    nodes = _elements(mesh)["nodes"][:, :d + 1].astype(np.int64) - 1
-    coords = np.asarray(mesh.ngmesh.Coordinates()[:, :d])
+    nodes, coords = simplices(mesh)[0], coordinates(mesh)
     edges = np.swapaxes(coords[nodes[:, 1:]] - coords[nodes[:, :1]], 1, 2)          # ne × d × d, columns x_a − x_0
     inner = np.linalg.inv(edges)                                                   # rows: ∇λ_a, a = 1 … d
     grads = np.concatenate([-inner.sum(axis=1, keepdims=True), inner], axis=1)     # ne × (d+1) × d
