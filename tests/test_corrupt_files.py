@@ -13,6 +13,7 @@ import numpy as np
 import pandas as pd
 import pytest
 from conftest import PAPER, ROOT
+from gmsh_files import write_msh
 from test_cli import assert_one_line_error, ngwear
 
 import ngwear as ng
@@ -25,18 +26,14 @@ LONGER = ["--set", "time.T=2", "time.steps=80"]
 def strip_msh(path, nx=15, ny=5, lx=3.0, ly=1.0):
     """A Gmsh 2 mesh of [0, lx] × [0, ly]: triangles of region body, edges contact (y = 0), left, right, top."""
     node = lambda i, j: 1 + i + j * (nx + 1)  # noqa: E731
-    nodes = [f"{node(i, j)} {lx * i / nx} {ly * j / ny} 0" for j in range(ny + 1) for i in range(nx + 1)]
+    points = [(lx * i / nx, ly * j / ny, 0) for j in range(ny + 1) for i in range(nx + 1)]
     edges = [(1, node(i, 0), node(i + 1, 0)) for i in range(nx)] + [(4, node(i, ny), node(i + 1, ny)) for i in range(nx)]
     edges += [(2, node(0, j), node(0, j + 1)) for j in range(ny)] + [(3, node(nx, j), node(nx, j + 1)) for j in range(ny)]
     cells = [(node(i, j), node(i + 1, j), node(i + 1, j + 1)) for i in range(nx) for j in range(ny)]
     cells += [(node(i, j), node(i + 1, j + 1), node(i, j + 1)) for i in range(nx) for j in range(ny)]
-    elements = [f"1 2 {tag} {tag} {a} {b}" for tag, a, b in edges] + [f"2 2 5 5 {a} {b} {c}" for a, b, c in cells]
-    names = ['1 1 "contact"', '1 2 "left"', '1 3 "right"', '1 4 "top"', '2 5 "body"']
-    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", str(len(names)), *names,
-             "$EndPhysicalNames", "$Nodes", str(len(nodes)), *nodes, "$EndNodes", "$Elements", str(len(elements)),
-             *(f"{k + 1} {e}" for k, e in enumerate(elements)), "$EndElements"]
-    path.write_text("\n".join(lines) + "\n")
-    return path
+    elements = [(1, tag, (a, b)) for tag, a, b in edges] + [(2, 5, cell) for cell in cells]
+    names = [(1, 1, "contact"), (1, 2, "left"), (1, 3, "right"), (1, 4, "top"), (2, 5, "body")]
+    return write_msh(path, names, points, elements)
 
 
 @pytest.fixture(scope="module")

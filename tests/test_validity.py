@@ -11,6 +11,7 @@ import threading
 import ngsolve as ngs
 import numpy as np
 import pytest
+from gmsh_files import write_msh
 from netgen.occ import Box, Glue, OCCGeometry, Z
 from test_cli import COMMAND
 
@@ -81,23 +82,14 @@ def two_box_msh(path):
         if abs(face.center.z - 0.5) < 1e-9:
             face.name = "interface"
     mesh = ngs.Mesh(OCCGeometry(shape).GenerateMesh(maxh=0.4))
-    names = [("b", name) for name in dict.fromkeys(mesh.GetBoundaries())] + [("r", name) for name in mesh.GetMaterials()]
-    tag = {key: k + 1 for k, key in enumerate(names)}
-    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", str(len(tag))]
-    lines += [f'{2 if kind == "b" else 3} {k} "{name}"' for (kind, name), k in tag.items()]
-    points = mesh.ngmesh.Coordinates()
-    lines += ["$EndPhysicalNames", "$Nodes", str(len(points))] + [f"{i + 1} {x} {y} {z}" for i, (x, y, z) in
-                                                                   enumerate(points)]
-    elements = [(2, tag["b", el.mat], el.vertices) for el in mesh.Elements(ngs.BND)]
-    elements += [(4, tag["r", el.mat], el.vertices) for el in mesh.Elements(ngs.VOL)]
-    lines += ["$EndNodes", "$Elements", str(len(elements))]
-    lines += [f"{i + 1} {kind} 2 {k} {k} " + " ".join(str(v.nr + 1) for v in vertices)
-              for i, (kind, k, vertices) in enumerate(elements)]
-    path.write_text("\n".join([*lines, "$EndElements", ""]))
-    return path
+    groups = [(2, name) for name in dict.fromkeys(mesh.GetBoundaries())] + [(3, name) for name in mesh.GetMaterials()]
+    tag = {group: k + 1 for k, group in enumerate(groups)}
+    elements = [(2, tag[2, el.mat], [v.nr + 1 for v in el.vertices]) for el in mesh.Elements(ngs.BND)]
+    elements += [(4, tag[3, el.mat], [v.nr + 1 for v in el.vertices]) for el in mesh.Elements(ngs.VOL)]
+    return write_msh(path, [(dim, k, name) for (dim, name), k in tag.items()], mesh.ngmesh.Coordinates(), elements)
 
 
-def test_theouter_facets_leave_out_an_imported_meshs_interface(tmp_path):
+def test_the_outer_facets_leave_out_an_imported_meshs_interface(tmp_path):
     """The outer facets are those of one volume element, not the surface elements with one domain.
 
     An imported Gmsh mesh's interface has surface elements whose face descriptor names one domain only (Netgen's
