@@ -29,7 +29,6 @@ from scipy.spatial import cKDTree
 
 from . import topology
 from .plate import rigid_normal
-from .topology import lone_facets, simplices
 
 CLEAR = 1e-9
 """Relative to the body's size: how far along the segment a facet must be (those through x_i itself are not)."""
@@ -94,7 +93,7 @@ def outer_facets(mesh: ngs.Mesh) -> np.ndarray:
     (Not Netgen's surface elements: an imported Gmsh mesh's face descriptors carry no domains, and a boundary with
     no physical group has none.)  The vertices' positions do not enter: a moved body keeps them (``Body``).
     """
-    return lone_facets(simplices(mesh)[0])[0]
+    return topology.lone_facets(topology.simplices(mesh)[0])[0]
 
 
 def _hits(vertices: np.ndarray, facets: np.ndarray, points: np.ndarray, direction: np.ndarray):
