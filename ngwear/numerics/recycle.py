@@ -193,7 +193,7 @@ class Recycler:
         for _ in range(2):                                      # X ⟂ Ũ; images follow: M S Ũ P = Q T P
             P = self.U.T @ X
             X, W = X - self.U @ P, W - self.Q @ (self.T @ P)
-        Qx, Rx, perm = sla.qr(X, mode="economic", pivoting=True)
+        Qx, Rx, perm = sla.qr(X, mode="economic", pivoting=True, check_finite=False)
         independent = np.abs(np.diag(Rx)) > RECALLED
         rank = len(independent) if independent.all() else int(np.argmin(independent))
         if rank == 0:
@@ -204,7 +204,7 @@ class Recycler:
         for _ in range(2):
             step = self.Q.T @ W
             W, Tn = W - self.Q @ step, Tn + step
-        Qn, Rn = np.linalg.qr(W)
+        Qn, Rn = sla.qr(W, mode="economic", check_finite=False)
         k = self.T.shape[0]
         self.T = np.block([[self.T, Tn], [np.zeros((rank, k)), Rn]])
         self.U, self.Q = np.hstack([self.U, U]), np.hstack([self.Q, Qn])
