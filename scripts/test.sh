@@ -5,7 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/bootstrap.sh
 # Two workers on two cores: each worker's BLAS, MKL and OpenMP on one thread (a caller's setting wins).  With two
-# threads each they oversubscribed the cores: the suite took 12:17 and 21.4 min of CPU, with one 10:24 and 16.3.
+# threads each they oversubscribe the cores: pytest took 12:13 (19.9 min of CPU) with two, 10:24 (16.3) with one,
+# each the second run in a clone, back to back.
 export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}" MKL_NUM_THREADS="${MKL_NUM_THREADS:-1}" \
        OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
 .venv/bin/python -m pytest -m "slow or not slow or browser" -n 2 --dist loadgroup --durations=20 "$@"
