@@ -6,6 +6,8 @@ given in Python runs exactly like the same body built in, and the full-system pa
 condensed one on a small pad and a small pin under a plate on a turning disc.
 """
 import math
+import os
+import shutil
 
 import ngsolve as ngs
 import numpy as np
@@ -16,7 +18,8 @@ from netgen.occ import Box, Pnt, X, Z
 import ngwear
 from ngwear import Scene, SceneError
 from ngwear.model.cad import read_shape
-from ngwear.model.geometry import build_mesh
+from ngwear.model.geometry import build_mesh, mesh_key
+from ngwear.model.keys import Level
 
 DISC = {"foundation": {"velocity": [0.0, 0.0, 0.0], "angular_velocity": [0.0, 0.0, 1.0]},
         "contact": {"gap": 0.05, "stiffness": 10.0, "friction": 0.3, "wear": 0.5},
@@ -88,6 +91,22 @@ def test_cad_pad_from_its_step_file():
     assert result.weights.sum() == pytest.approx(contact, rel=1e-2)           # the slot is not in contact
     assert result.contact_points[:, 1].min() < 0 < result.contact_points[:, 1].max()
     assert not ((np.abs(result.contact_points[:, 1]) < 0.0015 - 1e-9)).any(), "no contact point in the slot"
+
+
+def test_a_part_file_keys_its_mesh_by_content_wherever_it_lies(tmp_path):
+    """The mesh cache knows a moved or freshly cloned part by its bytes; an edited part is meshed anew."""
+    scene = ngwear.load_scene(ROOT / "geometries" / "cad_pad.toml")
+    copies = [tmp_path / folder / "pad.step" for folder in ("here", "there")]
+    for number, copy in enumerate(copies):
+        copy.parent.mkdir()
+        shutil.copyfile(scene.geometry.file, copy)
+        os.utime(copy, ns=(10**18 + number, 10**18 + number))                 # a clone's own mtime
+    here, there = (scene.replace(**{"geometry.file": str(copy)}) for copy in copies)
+    assert here.signature(Level.MESH) != there.signature(Level.MESH)        # in one session: path and mtime
+    assert mesh_key(here) == mesh_key(there) == mesh_key(scene)
+    step = copies[1].read_text()
+    copies[1].write_text(step.replace("2026-11-23T06:41:44", "2026-11-24T06:41:44", 1))
+    assert mesh_key(there) != mesh_key(here)
 
 
 def test_shape_and_mesh_given_in_python_run_as_the_built_in_body(paper_scene):

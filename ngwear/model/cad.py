@@ -28,7 +28,7 @@ from netgen.occ import Glue, TopoDS_Shape
 from .kinds import Kind, register
 from .part_files import MESH_FILES, SHAPE_FILES, Part, PartError, describe, read_mesh, read_shape, solid_regions
 
-__all__ = ["Part", "PartError", "cache_dir", "describe", "fingerprint", "read_mesh", "read_shape", "store"]
+__all__ = ["Part", "PartError", "cache_dir", "content_hash", "describe", "fingerprint", "read_mesh", "read_shape", "store"]
 
 
 def cache_dir() -> Path:
@@ -91,3 +91,10 @@ def fingerprint(path: str) -> tuple:
     """What identifies a part file's content cheaply: its path, size and modification time (and its sidecar's)."""
     stats = [Path(p).stat() for p in (path, f"{path}.names.json") if Path(p).is_file()]
     return (str(Path(path).resolve()), *((s.st_size, s.st_mtime_ns) for s in stats))
+
+
+def content_hash(path: str) -> str:
+    """SHA-256 of a part file's bytes and its sidecar's: the same wherever the file lies and however it was copied."""
+    sidecar = Path(f"{path}.names.json")
+    names = sidecar.read_bytes() if sidecar.is_file() else b""
+    return hashlib.sha256(Path(path).read_bytes() + names).hexdigest()

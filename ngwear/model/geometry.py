@@ -13,7 +13,6 @@ from __future__ import annotations
 import hashlib
 import os
 import threading
-from pathlib import Path
 
 import netgen.meshing
 import ngsolve as ngs
@@ -30,12 +29,11 @@ CACHE_VERSION = 5
 
 
 def mesh_key(scene) -> str:
-    """Hash of everything the mesh depends on: the keys declared at :attr:`Level.MESH` (a part file by content)."""
-    spec = scene.signature(Level.MESH)
-    if scene.geometry.file is not None:
-        sidecar = Path(f"{scene.geometry.file}.names.json")
-        names = sidecar.read_bytes() if sidecar.is_file() else b""
-        spec += hashlib.sha256(Path(scene.geometry.file).read_bytes() + names).hexdigest()
+    """Hash of everything the mesh depends on: the keys at :attr:`Level.MESH`, a part file by its content alone.
+
+    A project moved or cloned elsewhere finds its meshes: neither the file's path nor its mtime is in the key.
+    """
+    spec = scene.signature(Level.MESH, by_content=True)
     return hashlib.sha256(f"{CACHE_VERSION}:{spec}".encode()).hexdigest()[:16]
 
 

@@ -132,11 +132,17 @@ class Scene(TopLevel):
             node = getattr(node, part, None)
         return node
 
-    def signature(self, level: Level) -> str:
-        """The values of the keys declared at ``level``, as one string (a part file by its content's identity)."""
+    def signature(self, level: Level, by_content: bool = False) -> str:
+        """The values of the keys declared at ``level``, as one string.
+
+        A part file stands for its content: by its path, size and mtime (:func:`~ngwear.model.cad.fingerprint`,
+        cheap, for comparing scenes in one session), or ``by_content``, by its bytes' hash alone
+        (:func:`~ngwear.model.cad.content_hash`, for what outlives the file's place: the mesh cache).
+        """
         values = {name: self.value(name) for name, info in declared_keys() if level_of(info) == level}
         if values.get("geometry.file") is not None:
-            values["geometry.file"] = cad.fingerprint(values["geometry.file"])
+            identify = cad.content_hash if by_content else cad.fingerprint
+            values["geometry.file"] = identify(values["geometry.file"])
         return json.dumps(values, sort_keys=True, default=list)
 
     def changed_from(self, other: Scene) -> Level:
