@@ -1,8 +1,8 @@
 """The stiffness from gradient blocks (ngwear.numerics.stiffness) is NGSolve's symbolic form of the same laws.
 
 K_(i,k) = Σ_r Σ_ab C^r_iakb S^r_ab must equal the assembled ∫ C_ijkl ∂_l u_k ∂_j v_i dx to round-off for every
-kind of linear law (isotropic, transversely isotropic about a tilted axis, anisotropic), in 2D and 3D, P1 and P2,
-on parts of one region and of two.
+kind of linear law (isotropic, transversely isotropic about a tilted axis, anisotropic), in 2D and 3D, P1 (its blocks
+summed in NumPy from the element arrays) and P2, on parts of one region and of two.
 """
 import numpy as np
 import pytest
@@ -18,6 +18,8 @@ TILTED = {"law": "transversely_isotropic", "young_plane": 2.0, "young_axis": 1.0
           "poisson_axis": 0.2, "shear_axis": 0.4, "axis": [0.3, 0.4, 0.866]}
 CASES = {
     "strip-P1": ("paper_strip", {"mesh.maxh": 0.3}),
+    "strip-P1-backed": ("paper_strip", {"mesh.maxh": 0.3, "geometry.backing": 0.2,
+                                        "material.regions": {"backing": {"young": 50.0, "poisson": 0.3}}}),
     "strip-P2-backed": ("paper_strip", {"mesh.maxh": 0.4, "mesh.order": 2, "geometry.backing": 0.2,
                                         "material.regions": {"backing": {"young": 50.0, "poisson": 0.3}}}),
     "box-P1-tilted": ("box3d", {"mesh.maxh": 0.25, "material": TILTED}),
@@ -34,7 +36,9 @@ def test_the_blocks_give_ngsolves_stiffness(name):
     laws = region_laws(scene)
     assert len(laws) == (2 if "backed" in name else 1)
     expected = assembled(elastic_form(disc.fes, laws))
-    K = GradientBlocks(disc.fes).stiffness(laws)
+    blocks = GradientBlocks(disc.fes)
+    assert blocks.vertex_p1 == ("P1" in name)                   # P1: summed from the element arrays, not NGSolve
+    K = blocks.stiffness(laws)
     assert abs(K - expected).max() <= 1e-13 * abs(expected).max()
     assert abs(K - K.T).max() <= 1e-13 * abs(expected).max()
     assert disc.elastic.stiffness.nnz and abs(disc.elastic.stiffness - expected).max() <= 1e-13 * abs(expected).max()

@@ -24,6 +24,23 @@ def straight_simplices(mesh: ngs.Mesh) -> bool:
     return mesh.GetCurveOrder() == 1 and bool((kind == (TET if mesh.dim == 3 else TRIG)).all())
 
 
+def vertex_p1(fes: ngs.FESpace) -> bool:
+    """Whether ``fes`` is P1 ``VectorH1`` on straight simplices with component i's DOFs its i-th block, one a vertex."""
+    mesh, flags = fes.mesh, fes.flags.ToDict()
+    return (isinstance(fes, ngs.VectorH1) and fes.globalorder == 1 and fes.ndof == mesh.dim * mesh.nv
+            and "interleaved" not in flags and "definedon" not in flags and straight_simplices(mesh))
+
+
+def gradients(coords: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+    """The barycentric gradients of straight simplices, ne × (d+1) × d: ∇λ_0, …, ∇λ_d of each.
+
+    With E = [x_1 − x_0, …, x_d − x_0] the rows of E⁻¹ are ∇λ_a (a ≥ 1), and ∇λ_0 = −Σ_a ∇λ_a.
+    """
+    edges = np.swapaxes(coords[nodes[:, 1:]] - coords[nodes[:, :1]], 1, 2)          # ne × d × d, columns x_a − x_0
+    inner = np.linalg.inv(edges)
+    return np.concatenate([-inner.sum(axis=1, keepdims=True), inner], axis=1)
+
+
 def simplices(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
     """(Vertices of each volume element (from 0), its region's index into ``mesh.GetMaterials()``)."""
     elements = (mesh.ngmesh.Elements3D() if mesh.dim == 3 else mesh.ngmesh.Elements2D()).NumPy()

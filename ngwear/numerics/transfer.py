@@ -27,7 +27,7 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from .stiffness import assembled
-from .topology import coordinates, simplices, straight_simplices
+from .topology import coordinates, gradients, simplices, vertex_p1
 
 CANDIDATES = 16
 
@@ -193,14 +193,10 @@ def element_strains(fes: ngs.FESpace) -> sp.csr_matrix | None:
     u_i,a the i-th component's DOF at vertex a (component i's DOFs are the i-th block, one per vertex).
     """
     mesh, d = fes.mesh, fes.mesh.dim
-    flags = fes.flags.ToDict()
-    if (not isinstance(fes, ngs.VectorH1) or fes.globalorder != 1 or fes.ndof != d * mesh.nv
-            or "interleaved" in flags or "definedon" in flags or not straight_simplices(mesh)):
+    if not vertex_p1(fes):
         return None
-    nodes, coords = simplices(mesh)[0], coordinates(mesh)
-    edges = np.swapaxes(coords[nodes[:, 1:]] - coords[nodes[:, :1]], 1, 2)          # ne × d × d, columns x_a − x_0
-    inner = np.linalg.inv(edges)                                                   # rows: ∇λ_a, a = 1 … d
-    grads = np.concatenate([-inner.sum(axis=1, keepdims=True), inner], axis=1)     # ne × (d+1) × d
+    nodes = simplices(mesh)[0]
+    grads = gradients(coordinates(mesh), nodes)                                    # ne × (d+1) × d
     ne = len(nodes)
     rows, cols, vals = [], [], []
     for i in range(d):
