@@ -1,0 +1,59 @@
+"""What a geometry update's stiffness costs: the gradient blocks of the moved region summed in NumPy or by NGSolve.
+
+``geometries/brake_pad_life.toml`` at three sizes (the shipped mesh, ``mesh.maxh`` 0.002 and 0.00122: 202k DOFs).
+Each measurement is K as a geometry update builds it (:meth:`GradientBlocks.stiffness` with the backing plate's
+blocks kept, the friction material's built anew), interleaved, medians of ``--reps``, in one process:
+
+* ``numpy``: P1 on straight simplices, the blocks summed from the element arrays (``simplex_blocks``);
+* ``ngsolve``: the same blocks assembled by NGSolve's symbolic forms (the path of P2 and curved meshes).
+
+Both give the same K: the table gives their largest difference relative to K's largest entry.
+
+    .venv/bin/python benchmarks/stiffness_blocks.py [--quick] [--reps 3]
+"""
+from __future__ import annotations
+
+import common as C
+
+import ngwear
+from ngwear.numerics.discrete import Discretization
+from ngwear.numerics.stiffness import GradientBlocks
+
+SCENE = C.ROOT / "geometries" / "brake_pad_life.toml"
+SIZES = (None, 0.002, 0.00122)
+
+
+def row(maxh: float | None, reps: int) -> dict:
+    scene = ngwear.load_scene(SCENE)
+    scene = scene.replace(**{"mesh.maxh": maxh}) if maxh else scene
+    disc = Discretization(scene)
+    laws = {region: law.tangent_at_zero() for region, law in disc.elastic.laws.items()}
+    moved = "body"                                          # the pad's friction material: it carries Γ_C
+    kept = {r: GradientBlocks(disc.fes).of(r) for r in disc.mesh.GetMaterials() if r != moved}
+
+    def build(vertex_p1: bool):
+        blocks = GradientBlocks(disc.fes, kept)
+        blocks.vertex_p1 = vertex_p1
+        return lambda: blocks.stiffness(laws)
+
+    times, out = C.interleaved({"numpy": build(True), "ngsolve": build(False)}, reps)
+    scale = abs(out["ngsolve"]).max()
+    return {"maxh": scene.mesh.maxh, "dofs": disc.fes.ndof, "moved": moved,
+            "numpy_s": C.median(times["numpy"]), "ngsolve_s": C.median(times["ngsolve"]),
+            "speed_up": C.median(times["ngsolve"]) / C.median(times["numpy"]),
+            "difference": abs(out["numpy"] - out["ngsolve"]).max() / scale}
+
+
+def main() -> None:
+    args = C.parser(__doc__.splitlines()[0]).parse_args()
+    with C.blas_limit(args.blas_threads):
+        rows = [row(maxh, args.reps) for maxh in (SIZES[:1] if args.quick else SIZES)]
+    columns = [("maxh", "mesh.maxh", ".5g"), ("dofs", "DOFs", "d"), ("moved", "moved region", None),
+               ("numpy_s", "numpy [s]", ".3f"), ("ngsolve_s", "NGSolve [s]", ".3f"), ("speed_up", "speed-up", ".1f"),
+               ("difference", "max |ΔK| / max |K|", ".1e")]
+    C.finish("stiffness_blocks", "a geometry update's K: blocks in NumPy against NGSolve", C.machine_lines(args), rows,
+             columns, quick=args.quick)
+
+
+if __name__ == "__main__":
+    main()
