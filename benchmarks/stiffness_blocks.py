@@ -32,9 +32,11 @@ def row(maxh: float | None, reps: int) -> dict:
     kept = {r: GradientBlocks(disc.fes).of(r) for r in disc.mesh.GetMaterials() if r != moved}
 
     def build(vertex_p1: bool):
-        blocks = GradientBlocks(disc.fes, kept)
-        blocks.vertex_p1 = vertex_p1
-        return lambda: blocks.stiffness(laws)
+        def stiffness():
+            blocks = GradientBlocks(disc.fes, kept)              # the moved region's blocks built anew each time
+            blocks.vertex_p1 = vertex_p1
+            return blocks.stiffness(laws)
+        return stiffness
 
     times, out = C.interleaved({"numpy": build(True), "ngsolve": build(False)}, reps)
     scale = abs(out["ngsolve"]).max()
