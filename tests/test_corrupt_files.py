@@ -84,6 +84,7 @@ def test_an_intact_gmsh_part_runs(tmp_path):
         **{"time.steps": 4})
     result = ng.simulate(scene, progress=False)
     assert result.completed and result.weights.sum() == pytest.approx(3.0)   # Γ_C is the edge y = 0 of length 3
+    assert scene.geometry.regions == ("body",)          # the edges' names are boundaries (Netgen lists them too)
 
 
 def without(path, key):

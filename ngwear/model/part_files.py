@@ -93,7 +93,8 @@ def _read(path: str, kind: str) -> Part:
         raise PartError(f"{Path(path).name} holds no mesh (no points): empty, or not a Netgen .vol / Gmsh .msh file")
     names = set(mesh.GetRegionNames(codim=1))
     extent = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
-    return Part(mesh.dim, tuple(sorted(n for n in names if n)), extent, _listed(mesh.GetRegionNames(codim=0)))
+    domains = [mesh.GetMaterial(index) for index in range(1, mesh.GetNDomains() + 1)]   # named by mesh_regions
+    return Part(mesh.dim, tuple(sorted(n for n in names if n)), extent, _listed(domains))
 
 
 UNNAMED = (None, "", "default")
