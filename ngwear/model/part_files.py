@@ -93,8 +93,7 @@ def _read(path: str, kind: str) -> Part:
         raise PartError(f"{Path(path).name} holds no mesh (no points): empty, or not a Netgen .vol / Gmsh .msh file")
     names = set(mesh.GetRegionNames(codim=1))
     extent = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0)))
-    domains = [mesh.GetMaterial(index) for index in range(1, mesh.GetNDomains() + 1)]   # named by mesh_regions
-    return Part(mesh.dim, tuple(sorted(n for n in names if n)), extent, _listed(domains))
+    return Part(mesh.dim, tuple(sorted(n for n in names if n)), extent, _listed(domains(mesh)))   # mesh_regions' names
 
 
 UNNAMED = (None, "", "default")
@@ -119,8 +118,12 @@ def mesh_regions(mesh: netgen.meshing.Mesh) -> list[str]:
     facets = (lambda el: el.faces) if mesh.dim == 3 else (lambda el: el.edges)
     contact = {f.nr for el in topology.Elements(ngsolve.BND) if el.mat == "contact" for f in facets(el)}
     touching = {el.index for el in topology.Elements(ngsolve.VOL) if contact.intersection(f.nr for f in facets(el))}
-    names = [mesh.GetMaterial(index) for index in range(1, mesh.GetNDomains() + 1)]
-    return ["body" if name in UNNAMED or index in touching else name for index, name in enumerate(names)]
+    return ["body" if name in UNNAMED or index in touching else name for index, name in enumerate(domains(mesh))]
+
+
+def domains(mesh: netgen.meshing.Mesh) -> list[str]:
+    """The names of the mesh's materials, domains 1, 2, … (in 2D Netgen's codim-0 names hold its edges' too)."""
+    return [mesh.GetMaterial(index) for index in range(1, mesh.GetNDomains() + 1)]
 
 
 def _listed(regions) -> tuple[str, ...]:

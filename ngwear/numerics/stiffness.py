@@ -46,20 +46,22 @@ class GradientBlocks:
         return dict(self._regions)
 
     def of(self, region: str) -> dict:
-        """{(a, b): S_ab} of ``region`` (CSR, both triangles)."""
-        if region not in self._regions and self.vertex_p1:
-            self._regions[region] = simplex_blocks(self.mesh, region)
+        """{(a, b): S_ab} of ``region`` (CSR, both triangles): summed in NumPy for P1 on straight simplices."""
         if region not in self._regions:
-            p, q = self.scalar.TnT()
-            blocks, dx = {}, ngs.dx(definedon=self.mesh.Materials(region))
-            for a in range(self.dim):
-                for b in range(a, self.dim):
-                    blocks[a, b] = assembled(ngs.BilinearForm(ngs.grad(p)[b] * ngs.grad(q)[a] * dx, symmetric=a == b))
-            for a in range(self.dim):
-                for b in range(a):
-                    blocks[a, b] = blocks[b, a].T.tocsr()
-            self._regions[region] = blocks
+            self._regions[region] = simplex_blocks(self.mesh, region) if self.vertex_p1 else self._assembled(region)
         return self._regions[region]
+
+    def _assembled(self, region: str) -> dict:
+        """{(a, b): S_ab} of ``region`` by NGSolve's forms (S_ab for a ≤ b, their transposes below)."""
+        p, q = self.scalar.TnT()
+        blocks, dx = {}, ngs.dx(definedon=self.mesh.Materials(region))
+        for a in range(self.dim):
+            for b in range(a, self.dim):
+                blocks[a, b] = assembled(ngs.BilinearForm(ngs.grad(p)[b] * ngs.grad(q)[a] * dx, symmetric=a == b))
+        for a in range(self.dim):
+            for b in range(a):
+                blocks[a, b] = blocks[b, a].T.tocsr()
+        return blocks
 
     def stiffness(self, laws: dict) -> sp.csr_matrix:
         """K of the linear laws ``{region: law}`` (each with a Mandel ``matrix``)."""
