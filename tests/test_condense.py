@@ -32,6 +32,25 @@ def test_pardiso_schur_complement_and_solve_are_exact():
     assert np.abs(Pardiso(K).solve(b) - x).max() < 1e-12 * np.abs(x).max()
 
 
+def test_a_given_ordering_factorises_as_metis_own_to_the_bit():
+    """A geometry update's K (same pattern, other values) with the first K's ordering: as METIS's own, to the bit.
+
+    METIS is skipped; a resumed run takes the ordering from its checkpoint.
+    """
+    K = spd(400)
+    first = Pardiso(K)
+    assert np.array_equal(np.sort(first.ordering), np.arange(400))
+    moved = (K + sp.diags(np.linspace(0.5, 1.5, 400))).tocsr()
+    b = np.random.default_rng(2).standard_normal((400, 3))
+    own, given = Pardiso(moved), Pardiso(moved, ordering=first.ordering)
+    assert np.array_equal(own.ordering, first.ordering) and np.array_equal(given.ordering, first.ordering)
+    assert np.array_equal(given.solve(b), own.solve(b))
+    assert np.abs(moved @ given.solve(b) - b).max() < 1e-12 * np.abs(b).max()
+    assert Pardiso(K, np.array([3, 7])).ordering is None
+    with pytest.raises(ValueError, match="ordering cannot be given with Schur rows"):
+        Pardiso(K, np.array([3, 7]), first.ordering)
+
+
 def test_normal_rows_are_the_nu_rows_of_the_point_compliance(paper_scene):
     """R_ijb = ν·G_ij·e_b with G = P K⁻¹ Pᵀ from plain solves; H = R ν, F = R n*."""
     disc = Discretization(paper_scene.replace(**{"mesh.maxh": 0.3}))

@@ -291,6 +291,28 @@ def test_a_surface_run_resumes_across_its_updates_to_the_bit(tmp_path, monkeypat
         assert not heat or np.array_equal(resumed.temperatures[step], whole.temperatures[step]), step
 
 
+def test_a_matrix_free_surface_run_resumes_across_its_updates_to_the_bit(tmp_path, monkeypatch):
+    """K factorised without the Schur complement: each update, and the resumed run, take the first K's ordering."""
+    monkeypatch.setattr("ngwear.numerics.discrete.DENSE_LIMIT", 0)
+    scene = taper_scene(T=3.0, steps=30).replace(**{"output.every": 0.5})
+    whole = ngwear.simulate(scene, progress=False)
+    first = interrupted(scene, tmp_path, 15, monkeypatch)
+    with np.load(tmp_path / "checkpoint.npz") as saved:
+        ordering = saved["surface_ordering"]
+    assert first.geometry_updates == 2 and np.array_equal(ordering, first.discretization.elastic.operator.ordering)
+    resumed = ngwear.simulate(None, progress=False, resume=tmp_path)
+    assert resumed.completed and resumed.geometry_updates == whole.geometry_updates == 4
+    assert np.array_equal(resumed.discretization.elastic.operator.ordering, ordering)
+    for name in SURFACE_ROWS:
+        assert np.array_equal(getattr(resumed, name), getattr(whole, name)), name
+    with np.load(tmp_path / "checkpoint.npz") as saved:
+        arrays = dict(saved)
+    np.savez(tmp_path / "checkpoint.npz", **{**arrays, "surface_ordering": np.zeros_like(arrays["surface_ordering"])})
+    with pytest.raises(ngwear.SceneError, match=r"checkpoint.npz is damaged \(its surface_ordering is not an ordering "
+                                                r"of the \d+ free DOFs\)"):
+        ngwear.simulate(None, progress=False, resume=tmp_path)
+
+
 def test_a_surface_programme_with_jumps_resumes_to_the_bit(tmp_path, monkeypatch):
     """Jumps bounded by the next update, stopped after the second update: the same stops, jumps and rows."""
     data = taper_scene().to_dict()

@@ -135,14 +135,17 @@ class Discretization:
 
         Everything is built anew on the moved mesh (the contact points, K and its factorisation, d₀, the loads, the
         plate) but what the move leaves: the space (on the same mesh object), the gradient blocks of the other regions
-        (those of the pad's backing plate: 10 of the 24 s of K's assembly at 323k DOFs).
+        (those of the pad's backing plate: 10 of the 24 s of K's assembly at 323k DOFs) and K's ordering (its pattern
+        is the same: METIS is skipped).
         """
         new = Discretization.__new__(Discretization)
         new.scene, new.contact_solve = self.scene, self.contact_solve
         built = vars(self.body).get("gradient_blocks")
         body = Body(self.scene, mesh, {region: blocks for region, blocks in built.built.items() if region not in regions}
                     if built is not None else None, like=self.body)
-        new._assemble(body)
+        schur, operator = new._dense(self.scene, body), vars(self.elastic.root).get("operator")
+        ordering = None if schur or operator is None else operator.ordering
+        new._assemble(body, Elastic(self.scene, body, schur, ordering=ordering))
         return new
 
     def tangent(self, state: np.ndarray, columns: dict | None = None) -> Discretization:

@@ -29,17 +29,19 @@ SOFT_LIMIT = 1_000
 class ElasticOperator:
     """K⁻¹ on the free DOFs (full numbering); with ``schur``, also S⁻¹ on the free contact DOFs.
 
-    ``contact_dofs`` are the free DOFs among the given ones, sorted; S is kept as its Cholesky factor.
+    ``contact_dofs`` are the free DOFs among the given ones, sorted; S is kept as its Cholesky factor.  Without
+    ``schur``, ``ordering`` is an earlier factorisation's :attr:`ordering` of a K of the same pattern (METIS skipped).
     """
 
-    def __init__(self, K: sp.csr_matrix, free: np.ndarray, contact_dofs: np.ndarray, schur: bool = True):
+    def __init__(self, K: sp.csr_matrix, free: np.ndarray, contact_dofs: np.ndarray, schur: bool = True,
+                 ordering: np.ndarray | None = None):
         self.ndof = K.shape[0]
         self.free = np.flatnonzero(free)
         local = np.full(self.ndof, -1)
         local[self.free] = np.arange(len(self.free))
         self.contact_dofs = np.unique([d for d in contact_dofs if free[d]]).astype(int)
         c = local[self.contact_dofs]
-        self._factor = Pardiso(K[self.free][:, self.free], c if schur and len(c) else None)
+        self._factor = Pardiso(K[self.free][:, self.free], c if schur and len(c) else None, ordering)
         self._cholesky = None
         if self._factor.schur_upper is not None:   # S's upper triangle, row-major: the lower one of its transpose
             self._cholesky = sla.cho_factor(self._factor.schur_upper.T, lower=True, overwrite_a=True,
@@ -62,6 +64,11 @@ class ElasticOperator:
     @property
     def factor_nonzeros(self) -> int:
         return self._factor.factor_nonzeros
+
+    @property
+    def ordering(self) -> np.ndarray | None:
+        """The factorisation's fill-in reducing ordering of the free DOFs (None with the Schur complement)."""
+        return self._factor.ordering
 
     def contact_solve(self, rhs: np.ndarray) -> np.ndarray:
         """S⁻¹ rhs = (K⁻¹)_cc rhs for rhs on the contact DOFs (1D or columns)."""

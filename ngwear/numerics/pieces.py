@@ -108,11 +108,13 @@ class Elastic:
     displacement (the Newton iterate of a nonlinear law's step solver).  ``schur``: factorise with the
     Schur complement on the contact DOFs (the dense contact solve).  A tangent follows the operator ``base``; when it
     is an update of ``base``'s factorisation, ``columns`` caches that factorisation's K⁻¹Dᵀ (default: ``base``'s).
+    ``ordering``: the fill-in reducing ordering K is factorised with (an earlier K's of the same pattern, see
+    :class:`~ngwear.numerics.operators.ElasticOperator`; None: METIS's).
     """
 
     def __init__(self, scene: Scene, body: Body, schur: bool, state: np.ndarray | None = None,
-                 base: Elastic | None = None, columns: dict | None = None):
-        self.scene, self.body, self.schur, self.state = scene, body, schur, state
+                 base: Elastic | None = None, columns: dict | None = None, ordering: np.ndarray | None = None):
+        self.scene, self.body, self.schur, self.state, self.ordering = scene, body, schur, state, ordering
         self.laws = region_laws(scene)
         self.root, self.columns = self, {}  # the Elastic whose factorisation K's operator is; its K⁻¹Dᵀ by point
         self.changed = np.zeros(0, dtype=int)   # the kink points whose branch differs from the root's
@@ -192,7 +194,8 @@ class Elastic:
         """
         root, changed = self.root, self.changed
         if root is self:
-            return ElasticOperator(self.stiffness, self.body.free, self.body.contact_dofs, schur=self.schur)
+            return ElasticOperator(self.stiffness, self.body.free, self.body.contact_dofs, schur=self.schur,
+                                   ordering=self.ordering)
         if not len(changed):
             return root.operator
         return UpdatedOperator(root.operator, self.kink.D[changed], self.kink.c[changed] * self._change, self.columns,

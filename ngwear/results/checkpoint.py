@@ -127,6 +127,7 @@ class Checkpoint:
         mesh = checked_mesh(folder, data, self.scene.dim, "resume")
         self.surface = _surface(folder / CHECKPOINT, data, mesh)
         disc = Discretization(self.scene, mesh)
+        disc.elastic.ordering = _ordering(folder / CHECKPOINT, self.surface.pop("surface_ordering", None), disc)
         _check_counts(folder / CHECKPOINT, data, disc, moved=bool(self.surface))
         if "history" in data:
             if not re.fullmatch(rf"{PREFIX}[0-9a-f]{{12}}", str(data["history"])):    # a folder of its own, here
@@ -170,7 +171,15 @@ def _surface(path: Path, data: dict, mesh) -> dict[str, np.ndarray]:
         raise FolderError("resume", f"{path.parent / 'mesh.vol'} is not the mesh of {path.name} ({mesh.nv} vertices, "
                                     f"its moved mesh has {len(coords)})")
     place(mesh, coords)
-    return {key: np.array(data[key]) for key in ("surface_reference", "surface_wear")}
+    return {key: np.array(data[key]) for key in ("surface_reference", "surface_wear", "surface_ordering") if key in data}
+
+
+def _ordering(path: Path, ordering: np.ndarray | None, disc) -> np.ndarray | None:
+    """The ordering the updates' factorisations took (None: METIS's), checked to be a permutation of the free DOFs."""
+    if ordering is not None and not np.array_equal(np.sort(ordering), np.arange(np.count_nonzero(disc.body.free))):
+        raise FolderError("resume", f"{path} is damaged (its surface_ordering is not an ordering of the "
+                                    f"{np.count_nonzero(disc.body.free)} free DOFs)")
+    return ordering
 
 
 def _check_counts(path: Path, data: dict, disc, moved: bool = False) -> None:

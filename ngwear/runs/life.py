@@ -248,11 +248,18 @@ class Surface:
 
     @property
     def state(self) -> dict[str, np.ndarray]:
-        """What a checkpoint keeps to go on across updates: X₀, W at Γ_C's vertices, the vertices now ({}: none yet)."""
+        """What a checkpoint keeps to go on across updates ({}: none yet).
+
+        X₀, W at Γ_C's vertices, the vertices now and K's ordering (the first K's, which every update's factorisation
+        takes: a resumed run takes it too).
+        """
         if self.recession is None:
             return {}
+        operator = vars(self.disc.elastic.root).get("operator")
+        ordering = None if operator is None else operator.ordering
         return {"surface_reference": self.recession.extension.reference, "surface_wear": self.recession.wear,
-                "surface_coordinates": coordinates(self.recession.mesh)}
+                "surface_coordinates": coordinates(self.recession.mesh),
+                **({} if ordering is None else {"surface_ordering": ordering})}
 
     def _threshold(self, mesh) -> float:
         """``wear.update`` × the smaller of h (the smallest element's height at Γ_C) and g: never through the layer."""
