@@ -197,3 +197,9 @@ def test_a_moved_discretization_rebuilds_only_the_moved_regions_stiffness():
     kept, old = moved.body.gradient_blocks.built, disc.body.gradient_blocks.built
     assert all(kept["backing"][ab] is old["backing"][ab] for ab in old["backing"])
     assert all(kept["body"][ab] is not old["body"][ab] for ab in old["body"])
+    coords, _ = recession.trial(np.full(disc.points.n, 0.1))         # a second update, on the same mesh object:
+    recession.accept(coords, np.full(disc.points.n, 0.1))            # the body's index map is kept, K is fresh's
+    again = moved.moved(recession.mesh, recession.extension.regions)
+    patterns = again.body.gradient_blocks.patterns
+    assert patterns is moved.body.gradient_blocks.patterns and set(patterns) == {"body"}
+    assert (abs(again.elastic.stiffness - Discretization(STRIP, recession.mesh).elastic.stiffness)).max() == 0

@@ -37,14 +37,16 @@ class Body:
     """Mesh, displacement space (clamped on the Dirichlet and plate boundaries) and contact points.
 
     ``blocks``: gradient blocks kept from a body of the same elements, by region (see :class:`GradientBlocks`).
-    ``like``: a body on the same mesh object, its vertices moved since (a geometry update): its space, clamping and
-    outer facets are kept (they hold the mesh's elements, not their coordinates).
+    ``like``: a body on the same mesh object, its vertices moved since (a geometry update): its space, clamping,
+    outer facets and the blocks' patterns are kept (they hold the mesh's elements, not their coordinates).
     """
 
     def __init__(self, scene: Scene, mesh: ngs.Mesh, blocks: dict[str, dict] | None = None, like: Body | None = None):
-        self.mesh, self._blocks = mesh, blocks
+        self.mesh, self._blocks, self._patterns = mesh, blocks, None
         if like is not None and like.mesh is mesh:
             self.fes, self.free = like.fes, like.free
+            if "gradient_blocks" in vars(like):
+                self._patterns = like.gradient_blocks.patterns
             if "outer_facets" in vars(like):
                 self.outer_facets = like.outer_facets
         else:
@@ -55,7 +57,7 @@ class Body:
     @cached_property
     def gradient_blocks(self) -> GradientBlocks:
         """The scalar gradient matrices of each region: the stiffness of any linear laws by sparse sums."""
-        return GradientBlocks(self.fes, self._blocks)
+        return GradientBlocks(self.fes, self._blocks, self._patterns)
 
     @cached_property
     def outer_facets(self) -> np.ndarray:

@@ -29,15 +29,17 @@ class GradientBlocks:
     """S^r_jl of every region r of the space's mesh (built on first use of each region).
 
     ``kept``: the blocks of regions whose elements are those of another mesh's, unmoved (a geometry update leaves
-    the regions that do not carry Γ_C), by region.
+    the regions that do not carry Γ_C), by region.  ``patterns``: :func:`simplex_pattern` of a mesh with the same
+    elements (a geometry update moves vertices only), by region; shared, and filled as regions are summed.
     """
 
-    def __init__(self, fes: ngs.FESpace, kept: dict[str, dict] | None = None):
+    def __init__(self, fes: ngs.FESpace, kept: dict[str, dict] | None = None, patterns: dict | None = None):
         self.mesh, self.dim = fes.mesh, fes.mesh.dim
         self.scalar = ngs.H1(fes.mesh, order=fes.globalorder)
         if fes.ndof != self.dim * self.scalar.ndof:
             raise ValueError("GradientBlocks: the space is not d copies of H1 of its order")
         self._regions: dict[str, dict] = dict(kept or {})
+        self.patterns = {} if patterns is None else patterns
         self.vertex_p1 = vertex_p1(fes)
 
     @property
@@ -48,7 +50,13 @@ class GradientBlocks:
     def of(self, region: str) -> dict:
         """{(a, b): S_ab} of ``region`` (CSR, both triangles): summed in NumPy for P1 on straight simplices."""
         if region not in self._regions:
-            self._regions[region] = simplex_blocks(self.mesh, region) if self.vertex_p1 else self._assembled(region)
+            if self.vertex_p1:
+                nodes = region_simplices(self.mesh, region)
+                if region not in self.patterns:
+                    self.patterns[region] = simplex_pattern(nodes, self.mesh.nv)
+                self._regions[region] = simplex_blocks(coordinates(self.mesh), nodes, self.patterns[region])
+            else:
+                self._regions[region] = self._assembled(region)
         return self._regions[region]
 
     def _assembled(self, region: str) -> dict:
@@ -74,20 +82,31 @@ class GradientBlocks:
         return sp.bmat(block, format="csr")
 
 
-def simplex_blocks(mesh: ngs.Mesh, region: str) -> dict:
-    """{(a, b): S_ab} of ``region`` for P1 on straight simplices (CSR on the region's vertex pairs; module docstring).
-
-    The scalar P1 space's DOF of a vertex is its number.  One index map sums every block's element entries.
-    """
+def region_simplices(mesh: ngs.Mesh, region: str) -> np.ndarray:
+    """The vertices (from 0) of the volume elements of ``region``."""
     nodes, index = simplices(mesh)
-    nodes = nodes[index == list(mesh.GetMaterials()).index(region)]
-    coords, n, d = coordinates(mesh), mesh.nv, mesh.dim
-    grads, volumes = gradients(coords, nodes), np.abs(signed_volumes(coords, nodes))
-    pairs, entry = np.unique((np.repeat(nodes, d + 1, axis=1) * n + np.tile(nodes, d + 1)).ravel(),
+    return nodes[index == list(mesh.GetMaterials()).index(region)]
+
+
+def simplex_pattern(nodes: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(entry, indptr, indices): each element entry's place among the vertex pairs of ``nodes``, their CSR pattern.
+
+    It depends on the elements only: one index map for every block (n × n) and every geometry update.
+    """
+    pairs, entry = np.unique((np.repeat(nodes, nodes.shape[1], axis=1) * n + np.tile(nodes, nodes.shape[1])).ravel(),
                              return_inverse=True)
-    indptr, indices = np.searchsorted(pairs, np.arange(n + 1) * n), pairs % n
+    return entry, np.searchsorted(pairs, np.arange(n + 1) * n), pairs % n
+
+
+def simplex_blocks(coords: np.ndarray, nodes: np.ndarray, pattern: tuple) -> dict:
+    """{(a, b): S_ab} of P1 on the straight simplices ``nodes`` (CSR on their vertex pairs, :func:`simplex_pattern`).
+
+    The scalar P1 space's DOF of a vertex is its number (module docstring).
+    """
+    (entry, indptr, indices), (n, d) = pattern, coords.shape
+    grads, volumes = gradients(coords, nodes), np.abs(signed_volumes(coords, nodes))
     return {(a, b): sp.csr_matrix((np.bincount(entry, (volumes[:, None, None] * grads[:, :, None, a]
-                                                          * grads[:, None, :, b]).ravel(), len(pairs)),
+                                                      * grads[:, None, :, b]).ravel(), len(indices)),
                                    indices, indptr), shape=(n, n))
             for a in range(d) for b in range(d)}
 
