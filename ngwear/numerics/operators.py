@@ -30,7 +30,7 @@ class ElasticOperator:
     """K⁻¹ on the free DOFs (full numbering); with ``schur``, also S⁻¹ on the free contact DOFs.
 
     ``contact_dofs`` are the free DOFs among the given ones, sorted; S is kept as its Cholesky factor.  Without
-    ``schur``, ``ordering`` is an earlier factorisation's :attr:`ordering` of a K of the same pattern (METIS skipped).
+    ``schur``, ``ordering`` is an earlier factorisation's :attr:`ordering` of a K on the same elements (METIS skipped).
     """
 
     def __init__(self, K: sp.csr_matrix, free: np.ndarray, contact_dofs: np.ndarray, schur: bool = True,

@@ -9,8 +9,9 @@ substitution (phase 333), so K⁻¹ and S come out of one factorisation.  The bi
 wrapper, does not pass the Schur complement through.
 
 Without Schur rows the factorisation hands back its fill-in reducing ordering (:attr:`Pardiso.ordering`, METIS's,
-``iparm[4] = 2``); a matrix of the same pattern (a geometry update's K) factorises with it given (``iparm[4] = 1``)
-and skips METIS (the 202k-DOF pad's K: 7.5 → 6.5 s, ``benchmarks/stiffness_blocks.py``).
+``iparm[4] = 2``); a matrix of the same graph (a geometry update's K) factorises with it given (``iparm[4] = 1``)
+and skips METIS, about a tenth of a factorisation (``benchmarks/update_factor.py``); a factorisation given METIS's
+ordering is METIS's to the bit.
 """
 from __future__ import annotations
 

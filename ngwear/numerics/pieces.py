@@ -110,7 +110,7 @@ class Elastic:
     displacement (the Newton iterate of a nonlinear law's step solver).  ``schur``: factorise with the
     Schur complement on the contact DOFs (the dense contact solve).  A tangent follows the operator ``base``; when it
     is an update of ``base``'s factorisation, ``columns`` caches that factorisation's K⁻¹Dᵀ (default: ``base``'s).
-    ``ordering``: the fill-in reducing ordering K is factorised with (an earlier K's of the same pattern, see
+    ``ordering``: the fill-in reducing ordering K is factorised with (an earlier K's on the same elements, see
     :class:`~ngwear.numerics.operators.ElasticOperator`; None: METIS's).
     """
 
