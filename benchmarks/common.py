@@ -151,6 +151,18 @@ def paper_scene():
     return ngwear.load_scene(PAPER)
 
 
+LIFE = ROOT / "geometries" / "brake_pad_life.toml"
+LIFE_SIZES = (None, 0.002, 0.00122)
+"""``mesh.maxh`` of the life pad's shipped mesh (None), 46k and 202k DOFs (issue 30 §5's size)."""
+
+
+def life_pad(maxh: float | None) -> tuple:
+    """``geometries/brake_pad_life.toml`` at ``mesh.maxh`` (None: the shipped mesh) and its discretization."""
+    scene = ngwear.load_scene(LIFE)
+    scene = scene.replace(**{"mesh.maxh": maxh}) if maxh else scene
+    return scene, Discretization(scene)
+
+
 def maxh_for(free_dofs: int, order: int) -> float:
     return round(math.sqrt(DOF_CONSTANT[order] / free_dofs), 5)
 

@@ -17,18 +17,11 @@ from __future__ import annotations
 
 import common as C
 
-import ngwear
-from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.stiffness import GradientBlocks
-
-SCENE = C.ROOT / "geometries" / "brake_pad_life.toml"
-SIZES = (None, 0.002, 0.00122)
 
 
 def row(maxh: float | None, reps: int) -> dict:
-    scene = ngwear.load_scene(SCENE)
-    scene = scene.replace(**{"mesh.maxh": maxh}) if maxh else scene
-    disc = Discretization(scene)
+    scene, disc = C.life_pad(maxh)
     laws = {region: law.tangent_at_zero() for region, law in disc.elastic.laws.items()}
     moved = "body"                                          # the pad's friction material: it carries Γ_C
     kept = {r: GradientBlocks(disc.fes).of(r) for r in disc.mesh.GetMaterials() if r != moved}
@@ -55,7 +48,7 @@ def row(maxh: float | None, reps: int) -> dict:
 def main() -> None:
     args = C.parser(__doc__.splitlines()[0]).parse_args()
     with C.blas_limit(args.blas_threads):
-        rows = [row(maxh, args.reps) for maxh in (SIZES[:1] if args.quick else SIZES)]
+        rows = [row(maxh, args.reps) for maxh in (C.LIFE_SIZES[:1] if args.quick else C.LIFE_SIZES)]
     columns = [("maxh", "mesh.maxh", ".5g"), ("dofs", "DOFs", "d"), ("moved", "moved region", None),
                ("numpy_s", "numpy [s]", ".3f"), ("anew_s", "numpy, map anew [s]", ".3f"),
                ("ngsolve_s", "NGSolve [s]", ".3f"), ("speed_up", "speed-up", ".1f"),

@@ -21,19 +21,12 @@ import common as C
 import ngsolve as ngs
 import numpy as np
 
-import ngwear
-from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.motion import Recession, contact_height
 from ngwear.numerics.pardiso import Pardiso
 
-SCENE = C.ROOT / "geometries" / "brake_pad_life.toml"
-SIZES = (None, 0.002, 0.00122)
-
 
 def row(maxh: float | None, reps: int) -> dict:
-    scene = ngwear.load_scene(SCENE)
-    scene = scene.replace(**{"mesh.maxh": maxh}) if maxh else scene
-    disc = Discretization(scene)
+    scene, disc = C.life_pad(maxh)
     free = disc.body.free
     first = Pardiso(disc.elastic.stiffness[free][:, free])
     recession = Recession(ngs.Mesh(disc.mesh.ngmesh.Copy()), disc.points, disc.condensation.nu,
@@ -57,7 +50,7 @@ def row(maxh: float | None, reps: int) -> dict:
 def main() -> None:
     args = C.parser(__doc__.splitlines()[0]).parse_args()
     with C.blas_limit(args.blas_threads):
-        rows = [row(maxh, args.reps) for maxh in (SIZES[:1] if args.quick else SIZES)]
+        rows = [row(maxh, args.reps) for maxh in (C.LIFE_SIZES[:1] if args.quick else C.LIFE_SIZES)]
     columns = [("maxh", "mesh.maxh", ".5g"), ("dofs", "DOFs", "d"), ("metis_nnz", "nnz(L), METIS", "d"),
                ("given_nnz", "nnz(L), given", "d"), ("metis_s", "METIS [s]", ".3f"),
                ("given_s", "ordering given [s]", ".3f"), ("saved", "saved", ".0%"),
