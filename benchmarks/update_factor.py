@@ -32,7 +32,7 @@ def row(maxh: float | None, reps: int) -> dict:
     recession = Recession(ngs.Mesh(disc.mesh.ngmesh.Copy()), disc.points, disc.condensation.nu,
                           (scene.loads.plate.boundary,))
     wear = np.full(disc.points.n, scene.wear.update * min(contact_height(disc.mesh), scene.contact.gap))
-    coords, quality = recession.trial(wear)
+    coords, _ = recession.trial(wear)
     recession.accept(coords, wear)
     moved = disc.moved(recession.mesh, recession.extension.regions).elastic.stiffness[free][:, free]
     b = np.random.default_rng(0).standard_normal(moved.shape[0])

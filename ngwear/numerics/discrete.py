@@ -143,9 +143,8 @@ class Discretization:
         built = vars(self.body).get("gradient_blocks")
         body = Body(self.scene, mesh, {region: blocks for region, blocks in built.built.items() if region not in regions}
                     if built is not None else None, like=self.body)
-        schur, operator = new._dense(self.scene, body), vars(self.elastic.root).get("operator")
-        ordering = None if schur or operator is None else operator.ordering
-        new._assemble(body, Elastic(self.scene, body, schur, ordering=ordering))
+        schur = new._dense(self.scene, body)
+        new._assemble(body, Elastic(self.scene, body, schur, ordering=None if schur else self.elastic.factored_ordering))
         return new
 
     def tangent(self, state: np.ndarray, columns: dict | None = None) -> Discretization:

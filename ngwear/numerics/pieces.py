@@ -204,6 +204,12 @@ class Elastic:
                                changed)
 
     @property
+    def factored_ordering(self) -> np.ndarray | None:
+        """The ordering K's factorisation took (None before it is built, and with the Schur complement)."""
+        operator = vars(self.root).get("operator")
+        return None if operator is None else operator.ordering
+
+    @property
     def _change(self) -> np.ndarray:
         """+1 where a changed point is compressed (the root's K released it), −1 where it is released."""
         return self.branches[self.changed].astype(float) - self.root.branches[self.changed]

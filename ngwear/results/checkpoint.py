@@ -127,7 +127,7 @@ class Checkpoint:
         mesh = checked_mesh(folder, data, self.scene.dim, "resume")
         self.surface = _surface(folder / CHECKPOINT, data, mesh)
         disc = Discretization(self.scene, mesh)
-        disc.elastic.ordering = _ordering(folder / CHECKPOINT, self.surface.pop("surface_ordering", None), disc)
+        disc.elastic.ordering = _ordering(folder / CHECKPOINT, data.get("surface_ordering"), disc)
         _check_counts(folder / CHECKPOINT, data, disc, moved=bool(self.surface))
         if "history" in data:
             if not re.fullmatch(rf"{PREFIX}[0-9a-f]{{12}}", str(data["history"])):    # a folder of its own, here
@@ -171,7 +171,7 @@ def _surface(path: Path, data: dict, mesh) -> dict[str, np.ndarray]:
         raise FolderError("resume", f"{path.parent / 'mesh.vol'} is not the mesh of {path.name} ({mesh.nv} vertices, "
                                     f"its moved mesh has {len(coords)})")
     place(mesh, coords)
-    return {key: np.array(data[key]) for key in ("surface_reference", "surface_wear", "surface_ordering") if key in data}
+    return {key: np.array(data[key]) for key in ("surface_reference", "surface_wear")}
 
 
 def _ordering(path: Path, ordering: np.ndarray | None, disc) -> np.ndarray | None:

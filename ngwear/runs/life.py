@@ -255,8 +255,7 @@ class Surface:
         """
         if self.recession is None:
             return {}
-        operator = vars(self.disc.elastic.root).get("operator")
-        ordering = None if operator is None else operator.ordering
+        ordering = self.disc.elastic.factored_ordering
         return {"surface_reference": self.recession.extension.reference, "surface_wear": self.recession.wear,
                 "surface_coordinates": coordinates(self.recession.mesh),
                 **({} if ordering is None else {"surface_ordering": ordering})}
