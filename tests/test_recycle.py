@@ -123,6 +123,32 @@ def test_recalled_directions_keep_the_solve_exact_when_p_prime_spans_decades():
     assert worst <= 1.0 + 1e-6, worst
 
 
+def test_patterns_met_again_keep_their_spans_and_recall_only_the_new_inputs(monkeypatch):
+    """A stop's steps cycle through patterns (p' follows the speed): each keeps its span, exact solves.
+
+    A pattern met again recalls the inputs remembered since its last solve, not the whole memory.
+    """
+    n = 200
+    R, rng = operator(n, seed=5)
+    m = rng.uniform(0.5, 1.5, n)
+    slopes = [np.full(n, s) * rng.uniform(0.8, 1.2, n) for s in (2.0, 1.2, 0.5)]
+    solver = recycle.Recycler(recycle.ComplianceMemory(R, n))
+    recalled, extend = [], recycle.Span.extend
+    monkeypatch.setattr(recycle.Span, "extend", lambda span, X, W: (recalled.append(X.shape[1]), extend(span, X, W))[1])
+    for cycle in range(4):
+        for dp in slopes:
+            solver.memory(m * dp * rng.standard_normal(n), np.zeros(n))    # a step's residual: one new input
+            new = solver.memory.size - solver.spans[dp.tobytes()].used if dp.tobytes() in solver.spans else None
+            recalled.clear()
+            b = rng.standard_normal(n)
+            z = solver.solve(dp.tobytes(), (m * dp, np.zeros(n)), lambda u, r: u + r, np.ones(n), b, atol=1e-12)
+            assert np.abs(z + (R.A * (m * dp)) @ z - b).max() <= 1e-12
+            if cycle:
+                assert new is not None and 1 <= new == recalled[0] < solver.memory.size
+            assert solver.spans[dp.tobytes()] is solver.span and solver.span.used == solver.memory.size
+    assert list(solver.spans) == [dp.tobytes() for dp in slopes]
+
+
 def test_an_ill_conditioned_newton_matrix_is_reported_not_hidden(caplog):
     """A floating plate whose contact stiffness almost vanishes: the solve says how far it got."""
     n = 30

@@ -18,10 +18,13 @@ differ by slowly varying data.  So a product is paid only for what is new:
   until ‖r‖ ≤ atol; where S r falls in the span already (GCR's breakdown, M not positive real) the next
   direction is the last image (a Krylov step).  Directions are kept orthonormal and their images as
   M S Ũ = Q T (Q orthonormal), so the least-squares problems are as well conditioned as M S.
+  The spans of the last patterns are kept (:class:`Span`, ``SPANS``): a braking stop's steps cycle through a few
+  patterns (p' follows the speed), and a pattern met again recalls only the inputs remembered since.
 """
 from __future__ import annotations
 
 import logging
+from collections import OrderedDict
 
 import numpy as np
 import scipy.linalg as sla
@@ -36,7 +39,9 @@ RECALLED = 1e-3
 """The same for a block of remembered directions, whose images are combined, not computed: their round-off grows
 like the inverse of this (1e-6 left residuals 300× atol where p' varies over decades; measured)."""
 BYTES = 4e8
-"""Memory budget of the remembered inputs, images and the Newton basis."""
+"""Memory budget of the remembered inputs and images, and that of the kept spans."""
+SPANS = 8
+"""Most patterns whose spans are kept (a stop of the shipped life pad cycles through 5; measured)."""
 
 
 class ComplianceMemory:
@@ -82,83 +87,21 @@ class ComplianceMemory:
         self.size += 1
 
 
-class Recycler:
-    """GCR with recycling for the Newton systems of one run (see the module docstring).
+class Span:
+    """Directions of one pattern and their images: Ũ orthonormal, M S Ũ = Q T (Q orthonormal, T upper triangular).
 
-    The Newton matrix of a pattern is given by ``weights`` (a, b) = (w_a u, w_b u), the inputs of R
-    per unit direction u on the contact points, and ``image(u, r)``: M u given r = R(w_a u, w_b u)
-    (the identity rows of the points out of contact and the plate's rows cost no product).  With the
-    column scaling S, the directions are kept orthonormal, Ũ, and their images as M S Ũ = Q T (Q
-    orthonormal, T upper triangular), so that T is as well conditioned as M S; a solve is
-    z = S Ũ T⁻¹ Qᵀ b, whose residual is the least-squares one up to round-off.
+    ``used``: the memory's columns already recalled into it; ``generation``: the memory's when it was begun.
     """
 
-    def __init__(self, memory: ComplianceMemory):
-        self.memory = memory
-        self._key = None
-        self._used = 0
-        self.U = self.Q = self.T = None
-        self.shortfall = 0.0
-
-    def solve(self, key, weights, image, scaling: np.ndarray, b: np.ndarray, atol: float,
-              max_directions: int = 2000) -> np.ndarray:
-        """M z = b solved to ‖M z − b‖∞ ≤ atol (or the best after ``max_directions`` products); ``key``: the pattern.
-
-        The residual is checked through the memory at the end (no product: z's input is in its span).  The
-        images of recalled directions are combinations and carry round-off; where that leaves the residual
-        above atol, the correction is solved once more on fresh directions only.  ``shortfall`` is the
-        final ‖M z − b‖∞ / atol (> 1 is logged: an ill-conditioned Newton matrix).
-        """
-        memory, n = self.memory, self.memory.n
-        apply = lambda u, response: image(scaling * u, response)  # noqa: E731 - M S u
-        if self._key != (key, memory.generation):
-            self._reset(key, len(b), apply, recall=True)
-        self._recall(weights, apply, scaling)
-        z = self._minimise(b, weights, apply, scaling, atol, max_directions)
-        residual = b - image(z, memory(weights[0] * z[:n], weights[1] * z[:n]))
-        if np.abs(residual).max() > atol:
-            self._reset(key, len(b), apply, recall=False)
-            z = z + self._minimise(residual, weights, apply, scaling, atol, max_directions)
-            residual = b - image(z, memory(weights[0] * z[:n], weights[1] * z[:n]))
-        self.shortfall = np.abs(residual).max() / atol
-        if self.shortfall > 1:
-            log.warning("matrix-free Newton step solved to %.1f × its tolerance only (an ill-conditioned Newton "
-                        "matrix); Newton's own test decides", self.shortfall)
-        return z
-
-    def _reset(self, key, size: int, apply, recall: bool) -> None:
-        """A new basis for pattern ``key``: the plate's unit directions, whose images cost no product."""
-        memory, n = self.memory, self.memory.n
-        self._key, self._used = (key, memory.generation), 0 if recall else memory.size
+    def __init__(self, size: int, used: int, generation: int):
         self.U, self.Q, self.T = np.zeros((size, 0)), np.zeros((size, 0)), np.zeros((0, 0))
-        plate = np.zeros((size, size - n))
-        plate[n:] = np.eye(size - n)
-        self._extend(plate, np.array([apply(u, np.zeros(n)) for u in plate.T]).reshape(-1, size).T)
+        self.used, self.generation = used, generation
 
-    def _minimise(self, b, weights, apply, scaling, atol: float, max_directions: int) -> np.ndarray:
-        """Least squares in the basis, then GCR directions S r (a Krylov step from the last image at a breakdown)."""
-        memory, n = self.memory, self.memory.n
-        r = b - self.Q @ (self.Q.T @ b)
-        direction = r
-        for _ in range(max_directions):
-            if np.abs(r).max() <= atol:
-                break
-            u = self._orthogonal(direction)
-            if u is None and self.Q.shape[1]:
-                u = self._orthogonal(self.Q[:, -1])
-            if u is None:
-                break
-            v = scaling * u
-            if not self._extend(u[:, None], apply(u, memory(weights[0] * v[:n], weights[1] * v[:n]))[:, None]):
-                break
-            self._used = memory.size                            # the new input is u's: not to be recalled
-            r = r - self.Q[:, -1] * (self.Q[:, -1] @ r)
-            direction = r
-        if not self.U.shape[1]:
-            return np.zeros(len(b))
-        return scaling * (self.U @ sla.solve_triangular(self.T, self.Q.T @ b))
+    @property
+    def nbytes(self) -> int:
+        return self.U.nbytes + self.Q.nbytes + self.T.nbytes
 
-    def _orthogonal(self, x: np.ndarray) -> np.ndarray | None:
+    def orthogonal(self, x: np.ndarray) -> np.ndarray | None:
         """The unit part of x ⟂ the directions so far (None when less than ``DEPENDENT`` of it is left)."""
         norm = np.linalg.norm(x)
         for _ in range(2):
@@ -166,25 +109,7 @@ class Recycler:
         rest = np.linalg.norm(x)
         return x / rest if rest > DEPENDENT * norm and rest > 0 else None
 
-    def _recall(self, weights, apply, scaling: np.ndarray) -> None:
-        """Add the remembered inputs (from column ``_used`` on) that this pattern produces, with their images."""
-        memory, n = self.memory, self.memory.n
-        if self._used >= memory.size:
-            return
-        inputs, images = memory.inputs[:, self._used:memory.size], memory.images[:, self._used:memory.size]
-        self._used = memory.size
-        w_a, w_b = weights
-        a, b = inputs[:n], inputs[n:]
-        u = np.zeros((len(scaling), inputs.shape[1]))
-        u[:n] = (np.divide(a, w_a[:, None], out=np.zeros_like(a), where=w_a[:, None] > 0)
-                 + np.divide(b, w_b[:, None], out=np.zeros_like(b), where=w_b[:, None] > 0)) / scaling[:n, None]
-        outside = np.sqrt((a[w_a <= 0] ** 2).sum(axis=0) + (b[w_b <= 0] ** 2).sum(axis=0))
-        produced = outside <= NEW
-        if produced.any():
-            u = u[:, produced]
-            self._extend(u, np.column_stack([apply(col, z) for col, z in zip(u.T, images[:, produced].T)]))
-
-    def _extend(self, X: np.ndarray, W: np.ndarray) -> bool:
+    def extend(self, X: np.ndarray, W: np.ndarray) -> bool:
         """Append directions X with images W = M S X, orthonormalised (dependent ones dropped); False if none is left."""
         norms = np.linalg.norm(X, axis=0)
         X, W = X[:, norms > 0] / norms[norms > 0], W[:, norms > 0] / norms[norms > 0]   # unit columns: QR pivots
@@ -209,3 +134,106 @@ class Recycler:
         self.T = np.block([[self.T, Tn], [np.zeros((rank, k)), Rn]])
         self.U, self.Q = np.hstack([self.U, U]), np.hstack([self.Q, Qn])
         return True
+
+
+class Recycler:
+    """GCR with recycling for the Newton systems of one run (see the module docstring).
+
+    The Newton matrix of a pattern is given by ``weights`` (a, b) = (w_a u, w_b u), the inputs of R
+    per unit direction u on the contact points, and ``image(u, r)``: M u given r = R(w_a u, w_b u)
+    (the identity rows of the points out of contact and the plate's rows cost no product).  With the
+    column scaling S, the directions are kept orthonormal, Ũ, and their images as M S Ũ = Q T (Q
+    orthonormal, T upper triangular), so that T is as well conditioned as M S; a solve is
+    z = S Ũ T⁻¹ Qᵀ b, whose residual is the least-squares one up to round-off.  The spans of the ``SPANS``
+    patterns last solved are kept (within ``BYTES``), each for the memory's generation it was begun in.
+    """
+
+    def __init__(self, memory: ComplianceMemory):
+        self.memory = memory
+        self.spans: OrderedDict[bytes, Span] = OrderedDict()
+        self.span: Span | None = None
+        self.shortfall = 0.0
+
+    def solve(self, key, weights, image, scaling: np.ndarray, b: np.ndarray, atol: float,
+              max_directions: int = 2000) -> np.ndarray:
+        """M z = b solved to ‖M z − b‖∞ ≤ atol (or the best after ``max_directions`` products); ``key``: the pattern.
+
+        The residual is checked through the memory at the end (no product: z's input is in its span).  The
+        images of recalled directions are combinations and carry round-off; where that leaves the residual
+        above atol, the correction is solved once more on fresh directions only (a new span for the pattern).
+        ``shortfall`` is the final ‖M z − b‖∞ / atol (> 1 is logged: an ill-conditioned Newton matrix).
+        """
+        memory, n = self.memory, self.memory.n
+        apply = lambda u, response: image(scaling * u, response)  # noqa: E731 - M S u
+        span = self.spans.pop(key, None)
+        if span is None or span.generation != memory.generation:
+            span = self._begin(len(b), apply, recall=True)
+        self._keep(key, span)
+        self._recall(weights, apply, scaling)
+        z = self._minimise(b, weights, apply, scaling, atol, max_directions)
+        residual = b - image(z, memory(weights[0] * z[:n], weights[1] * z[:n]))
+        if np.abs(residual).max() > atol:
+            self._keep(key, self._begin(len(b), apply, recall=False))
+            z = z + self._minimise(residual, weights, apply, scaling, atol, max_directions)
+            residual = b - image(z, memory(weights[0] * z[:n], weights[1] * z[:n]))
+        self.shortfall = np.abs(residual).max() / atol
+        if self.shortfall > 1:
+            log.warning("matrix-free Newton step solved to %.1f × its tolerance only (an ill-conditioned Newton "
+                        "matrix); Newton's own test decides", self.shortfall)
+        return z
+
+    def _keep(self, key, span: Span) -> None:
+        """``span`` the pattern's, and the one solved in; the least recently used dropped beyond ``SPANS`` or ``BYTES``."""
+        self.spans[key] = self.span = span
+        while len(self.spans) > 1 and (len(self.spans) > SPANS or sum(s.nbytes for s in self.spans.values()) > BYTES):
+            self.spans.popitem(last=False)
+
+    def _begin(self, size: int, apply, recall: bool) -> Span:
+        """A new span: the plate's unit directions, whose images cost no product; the memory to recall or not."""
+        memory, n = self.memory, self.memory.n
+        span = Span(size, 0 if recall else memory.size, memory.generation)
+        plate = np.zeros((size, size - n))
+        plate[n:] = np.eye(size - n)
+        span.extend(plate, np.array([apply(u, np.zeros(n)) for u in plate.T]).reshape(-1, size).T)
+        return span
+
+    def _minimise(self, b, weights, apply, scaling, atol: float, max_directions: int) -> np.ndarray:
+        """Least squares in the span, then GCR directions S r (a Krylov step from the last image at a breakdown)."""
+        memory, span, n = self.memory, self.span, self.memory.n
+        r = b - span.Q @ (span.Q.T @ b)
+        direction = r
+        for _ in range(max_directions):
+            if np.abs(r).max() <= atol:
+                break
+            u = span.orthogonal(direction)
+            if u is None and span.Q.shape[1]:
+                u = span.orthogonal(span.Q[:, -1])
+            if u is None:
+                break
+            v = scaling * u
+            if not span.extend(u[:, None], apply(u, memory(weights[0] * v[:n], weights[1] * v[:n]))[:, None]):
+                break
+            span.used = memory.size                              # the new input is u's: not to be recalled
+            r = r - span.Q[:, -1] * (span.Q[:, -1] @ r)
+            direction = r
+        if not span.U.shape[1]:
+            return np.zeros(len(b))
+        return scaling * (span.U @ sla.solve_triangular(span.T, span.Q.T @ b))
+
+    def _recall(self, weights, apply, scaling: np.ndarray) -> None:
+        """Add the remembered inputs (from the span's ``used`` on) that this pattern produces, with their images."""
+        memory, span, n = self.memory, self.span, self.memory.n
+        if span.used >= memory.size:
+            return
+        inputs, images = memory.inputs[:, span.used:memory.size], memory.images[:, span.used:memory.size]
+        span.used = memory.size
+        w_a, w_b = weights
+        a, b = inputs[:n], inputs[n:]
+        u = np.zeros((len(scaling), inputs.shape[1]))
+        u[:n] = (np.divide(a, w_a[:, None], out=np.zeros_like(a), where=w_a[:, None] > 0)
+                 + np.divide(b, w_b[:, None], out=np.zeros_like(b), where=w_b[:, None] > 0)) / scaling[:n, None]
+        outside = np.sqrt((a[w_a <= 0] ** 2).sum(axis=0) + (b[w_b <= 0] ** 2).sum(axis=0))
+        produced = outside <= NEW
+        if produced.any():
+            u = u[:, produced]
+            span.extend(u, np.column_stack([apply(col, z) for col, z in zip(u.T, images[:, produced].T)]))
