@@ -18,8 +18,9 @@ differ by slowly varying data.  So a product is paid only for what is new:
   until ‖r‖ ≤ atol; where S r falls in the span already (GCR's breakdown, M not positive real) the next
   direction is the last image (a Krylov step).  Directions are kept orthonormal and their images as
   M S Ũ = Q T (Q orthonormal), so the least-squares problems are as well conditioned as M S.
-  The spans of the last patterns are kept (:class:`Span`, ``SPANS``): a braking stop's steps cycle through a few
-  patterns (p' follows the speed), and a pattern met again recalls only the inputs remembered since.
+  The spans of the last patterns are kept (:class:`Span`, ``SPANS``, within ``BYTES``): a braking stop's steps
+  cycle through a few patterns (p' follows the speed), and a pattern met again recalls only the inputs remembered
+  since.
 """
 from __future__ import annotations
 
@@ -41,7 +42,7 @@ like the inverse of this (1e-6 left residuals 300× atol where p' varies over de
 BYTES = 4e8
 """Memory budget of the remembered inputs and images, and that of the kept spans."""
 SPANS = 8
-"""Most patterns whose spans are kept (a stop of the shipped life pad cycles through 5; measured)."""
+"""Most patterns whose spans are kept (a stop to rest of the life pad, matrix-free at 46k DOFs, cycles through 5)."""
 
 
 class ComplianceMemory:
