@@ -145,7 +145,7 @@ def test_patterns_met_again_keep_their_spans_and_recall_only_the_new_inputs(monk
             assert np.abs(z + (R.A * (m * dp)) @ z - b).max() <= 1e-12
             if cycle:
                 assert new is not None and 1 <= new == recalled[0] < solver.memory.size
-            assert solver.spans[dp.tobytes()] is solver.span and solver.span.used == solver.memory.size
+            assert list(solver.spans)[-1] == dp.tobytes() and solver.spans[dp.tobytes()].used == solver.memory.size
     assert list(solver.spans) == [dp.tobytes() for dp in slopes]
 
 

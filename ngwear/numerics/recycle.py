@@ -151,8 +151,7 @@ class Recycler:
 
     def __init__(self, memory: ComplianceMemory):
         self.memory = memory
-        self.spans: OrderedDict[bytes, Span] = OrderedDict()
-        self.span: Span | None = None
+        self.spans: OrderedDict[bytes, Span] = OrderedDict()          # the pattern solved last, last
         self.shortfall = 0.0
 
     def solve(self, key, weights, image, scaling: np.ndarray, b: np.ndarray, atol: float,
@@ -170,12 +169,13 @@ class Recycler:
         if span is None or span.generation != memory.generation:
             span = self._begin(len(b), apply, recall=True)
         self._keep(key, span)
-        self._recall(weights, apply, scaling)
-        z = self._minimise(b, weights, apply, scaling, atol, max_directions)
+        self._recall(span, weights, apply, scaling)
+        z = self._minimise(span, b, weights, apply, scaling, atol, max_directions)
         residual = b - image(z, memory(weights[0] * z[:n], weights[1] * z[:n]))
         if np.abs(residual).max() > atol:
-            self._keep(key, self._begin(len(b), apply, recall=False))
-            z = z + self._minimise(residual, weights, apply, scaling, atol, max_directions)
+            span = self._begin(len(b), apply, recall=False)
+            self._keep(key, span)
+            z = z + self._minimise(span, residual, weights, apply, scaling, atol, max_directions)
             residual = b - image(z, memory(weights[0] * z[:n], weights[1] * z[:n]))
         self.shortfall = np.abs(residual).max() / atol
         if self.shortfall > 1:
@@ -184,8 +184,8 @@ class Recycler:
         return z
 
     def _keep(self, key, span: Span) -> None:
-        """``span`` the pattern's, and the one solved in; the least recently used dropped beyond ``SPANS`` or ``BYTES``."""
-        self.spans[key] = self.span = span
+        """``span`` the pattern's, the most recently used; the least recently used dropped beyond ``SPANS`` or ``BYTES``."""
+        self.spans[key] = span
         while len(self.spans) > 1 and (len(self.spans) > SPANS or sum(s.nbytes for s in self.spans.values()) > BYTES):
             self.spans.popitem(last=False)
 
@@ -198,9 +198,9 @@ class Recycler:
         span.extend(plate, np.array([apply(u, np.zeros(n)) for u in plate.T]).reshape(-1, size).T)
         return span
 
-    def _minimise(self, b, weights, apply, scaling, atol: float, max_directions: int) -> np.ndarray:
-        """Least squares in the span, then GCR directions S r (a Krylov step from the last image at a breakdown)."""
-        memory, span, n = self.memory, self.span, self.memory.n
+    def _minimise(self, span: Span, b, weights, apply, scaling, atol: float, max_directions: int) -> np.ndarray:
+        """Least squares in ``span``, then GCR directions S r added to it (a Krylov step at a breakdown)."""
+        memory, n = self.memory, self.memory.n
         r = b - span.Q @ (span.Q.T @ b)
         direction = r
         for _ in range(max_directions):
@@ -221,9 +221,9 @@ class Recycler:
             return np.zeros(len(b))
         return scaling * (span.U @ sla.solve_triangular(span.T, span.Q.T @ b))
 
-    def _recall(self, weights, apply, scaling: np.ndarray) -> None:
-        """Add the remembered inputs (from the span's ``used`` on) that this pattern produces, with their images."""
-        memory, span, n = self.memory, self.span, self.memory.n
+    def _recall(self, span: Span, weights, apply, scaling: np.ndarray) -> None:
+        """Add to ``span`` the remembered inputs (from its ``used`` on) that this pattern produces, with their images."""
+        memory, n = self.memory, self.memory.n
         if span.used >= memory.size:
             return
         inputs, images = memory.inputs[:, span.used:memory.size], memory.images[:, span.used:memory.size]
