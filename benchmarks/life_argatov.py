@@ -11,11 +11,10 @@ stops wearing at g.  About 2 minutes.
 """
 from __future__ import annotations
 
-import math
-
 from common import ROOT, blas_limit, machine_lines, parser, print_table, write_csv
 
 import ngwear
+from ngwear.results.metrics import contact_radius
 from ngwear.studies.closed_forms import worn_flat_radius
 
 
@@ -32,8 +31,7 @@ def main() -> None:
     speed = scene.foundation.angular_velocity[2] * scene.geometry.position[0]
     force, radius, kappa = -scene.loads.plate.force[2], scene.geometry.end_radius, scene.contact.wear
     weights = result.row_weights
-    radii = [math.sqrt(weights[j][(result.pressure[j] + result.reaction[j]) > 0].sum() / math.pi)
-             for j in range(result.steps + 1)]
+    radii = [contact_radius(weights[j], result.pressure[j], result.reaction[j]) for j in range(result.steps + 1)]
     rows = []
     for j in range(0, result.steps + 1, 20):
         distance = speed * result.times[j]

@@ -5,7 +5,8 @@ Argatov's flat the worn volume of a spherical cap.  Layer mode, while the layer 
 plate pressing it onto a disc) wears in to p·r = const, the torque μF(r_i + r_o)/2 and a uniform wear rate; a
 rectangular pad (per unit width, plane strain) under a tilting plate on a translating counterface wears in to the
 linear pressure F/A + (μFh/I)ξ and a plate turning at κ‖v*‖μFh/I.  Both differ from the closed forms by the
-nodal quadrature only (Σm/Σ(m/r) for ∫dA/∫dA/r, Σ m ξ² for I: O(h²)).
+nodal quadrature only (Σm/Σ(m/r) for ∫dA/∫dA/r, Σ m ξ² for I: O(h²)).  Surface mode, far beyond the layer: the
+shipped pin's spherical end wears flat as Argatov's law says, where layer mode stops wearing at g.
 """
 import math
 
@@ -15,6 +16,8 @@ from conftest import ROOT
 from scipy.integrate import quad
 
 import ngwear
+from ngwear.results.metrics import contact_radius
+from ngwear.results.validity import WORN
 from ngwear.studies.closed_forms import (
     rectangle_inertia,
     taper_pressure,
@@ -91,3 +94,34 @@ def test_a_pad_under_a_tilting_plate_wears_in_to_the_taper():
     turning = (tilt[-1] - tilt[-11]) / (result.times[-1] - result.times[-11])
     assert abs(turning) == pytest.approx(tilt_rate(kappa, speed, mu, force, h, a, 1.0), rel=0.01)
     assert rectangle_inertia(a, 1.0) == pytest.approx(1 / 12)
+
+
+@pytest.mark.slow
+def test_a_sphere_wears_flat_far_beyond_its_layer_as_argatov_says():
+    """The pin's 5 mm sphere, a 10 µm layer, worn 13 g in ``"surface"`` mode: a⁴ = a₀⁴ + 4κFsR/π within 5 % for s ≥ 4s₀.
+
+    s₀ is where the measured contact radius reaches 2a₀ (the Hertzian start is not a flat: Argatov's law holds once
+    the flat is most of the contact).  In ``"layer"`` mode the same scene's wear stops at g, and the run says so.
+    """
+    scene = ngwear.load_scene(ROOT / "geometries" / "pin_on_disc.toml").replace(**{
+        "contact.gap": 1e-5, "contact.stiffness": 1e12, "mesh.contact_maxh": 1e-4, "mesh.contact_zone": 1.5e-3,
+        "time.T": 150.0, "time.steps": 300, "wear.integrator": "trapezoidal", "wear.geometry": "surface",
+        "wear.update": 0.5, "output.every": 150.0})
+    result = ngwear.simulate(scene, progress=False)
+    assert result.completed and result.total_wear[-1].max() > 10 * scene.contact.gap, "worn far beyond the layer"
+    assert result.geometry_updates > 10
+    distance = scene.foundation.angular_velocity[2] * scene.geometry.position[0] * result.times
+    force, radius, kappa = -scene.loads.plate.force[2], scene.geometry.end_radius, scene.contact.wear
+    radii = np.array([contact_radius(m, p, r) for m, p, r in zip(result.row_weights, result.pressure,
+                                                                     result.reaction, strict=True)])
+    s0 = distance[np.argmax(radii >= 2 * radii[0])]
+    assert 0 < s0 < distance[-1] / 4, "the flat doubles the Hertzian radius early in the run"
+    late = distance >= 4 * s0
+    argatov = np.array([worn_flat_radius(radii[0], kappa, force, s, radius) for s in distance[late]])
+    assert np.abs(radii[late] / argatov - 1).max() < 0.05
+
+    layer = ngwear.simulate(scene.replace(**{"wear.geometry": "layer", "time.T": 30.0, "time.steps": 60,
+                                             "output.every": 30.0}), progress=False)
+    g = scene.contact.gap
+    assert (1 - 0.02) * g < layer.wear.max() <= g, "the layer mode's wear stops at g"
+    assert any(warning.startswith(WORN) for warning in layer.warnings), "and the run says the layer is worn through"

@@ -6,7 +6,8 @@
   where the counterface enters), both from the fit v ≈ a + b r + c φ over the face, φ the angle about the disc's
   axis in its direction of turning; on a translating counterface the leading edge is the upstream one;
 * per block of a programme: the wear per stop and per MJ dissipated (P = Σ m_i μ_i p_i ‖v*_i‖, integrated);
-* the stops left to ``wear.limit`` at the last block's rate.
+* the stops left to ``wear.limit`` at the last block's rate;
+* the radius √(A/π) of the area in contact (a worn flat's, against Argatov's law).
 """
 from __future__ import annotations
 
@@ -18,6 +19,11 @@ import numpy as np
 def thickness_range(remaining: np.ndarray, weights: np.ndarray) -> tuple[float, float, float]:
     """(min, mean over the area, max) of the remaining thickness at the contact points."""
     return float(remaining.min()), float(weights @ remaining / weights.sum()), float(remaining.max())
+
+
+def contact_radius(weights: np.ndarray, pressure: np.ndarray, reaction: np.ndarray) -> float:
+    """√(A/π), A = Σ m_i over the points in contact (p_i + λ_i > 0): the radius of a round contact area."""
+    return math.sqrt(weights[pressure + reaction > 0].sum() / math.pi)
 
 
 def _fit(columns: list[np.ndarray], values: np.ndarray, weights: np.ndarray) -> np.ndarray:
