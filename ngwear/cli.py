@@ -265,14 +265,19 @@ def _write(result, out: Path, pictures: bool, check: tuple[str, str] | None = No
 
     summary = result.summary()
     unit, materials = summary.pop("units", {}), summary.pop("materials")
-    provenance = summary.pop("provenance", None)
+    provenance, blocks = summary.pop("provenance", None), summary.pop("blocks", [])
     width = max(map(len, summary))
     for key, value in summary.items():
         if key == LAST_STEP[0] and "end_time" in summary:   # the whole run's numbers first, then the last step's
             print(f"{'last step':<{width}}  t = {summary['end_time']:.4g}" + (f" {unit['end_time']}" if unit else ""))
-        text = "never" if key == "gap_reached_at" and value is None else (
+        text = "never" if key in ("gap_reached_at", "stops_to_limit") and value is None else (
             f"{value + 0.0:.4g}" if isinstance(value, float) else f"{value}")       # + 0.0: never −0
         print(f"{key:<{width}}  {text} {unit[key]}" if key in unit and value is not None else f"{key:<{width}}  {text}")
+    volume = f" {unit_of(result.scene, 'volume')}" if unit else ""
+    for b in blocks:                                # a programme's wear per block
+        per_mj = "" if b["volume_per_megajoule"] is None else f", {b['volume_per_megajoule']:.4g}{volume} per MJ"
+        print(f"{'block ' + str(b['block']):<{width}}  {b['stops']} stops, {b['volume_per_stop']:.4g}{volume} worn "
+              f"per stop{per_mj}")
     for region, entry in materials.items():         # m_F, L_F of each law beside (H_S)
         print(f"{'material':<{width}}  {region}: {describe(entry, unit_of(result.scene, 'pressure'))}")
     if check is not None:

@@ -6,6 +6,7 @@ problem; with the trapezoidal rule each stop's worn volume is κ/μ times the en
 the friction power, the same rule on the same rows); ``wear.limit`` ends a run as worn out where the remaining
 thickness reaches it; jumps keep the worn volume and the remaining thickness of stop by stop.
 """
+import json
 import threading
 
 import numpy as np
@@ -17,6 +18,7 @@ import ngwear
 from ngwear.model.geometry import build_mesh
 from ngwear.model.programme import Schedule
 from ngwear.numerics.motion import contact_height
+from ngwear.results.metrics import disc_taper, plane_slope, taper_along
 from ngwear.runs.life import WORN_OUT
 
 
@@ -103,6 +105,61 @@ def test_cli_writes_stops_csv(tmp_path):
     table = pd.read_csv(tmp_path / "out" / "stops.csv", index_col="stop")
     saved = ngwear.load_result(tmp_path / "out")
     assert np.allclose(table["energy"], saved.stops["energy"], rtol=1e-12) and len(table) == 2
+
+
+def test_the_stops_tapers_and_the_summary_are_the_metrics_of_the_remaining_thickness(blocks):
+    """Each stop's taper is the fit of its remaining thickness; the summary's blocks are Archard's κ/μ per MJ."""
+    r, stops, summary = blocks, blocks.stops, blocks.summary()
+    velocity, m = r.scene.foundation.velocity, r.scene.programme.steps_per_stop
+    ends = np.flatnonzero(Schedule.of(r.scene.programme).rows(r.jumped)[1][:r.steps + 1] == m)
+    assert "taper_radial" not in stops and len(ends) == len(stops) == 5          # a translating counterface
+    for stop, end in zip(stops.index, ends, strict=True):
+        remaining = r.remaining_thickness[end]
+        assert stops.loc[stop, "taper_along"] == taper_along(r.contact_points, remaining, r.weights, velocity)
+        slope = plane_slope(r.contact_points, remaining, r.weights, [0.0, 1.0])
+        assert stops.loc[stop, "taper_slope"] == pytest.approx(abs(slope[0]), rel=1e-12)
+    assert stops["taper_along"].abs().max() > 1e-3, "the strip's wear is not uniform: a taper to see"
+    assert summary["taper_along"] == stops["taper_along"].iloc[-1] and "stops_to_limit" not in summary
+    assert [b["stops"] for b in summary["blocks"]] == [3, 2]
+    ratio = 1e6 * r.scene.contact.wear / r.scene.contact.friction
+    assert [b["volume_per_megajoule"] for b in summary["blocks"]] == pytest.approx([ratio, ratio], rel=1e-10)
+    assert summary["blocks"][1]["volume_per_stop"] == pytest.approx(stops["worn_volume"].iloc[3:].mean(), rel=1e-12)
+
+
+def test_the_shipped_life_reports_its_tapers_its_blocks_and_the_stops_left(tmp_path, capsys):
+    """The shipped pad (``wear.limit`` 2 mm): its stops' tapers, its blocks and the stops left to the limit.
+
+    A jumped stop's taper goes on linearly from its simulated one's; the summary projects the stops to the limit at
+    the last simulated stop's wear; ``life.png`` is drawn.
+    """
+    from ngwear.cli import main
+    out = tmp_path / "out"
+    assert main(["run", "brake_pad_life", "--out", str(out), "--quiet", "--no-check"]) == 0
+    printed = capsys.readouterr().out
+    assert "block 2" in printed and "per MJ" in printed and (out / "life.png").stat().st_size > 10_000
+    stops = pd.read_csv(out / "stops.csv", index_col="stop")
+    summary = json.loads((out / "summary.json").read_text())
+    for column in ("taper_radial", "taper_circumferential", "taper_slope"):
+        assert np.isfinite(stops[column]).all() and column in summary
+    assert summary["taper_radial"] == pytest.approx(stops["taper_radial"].iloc[-1], rel=1e-9)
+    saved = ngwear.load_result(out)
+    scene, m = saved.scene, saved.scene.programme.steps_per_stop
+    stop_of, step_of = (a[:saved.steps + 1] for a in Schedule.of(scene.programme).rows(saved.jumped))
+    ends = np.flatnonzero(step_of == m)
+    jumped = np.flatnonzero(~stops["simulated"].to_numpy())
+    longest = max(np.split(jumped, np.flatnonzero(np.diff(jumped) > 1) + 1), key=len)
+    end = ends[stop_of[ends] == longest[0] - 1][0]                          # the simulated stop before them
+    increment = saved.total_wear[end] - saved.total_wear[end - m]
+    for k, stop in enumerate(longest, start=1):
+        left = saved.remaining_thickness[end] - k * increment
+        expected = disc_taper(saved.contact_points, left, saved.weights, [0, 0, 0], scene.foundation.angular_velocity)
+        assert stops.loc[stop, "taper_radial"] == pytest.approx(expected[0], rel=1e-9)
+    assert len(longest) > 10 and stops.loc[longest[-1], "taper_radial"] != stops.loc[longest[0], "taper_radial"]
+    remaining, limit = saved.remaining_thickness[-1], scene.wear.limit
+    end = ends[-1]
+    per_stop = saved.total_wear[end] - saved.total_wear[end - m]
+    assert summary["stops_to_limit"] == pytest.approx(np.min((remaining - limit) / per_stop), rel=1e-12)
+    assert summary["stops_to_limit"] > 100, "half of 12 mm worn, 2 mm the limit: hundreds of stops left"
 
 
 def test_wear_limit_ends_the_run_as_worn_out(capsys):

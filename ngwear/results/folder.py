@@ -152,7 +152,7 @@ LEFTOVERS = re.compile(r"^(\..+\.\d+(\.[0-9a-f]{8})?\.tmp(\.\w+)?|\.fields-\w+)$
 OUTPUTS = ("result.npz", "scene.json", "summary.json", "history.csv", "checkpoint.npz", "mesh.vol", "fields.pvd",
            "fields_step*.vtu", "contact_step*.vtu",
            "steps-*", "fig*_step*.png", "wear.png", "pressure.png", "history.png", "contact_maps.png", "regions.png",
-           "coefficients.png", "pressure_radius.png")
+           "coefficients.png", "pressure_radius.png", "life.png")
 """The files (and folders) of a run in its output folder (see the reference of the result files)."""
 
 

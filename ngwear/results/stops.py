@@ -8,7 +8,9 @@ are integrals over them by the trapezoidal rule on the stop's grid:
 * ``torque``, ``friction_force``, ``apparent_friction``  their means over the stop, (1/d) ∫ · dt;
 * ``worn_volume``  Σ m_i Δw_i, Δw the stop's wear increment (end minus start), and ``worn_mass`` ρ times it
   (with ``material.density``);
-* ``max_total_wear``, ``min_remaining_thickness``  at its end;
+* ``max_total_wear``, ``min_remaining_thickness``  at its end, and the taper of the remaining thickness there
+  (:func:`tapers`): ``taper_radial`` and ``taper_circumferential`` on a turning counterface, ``taper_along`` on a
+  translating one, and ``taper_slope`` of any part;
 * with a temperature (``heat.model = "conduction"``): ``temperature_start``, ``temperature_peak``,
   ``temperature_end`` of the body's highest temperature (``max_temperature``) at the stop's first row, the maximum
   over its rows and at its last row, and ``foundation_temperature_start``, ``…_peak``, ``…_end`` of the
@@ -24,9 +26,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..model.programme import Schedule
+from .metrics import disc_taper, plane_slope, taper_along
 
+TAPERS = ("taper_radial", "taper_circumferential", "taper_along", "taper_slope")
+"""The tapers of :func:`tapers` (the first two on a turning counterface, the third on a translating one)."""
 COLUMNS = ("stop", "block", "start", "energy", "torque", "friction_force", "apparent_friction", "worn_volume",
-           "worn_mass", "max_total_wear", "min_remaining_thickness", *(
+           "worn_mass", "max_total_wear", "min_remaining_thickness", *TAPERS, *(
                f"{field}_{when}" for field in ("temperature", "foundation_temperature")
                for when in ("start", "peak", "end")), "simulated")
 """The columns of ``stops.csv`` (``worn_mass`` only with ``material.density``, the temperatures only with heat)."""
@@ -39,6 +44,26 @@ def _mean(values: np.ndarray, times: np.ndarray) -> float:
     """(1/d) ∫ v dt by the trapezoidal rule over the stop's rows."""
     span = times[-1] - times[0]
     return float(np.sum(0.5 * (values[1:] + values[:-1]) * np.diff(times)) / span) if span > 0 else float(values[0])
+
+
+def tapers(result, values: np.ndarray) -> dict[str, float]:
+    """The taper of ``values`` over Γ_C (:mod:`ngwear.results.metrics`), of the remaining thickness in a life.
+
+    On a turning counterface the radial (outer − inner) and circumferential (leading − trailing) taper of the fit
+    v ≈ a + b r + c φ, on a translating one leading − trailing of v ≈ a + b ξ; of any part ``taper_slope``, the
+    norm ‖g‖ of the best-fit plane v ≈ a + g·x (a length per length).
+    """
+    scene, points, weights = result.scene, result.contact_points, result.weights
+    out, omega = {}, scene.foundation.angular_velocity
+    if omega is not None and np.any(omega):
+        center = scene.foundation.center or np.zeros(scene.dim)
+        out["taper_radial"], out["taper_circumferential"] = disc_taper(points, values, weights, center,
+                                                                       scene.foundation.angular_velocity)
+    elif scene.foundation.velocity is not None and np.any(scene.foundation.velocity):
+        out["taper_along"] = taper_along(points, values, weights, scene.foundation.velocity)
+    nu = np.linalg.svd(points - points.mean(axis=0), full_matrices=False)[2][-1]     # the face's mean normal
+    out["taper_slope"] = float(np.linalg.norm(plane_slope(points, values, weights, nu)))
+    return out
 
 
 def stop_table(result):
@@ -64,19 +89,19 @@ def stop_table(result):
                "apparent_friction": _mean(apparent[span], times), "worn_volume": float(increment @ result.weights)}
         heat = {f"{name}_{when}": float(value) for name, values in heated.items()
                 for when, value in (("start", values[span][0]), ("peak", values[span].max()), ("end", values[end]))}
-        records[stop] = {**row, "max_total_wear": float(total[end].max()),
-                         "min_remaining_thickness": float(remaining[end].min()), **heat, "simulated": True}
-        k = stop + 1
-        while k in jumped:
+        k = stop
+        while k == stop or k in jumped:                  # the simulated stop, then the stops jumped after it
+            left = remaining[end] - (k - stop) * increment
             records[k] = {**row, "max_total_wear": float((total[end] + (k - stop) * increment).max()),
-                          "min_remaining_thickness": float((remaining[end] - (k - stop) * increment).min()),
-                          **heat, "simulated": False}
+                          "min_remaining_thickness": float(left.min()), **tapers(result, left), **heat,
+                          "simulated": k == stop}
             k += 1
     order = sorted(records)
     table = pd.DataFrame([records[i] for i in order], index=pd.Index(order, name="stop"))
     if not len(order):
+        shown = tapers(result, result.thickness)
         table = pd.DataFrame(columns=[c for c in COLUMNS if c not in ("stop", "worn_mass") and
-                                      (heated or "temperature" not in c)])
+                                      (heated or "temperature" not in c) and (c not in TAPERS or c in shown)])
     table.insert(0, "block", schedule.block[order])
     table.insert(1, "start", schedule.start[order])
     if density is not None:

@@ -13,10 +13,11 @@ import numpy as np
 
 from ..model.programme import Schedule
 from .material_summary import region_materials
-from .metrics import thickness_range
+from .metrics import per_block, stops_to_limit, thickness_range
 from .run_summary import QUANTITIES as RUN
 from .run_summary import whole_run
 from .step_fields import DERIVED
+from .stops import tapers
 from .units import units
 
 PART = tuple(f.name for f in DERIVED if not f.shape)
@@ -65,16 +66,36 @@ def summary(result) -> dict:
 
 
 def life_metrics(result) -> dict:
-    """The summary's wear metrics: the remaining thickness at the last step (min, mean, max), the stops."""
+    """The summary's wear metrics: the remaining thickness at the last step (min, mean, max), the stops.
+
+    A part's life (a programme, or ``wear.geometry = "surface"``) adds the remaining thickness's tapers
+    (:func:`~ngwear.results.stops.tapers`); a programme the wear of each block (``blocks``: its stops, the worn
+    volume per stop and per MJ dissipated, :func:`~ngwear.results.metrics.per_block`) and, with ``wear.limit``,
+    ``stops_to_limit``: the stops left at the last simulated stop's wear (:func:`~ngwear.results.metrics.stops_to_limit`).
+    """
+    scene = result.scene
     remaining = result.remaining_thickness_of(result.last_total_wear()) if len(result.times) else result.thickness
     low, mean, high = thickness_range(remaining, result.weights)
-    simulated = 0
-    if result.scene.programme is not None:
-        simulated = int((Schedule.of(result.scene.programme).rows(result.jumped)[1][:len(result.times)]
-                         == result.scene.programme.steps_per_stop).sum())
-    return {"remaining_thickness_min": low, "remaining_thickness_mean": mean, "remaining_thickness_max": high,
-            "geometry_updates": result.geometry_updates, "stops_simulated": simulated,
-            "stops_jumped": len(result.jumped)}
+    out = {"remaining_thickness_min": low, "remaining_thickness_mean": mean, "remaining_thickness_max": high}
+    if scene.programme is not None or scene.wear.geometry == "surface":
+        out.update(tapers(result, remaining))
+    out["geometry_updates"] = result.geometry_updates
+    if scene.programme is None:
+        return {**out, "stops_simulated": 0, "stops_jumped": len(result.jumped)}
+    m = scene.programme.steps_per_stop
+    ends = np.flatnonzero(Schedule.of(scene.programme).rows(result.jumped)[1][:len(result.times)] == m)
+    out.update(stops_simulated=len(ends), stops_jumped=len(result.jumped))
+    if scene.wear.limit is not None and len(ends):
+        total = result.total_wear
+        left = stops_to_limit(remaining, scene.wear.limit, total[ends[-1]] - total[ends[-1] - m])
+        out["stops_to_limit"] = left if np.isfinite(left) else None
+    stops = result.stops
+    blocks = per_block(stops["block"].to_numpy(), stops["worn_volume"].to_numpy(), stops["energy"].to_numpy())
+    out["blocks"] = [{"block": b, "stops": int(count), "volume_per_stop": float(volume),
+                      "volume_per_megajoule": float(energy) if np.isfinite(energy) else None}
+                     for b, (count, volume, energy) in enumerate(zip(blocks["stops"], blocks["volume_per_stop"],
+                                                                     blocks["volume_per_megajoule"])) if count]
+    return out
 
 
 def heat_extremes(result) -> dict[str, float]:

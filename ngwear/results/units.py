@@ -22,6 +22,7 @@ QUANTITIES = {"length": ("m", "m"), "time": ("s", "s"), "pressure": ("Pa", "Pa")
 NAMES = {**{f.name: f.quantity for f in STEP_FIELDS if f.quantity}, **RUN, "contact_points": "length",
          "weights": "area", "fields": "length", "max_wear": "length", "max_penetration": "length", "gap": "length",
          "thickness": "length", **{f"remaining_thickness_{m}": "length" for m in ("min", "mean", "max")},
+         **{f"taper_{m}": "length" for m in ("radial", "circumferential", "along")},
          "max_temperature_time": "time", "max_foundation_temperature": "temperature",
          "max_foundation_temperature_time": "time", "temperature_fields": "temperature"}
 """The quantity of each number a run writes: its per-step fields' (:mod:`ngwear.results.step_fields`) and the others

@@ -196,20 +196,6 @@ def worn_out(result) -> bool:
     return True
 
 
-def stops_left(result) -> float:
-    """The stops to ``wear.limit`` at the last simulated stop's rate (inf without a limit or a programme)."""
-    if result.scene.wear.limit is None or result.scene.programme is None or result.steps < 0:
-        return math.inf
-    from ..results.metrics import stops_to_limit
-    m = result.scene.programme.steps_per_stop
-    ends = np.flatnonzero(Schedule.of(result.scene.programme).rows(result.jumped)[1][:result.steps + 1] == m)
-    if not len(ends):
-        return math.inf
-    total = result.total_wear
-    return stops_to_limit(result.remaining_thickness_of(total[-1]), result.scene.wear.limit,
-                          total[ends[-1]] - total[ends[-1] - m])
-
-
 class Surface:
     """``wear.geometry = "surface"``: the body's contact face recedes by the wear; the discretization follows.
 

@@ -10,7 +10,8 @@ when the counterface does not turn), the worn volume and the plate's displacemen
 ``pressure_radius``: p·r against the distance r from the axis at a few steps, with its mean: under a rigid
 backing plate a worn-in pad wears evenly, so p·r tends to a constant.  ``temperatures`` (``heat``): the surface
 temperature along Γ_C and the body's, the face's and the counterface's temperatures over time (the contact maps add
-the surface temperature's).  Axes carry units in an SI scene.
+the surface temperature's).  ``life`` (a programme): the remaining thickness over Γ_C, its tapers against the stops
+and the wear per block.  Axes carry units in an SI scene.
 """
 from __future__ import annotations
 
@@ -24,8 +25,9 @@ from matplotlib.tri import Triangulation
 
 from ..model.coefficients import state_of
 from ..model.kinematics import Slip
+from ..results.stops import TAPERS
 from ..results.units import label, unit
-from .plots import _sampled, _save, plain
+from .plots import _along, _sampled, _save, plain
 
 FIELDS = {"pressure": ("pressure p", "plasma", "pressure"), "wear": ("wear depth w", "YlOrRd", "length"),
           "surface_temperature": ("surface temperature T", "inferno", "temperature")}
@@ -196,6 +198,44 @@ def history(result, path) -> Path:
         ax.title.set_fontsize(9)
         plain(ax, values)
     fig.suptitle(result.scene.name, fontsize=10)
+    return _save(fig, path)
+
+
+def life(result, path) -> Path:
+    """A part's life (a programme): the remaining thickness, its tapers against the stops and the wear per block.
+
+    The thickness over Γ_C at the last step, the columns ``taper_*`` of ``Result.stops`` and each block's mean worn
+    volume per stop.
+    """
+    scene, stops = result.scene, result.stops
+    fig = Figure(figsize=(13, 3.6), layout="constrained")
+    face, taper, blocks = fig.subplots(1, 3)
+    remaining = result.remaining_thickness[-1]
+    if scene.dim == 3:
+        tri, at_nodes = _triangulation(result)
+        shaded = face.tripcolor(tri, at_nodes @ remaining, shading="gouraud", cmap="viridis")
+        face.set_aspect("equal")
+        fig.colorbar(shaded, ax=face, format="%.4g", label=label(scene, "remaining thickness", "length"))
+        _label_face(np.array([[face]]), scene)
+    else:
+        _along(face, result, remaining)
+        face.set(xlabel=label(scene, "x", "length"), ylabel=label(scene, "remaining thickness", "length"))
+        plain(face, remaining)
+    seconds = f" {unit(scene, 'time')}" if scene.units else ""
+    face.set_title(f"remaining thickness at t = {result.times[-1]:.4g}{seconds}", fontsize=9)
+    lengths = [c for c in TAPERS if c in stops and c != "taper_slope"]      # the slope (a ratio) without them
+    for column in lengths or ["taper_slope"]:
+        taper.plot(stops.index, stops[column], label=column.removeprefix("taper_").replace("_", " "))
+    taper.set(xlabel="stop", ylabel=label(scene, "taper of the remaining thickness", "length") if lengths else
+              "slope of the remaining thickness")
+    taper.set_title("taper against stops", fontsize=9)
+    taper.legend(fontsize=8)
+    worn = stops.groupby("block")["worn_volume"]
+    blocks.bar(worn.mean().index, worn.mean().to_numpy(), color="C1")
+    blocks.set(xlabel="block", ylabel=label(scene, "worn volume per stop", "volume"))
+    blocks.set_title("wear per block", fontsize=9)
+    blocks.set_xticks(worn.mean().index)
+    fig.suptitle(f"{scene.name}: a part's life, {len(stops)} stops", fontsize=10)
     return _save(fig, path)
 
 

@@ -4,7 +4,8 @@ The paper's four frames (Figs. 1–4) of the body, its layer and the foundation;
 pressure along Γ_C (2D) or maps of the contact face (3D); the normal force, torque, worn volume and
 plate displacement over time; for a turning counterface p·r against the radius; for a part of several regions
 (a backing) ``regions.png``, the last frame coloured by region; for contact coefficients given as fields
-``coefficients.png``, their maps (μ, κ, L); with ``heat`` ``temperatures.png`` and the surface temperature's map.
+``coefficients.png``, their maps (μ, κ, L); with ``heat`` ``temperatures.png`` and the surface temperature's map;
+for a programme ``life.png``, the remaining thickness's map, its tapers against the stops and the wear per block.
 """
 from __future__ import annotations
 
@@ -31,4 +32,6 @@ def write_pictures(result, out_dir) -> list[Path]:
         paths.append(part_plots.temperatures(result, out / "temperatures.png"))
     if result.discretization.contact.slip.rotating:
         paths.append(part_plots.pressure_radius(result, out / "pressure_radius.png"))
+    if result.scene.programme is not None and len(result.stops):
+        paths.append(part_plots.life(result, out / "life.png"))
     return paths
