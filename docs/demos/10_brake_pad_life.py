@@ -27,7 +27,7 @@ import numpy as np
 import ngwear
 from ngwear.model.examples import scene_file
 from ngwear.model.programme import Schedule
-from ngwear.results.metrics import disc_taper, per_block
+from ngwear.results.metrics import per_block
 
 scene = ngwear.load_scene(scene_file("brake_pad_life"))
 result = ngwear.simulate(scene, progress=False)
@@ -51,19 +51,14 @@ axes.set(xlabel="x [mm]", ylabel="y [mm]", aspect="equal", title="remaining thic
 figure.savefig(out / "thickness_map.png", dpi=100)
 
 # %%
-# Taper against stops: at the end of each simulated stop, the radial (outer minus inner) and circumferential
-# (leading minus trailing) taper of the total wear, from the fit w ≈ a + b r + c φ over the face.  Each block
-# starts with a running-in at its own load (the layer's compression changes), then the taper stays.
-schedule = Schedule.of(scene.programme)
-stop_of, step_of = schedule.rows(result.jumped)
-ends = np.flatnonzero(step_of[:result.steps + 1] == scene.programme.steps_per_stop)
-wear = result.total_wear
-tapers = np.array([disc_taper(result.contact_points, wear[j], result.weights, scene.foundation.center or [0, 0, 0],
-                              scene.foundation.angular_velocity) for j in ends])
+# Taper against stops: ``Result.stops`` (and ``stops.csv``) holds at the end of each stop, simulated or jumped, the
+# radial (outer minus inner) and circumferential (leading minus trailing) taper of the remaining thickness, from the
+# fit t ≈ a + b r + c φ over the face.  Each block starts with a running-in at its own load (the layer's compression
+# changes): the outer radius, which slides fastest, wears more until p·r is constant; then the taper stays.
 figure, axes = plt.subplots(figsize=(6, 4))
-axes.plot(stop_of[ends], 1e3 * tapers[:, 0], label="radial (outer − inner)")
-axes.plot(stop_of[ends], 1e3 * tapers[:, 1], label="circumferential (leading − trailing)")
-axes.set(xlabel="stop", ylabel="taper of the wear [mm]", title="taper against stops")
+axes.plot(stops.index, 1e3 * stops["taper_radial"], label="radial (outer − inner)")
+axes.plot(stops.index, 1e3 * stops["taper_circumferential"], label="circumferential (leading − trailing)")
+axes.set(xlabel="stop", ylabel="taper of the remaining thickness [mm]", title="taper against stops")
 axes.legend()
 figure.savefig(out / "taper.png", dpi=100)
 
@@ -82,7 +77,10 @@ figure.savefig(out / "wear_per_block.png", dpi=100)
 # %%
 # Worn in: the last simulated stop's wear increment over the face, and the braking torque at its start against
 # μ F (r_i + r_o)/2 at the stop's load factor.
-last = ends[-1]
+schedule = Schedule.of(scene.programme)
+stop_of, step_of = schedule.rows(result.jumped)
+wear = result.total_wear
+last = np.flatnonzero(step_of[:result.steps + 1] == scene.programme.steps_per_stop)[-1]
 increment = wear[last] - wear[last - scene.programme.steps_per_stop]
 spread = np.ptp(increment) / (result.weights @ increment / result.weights.sum())
 r_i, r_o = scene.geometry.size[:2]
