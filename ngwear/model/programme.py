@@ -200,6 +200,10 @@ class Schedule:
         simulated = np.setdiff1d(np.arange(self.count), jumped)
         return np.repeat(simulated, self.steps + 1), np.tile(np.arange(self.steps + 1), len(simulated))
 
+    def ends(self, rows: int) -> np.ndarray:
+        """The rows, among the first ``rows`` recorded, that end a simulated stop: m, 2m + 1, … (see :meth:`rows`)."""
+        return np.arange(self.steps, rows, self.steps + 1)
+
     def row_factors(self, jumped: np.ndarray, rows: int) -> tuple[np.ndarray, np.ndarray]:
         """(s_v, s_F) of the first ``rows`` recorded rows (see :meth:`rows`)."""
         stop, j = (a[:rows] for a in self.rows(jumped))

@@ -57,8 +57,7 @@ def tapers(result, values: np.ndarray) -> dict[str, float]:
     out, omega = {}, scene.foundation.angular_velocity
     if omega is not None and np.any(omega):
         center = scene.foundation.center or np.zeros(scene.dim)
-        out["taper_radial"], out["taper_circumferential"] = disc_taper(points, values, weights, center,
-                                                                       scene.foundation.angular_velocity)
+        out["taper_radial"], out["taper_circumferential"] = disc_taper(points, values, weights, center, omega)
     elif scene.foundation.velocity is not None and np.any(scene.foundation.velocity):
         out["taper_along"] = taper_along(points, values, weights, scene.foundation.velocity)
     nu = np.linalg.svd(points - points.mean(axis=0), full_matrices=False)[2][-1]     # the face's mean normal
@@ -66,21 +65,24 @@ def tapers(result, values: np.ndarray) -> dict[str, float]:
     return out
 
 
-def stop_table(result):
-    """A DataFrame, one row per stop completed (simulated or jumped) in the programme's order (see the module)."""
+def stop_table(result, taper: bool = True):
+    """A DataFrame, one row per stop completed (simulated or jumped) in the programme's order (see the module).
+
+    ``taper=False`` leaves out the tapers (a fit over Γ_C per stop: most of the table's time).
+    """
     import pandas as pd
 
     scene = result.scene
     schedule = Schedule.of(scene.programme)
     m, rows = schedule.steps, len(result.times)
-    stop_of, step_of = (a[:rows] for a in schedule.rows(result.jumped))
+    stop_of = schedule.rows(result.jumped)[0][:rows]
     power = result.friction_power                     # μ of each step (a coefficient of state: the one it used)
     torque, force, apparent = result.torque, result.friction_force, result.apparent_friction
     total, remaining = result.total_wear, result.remaining_thickness
     density = scene.value("material.density")
     heated = {name: getattr(result, field) for name, field in TEMPERATURES.items() if field in result.rows}
     records, jumped = {}, set(result.jumped.tolist())
-    for end in np.flatnonzero(step_of == m):
+    for end in schedule.ends(rows):
         span, stop = slice(end - m, end + 1), int(stop_of[end])
         times = result.times[span]
         increment = total[end] - total[end - m]
@@ -93,13 +95,13 @@ def stop_table(result):
         while k == stop or k in jumped:                  # the simulated stop, then the stops jumped after it
             left = remaining[end] - (k - stop) * increment
             records[k] = {**row, "max_total_wear": float((total[end] + (k - stop) * increment).max()),
-                          "min_remaining_thickness": float(left.min()), **tapers(result, left), **heat,
-                          "simulated": k == stop}
+                          "min_remaining_thickness": float(left.min()), **(tapers(result, left) if taper else {}),
+                          **heat, "simulated": k == stop}
             k += 1
     order = sorted(records)
     table = pd.DataFrame([records[i] for i in order], index=pd.Index(order, name="stop"))
     if not len(order):
-        shown = tapers(result, result.thickness)
+        shown = tapers(result, result.thickness) if taper else {}
         table = pd.DataFrame(columns=[c for c in COLUMNS if c not in ("stop", "worn_mass") and
                                       (heated or "temperature" not in c) and (c not in TAPERS or c in shown)])
     table.insert(0, "block", schedule.block[order])

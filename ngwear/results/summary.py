@@ -17,7 +17,7 @@ from .metrics import per_block, stops_to_limit, thickness_range
 from .run_summary import QUANTITIES as RUN
 from .run_summary import whole_run
 from .step_fields import DERIVED
-from .stops import tapers
+from .stops import stop_table, tapers
 from .units import units
 
 PART = tuple(f.name for f in DERIVED if not f.shape)
@@ -83,13 +83,13 @@ def life_metrics(result) -> dict:
     if scene.programme is None:
         return {**out, "stops_simulated": 0, "stops_jumped": len(result.jumped)}
     m = scene.programme.steps_per_stop
-    ends = np.flatnonzero(Schedule.of(scene.programme).rows(result.jumped)[1][:len(result.times)] == m)
+    ends = Schedule.of(scene.programme).ends(len(result.times))
     out.update(stops_simulated=len(ends), stops_jumped=len(result.jumped))
     if scene.wear.limit is not None and len(ends):
         total = result.total_wear
         left = stops_to_limit(remaining, scene.wear.limit, total[ends[-1]] - total[ends[-1] - m])
         out["stops_to_limit"] = left if np.isfinite(left) else None
-    stops = result.stops
+    stops = stop_table(result, taper=False)                     # its tapers are the stops', not the summary's
     blocks = per_block(stops["block"].to_numpy(), stops["worn_volume"].to_numpy(), stops["energy"].to_numpy())
     out["blocks"] = [{"block": b, "stops": int(count), "volume_per_stop": float(volume),
                       "volume_per_megajoule": float(energy) if np.isfinite(energy) else None}

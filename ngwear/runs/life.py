@@ -66,7 +66,7 @@ class StopClock:
         if self.jumps is None:
             return
         jumped = set(result.jumped.tolist())
-        for end in range(m, rows - 1, m + 1):         # the last stop's jump is decided when the run goes on
+        for end in self.schedule.ends(rows - 1):      # the last stop's jump is decided when the run goes on
             stop = int(stops[end])
             increment = result.total_wear_at(end) - result.total_wear_at(end - m)
             self.jumps.simulated(stop, int(self.schedule.block[stop]), increment)

@@ -32,6 +32,6 @@ def write_pictures(result, out_dir) -> list[Path]:
         paths.append(part_plots.temperatures(result, out / "temperatures.png"))
     if result.discretization.contact.slip.rotating:
         paths.append(part_plots.pressure_radius(result, out / "pressure_radius.png"))
-    if result.scene.programme is not None and len(result.stops):
+    if result.scene.programme is not None and result.steps >= result.scene.programme.steps_per_stop:  # a stop done
         paths.append(part_plots.life(result, out / "life.png"))
     return paths
