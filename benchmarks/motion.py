@@ -4,7 +4,7 @@
 of 0.5 mm of mean wear up to the whole friction material, uniformly and with two tapers (circumferential
 W (1 + ξ/2), ξ = −1 at the leading edge … 1 at the trailing one; and W (1 + 0.4 ξ + 0.4 η), η from the inner to
 the outer radius), each moved by four extensions of the wear into the friction material (the backing and the
-interface held): ``harmonic`` (ngwear.numerics.motion: one scalar Laplace problem on the mesh as built, φ = W on
+interface held): ``harmonic`` (ngwear.numerics.recession: one scalar Laplace problem on the mesh as built, φ = W on
 Γ_C, every vertex moving along −ν), ``incremental`` (the same on the mesh as last moved, for the wear since),
 ``stiffened`` (the Laplace problem with the coefficient V̄/V_T: small elements move rigidly) and ``elastic``
 (vector linear elasticity, λ = η, the sides free).  Reported at half the friction material worn: the worst mean
@@ -36,8 +36,8 @@ import scipy.sparse as sp
 import ngwear
 from ngwear.model.kinds import KINDS
 from ngwear.numerics.discrete import Discretization
-from ngwear.numerics.motion import QUALITY, Extension, mean_ratio, quality, remeshed
 from ngwear.numerics.pardiso import Pardiso
+from ngwear.numerics.recession import QUALITY, Extension, mean_ratio, quality, remeshed
 from ngwear.numerics.topology import coordinates, place, simplices
 
 PAD = C.ROOT / "geometries" / "brake_pad.toml"

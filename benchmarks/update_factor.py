@@ -1,7 +1,7 @@
 """What a geometry update's factorisation costs: K of the moved mesh with METIS's ordering or the first K's.
 
 ``geometries/brake_pad_life.toml`` at three sizes (the shipped mesh, ``mesh.maxh`` 0.002 and 0.00122: 202k DOFs),
-one real update (the friction face worn by half the smallest element's height, :class:`~ngwear.numerics.motion.
+one real update (the friction face worn by half the smallest element's height, :class:`~ngwear.numerics.recession.
 Recession`), its K factorised by PARDISO without the Schur complement (the matrix-free contact solve), interleaved,
 medians of ``--reps``, in one process:
 
@@ -21,8 +21,8 @@ import common as C
 import ngsolve as ngs
 import numpy as np
 
-from ngwear.numerics.motion import Recession, contact_height
 from ngwear.numerics.pardiso import Pardiso
+from ngwear.numerics.recession import Recession, contact_height
 
 
 def row(maxh: float | None, reps: int) -> dict:

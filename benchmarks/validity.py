@@ -1,7 +1,7 @@
 """What the run's validity checks cost per step (issue 28 §1): strains beyond the small-strain model, a worn layer.
 
 The shipped brake pad (P1, maxh 0.006, 220 contact points) and finer (maxh 0.003, 0.002), 150 steps, on one
-discretization: the time loop with the checks (:class:`ngwear.results.validity.Validity`) and with them replaced by
+discretization: the time loop with the checks (:class:`ngwear.runs.validity.Validity`) and with them replaced by
 a no-op, interleaved, ms per step (medians of ``--reps``); the checks alone per step (``Validity.__call__`` over the
 run's recorded rows, median of 5 passes); casting the segments along −ν once (the set-up's share), against the
 whole set-up (mesh from the cache, discretization, first step).
@@ -17,7 +17,7 @@ import common as C
 import ngwear
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.strain import segments
-from ngwear.results import validity
+from ngwear.runs import validity
 
 STEPS = 150
 

@@ -172,7 +172,7 @@ def _run(args, scene, settings, out: Path) -> int:
 
     from .model.meshing import Stopped
     from .results.folder import NoSpace, no_space
-    from .runs.life import WORN_OUT
+    from .runs.checks import WORN_OUT
     from .runs.simulate import simulate
 
     if args.resume is not None and scene is None:

@@ -10,7 +10,7 @@ y = H is clamped, a body force (0, −b) presses the bottom Γ_C onto the layer,
 
 P2 elements (triangles and tetrahedra) represent the quadratic u_y exactly, so the FE values match to
 round-off.  The layer g = 0.02 and the loads b ≤ 0.12 keep the mean strain across the column, u_ν/H ≤ g/H, at 2 %
-at most: within the small-strain model (beyond 10 % a run stops, ``ngwear.results.validity``); the solution is
+at most: within the small-strain model (beyond 10 % a run stops, ``ngwear.runs.validity``); the solution is
 linear in (b, g) together.
 """
 import ngsolve as ngs

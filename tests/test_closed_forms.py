@@ -17,7 +17,7 @@ from scipy.integrate import quad
 
 import ngwear
 from ngwear.results.metrics import contact_radius
-from ngwear.results.validity import WORN
+from ngwear.runs.validity import WORN
 from ngwear.studies.closed_forms import (
     rectangle_inertia,
     taper_pressure,

@@ -9,7 +9,7 @@ import pytest
 from ngsolve.solvers import Newton
 
 import ngwear
-from ngwear.results import validity
+from ngwear.runs import validity
 
 BETA = 20.0
 COMPACTION = {"material.law": "compaction", "material.compaction_modulus": BETA}
@@ -237,7 +237,7 @@ def test_full_residual_has_its_linearisation_as_derivative_across_the_kinks():
     disc.set_nodal(full.w, 0.01 * x)
 
     def friction(scale):
-        for gf, component in zip(full.friction, disc.contact.friction_directions(0.0).T):
+        for gf, component in zip(full.friction, disc.contact.friction_directions(disc.contact.coefficients, 1.0).T):
             disc.set_nodal(gf, scale * component)
 
     friction(1.0)

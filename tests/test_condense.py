@@ -59,7 +59,7 @@ def test_normal_rows_are_the_nu_rows_of_the_point_compliance(paper_scene):
     G = G.reshape(n, d, n, d)
     R = np.einsum("a,iajb->ijb", disc.condensation.nu, G)
     assert np.abs(disc.condensation.normal_rows - R).max() < 1e-12 * np.abs(R).max()
-    n_star = disc.contact.n_star(0.0)
+    n_star = disc.contact.motion.n_star(1.0)
     assert np.allclose(disc.condensation.friction_compliance(n_star), np.einsum("ijb,jb->ij", R, n_star), rtol=0,
                        atol=1e-12 * np.abs(R).max())
     H = disc.condensation.normal_compliance

@@ -78,7 +78,7 @@ def test_rows_that_do_not_fit_are_refused_before_the_first_step(small_disk, tmp_
     disk = small_disk(2)
     proc = ngwear("run", PAPER, "--out", disk / "run", "--set", "mesh.maxh=0.2", "time.steps=20000", "--quiet",
                   "--no-pictures", cwd=tmp_path)
-    size = 20001 * 8 * (1 + (4 + 2) * 16)           # times, and w, u_ν, p, λ and 2D forces at 16 contact points
+    size = 20001 * 8 * (3 + (4 + 2) * 16)           # t, s_v, s_F, and w, u_ν, p, λ and 2D forces at 16 contact points
     assert proc.returncode == 1 and proc.stderr.strip().splitlines() == [
         f"ngwear: --out: no space left on device in {disk / 'run'} for the rows of 20001 steps "
         f"({size / 1e6:.4g} MB); nothing was computed"]
@@ -126,8 +126,8 @@ def test_a_new_run_in_a_folder_checkpoints_its_own_mesh(tmp_path, monkeypatch):
     other = small(**{"mesh.maxh": 0.25, "output.checkpoint_seconds": 0.0})
     stop, calls, append = threading.Event(), [], Recording.append
 
-    def counting(recording, step):
-        append(recording, step)
+    def counting(recording, *step):
+        append(recording, *step)
         calls.append(1)
         if len(calls) == 11:
             stop.set()

@@ -40,7 +40,7 @@ def taylor_remainders(disc, scene, rng, epsilons):
     contact = disc.with_scene(scene).contact       # μ and L of ``scene`` (a change that rebuilds nothing)
     disc.set_nodal(cf.w, w)
     disc.set_nodal(cf.stiffness, contact.coefficients.stiffness)
-    for gf, component in zip(cf.friction, contact.friction_directions(0.0).T):
+    for gf, component in zip(cf.friction, contact.friction_directions(contact.coefficients, 1.0).T):
         disc.set_nodal(gf, component)
     delta = u.vec.CreateVector()
     delta.FV().NumPy()[:] = rng.standard_normal(disc.fes.ndof) * disc.body.free
@@ -99,12 +99,13 @@ def test_contact_form_is_nodal(disc):
     u, w = state_away_from_kink(disc, rng)
     disc.set_nodal(cf.w, w)
     disc.set_nodal(cf.stiffness, disc.contact.coefficients.stiffness)
-    for gf, component in zip(cf.friction, disc.contact.friction_directions(0.0).T):
+    for gf, component in zip(cf.friction, disc.contact.friction_directions(disc.contact.coefficients, 1.0).T):
         disc.set_nodal(gf, component)
     res = u.vec.CreateVector()
     cf.form.Apply(u.vec, res)
     pressure = disc.contact.law(disc.condensation.N @ u.vec.FV().NumPy() - disc.condensation.d0 - w)
-    expected = disc.points.P.T @ disc.contact.forces(pressure, np.zeros_like(pressure), 0.0).ravel()
+    forces = disc.contact.forces(disc.contact.coefficients, pressure, np.zeros_like(pressure), 1.0)
+    expected = disc.points.P.T @ forces.ravel()
     assert np.allclose(res.FV().NumPy(), expected, atol=1e-13)
 
 

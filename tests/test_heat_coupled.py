@@ -15,10 +15,11 @@ import pytest
 import ngwear
 from ngwear.model.examples import scene_file
 from ngwear.model.scene import Scene
-from ngwear.numerics import contact, solver
+from ngwear.numerics import solver
 from ngwear.numerics.heat import Heat
 from ngwear.results.recording import Recording
 from ngwear.results.result import ARRAYS
+from ngwear.runs import heating
 
 FINAL = 0.02       # the heat has gone 4√(κT) = 0.57 of the column's height 1 deep
 
@@ -132,7 +133,7 @@ def test_a_friction_of_temperature_keeps_newtons_factorisations_and_agrees_with_
     """
     factorised, lu = [], solver.sla.lu_factor
     monkeypatch.setattr(solver.sla, "lu_factor", lambda *a, **k: factorised.append(1) or lu(*a, **k))
-    monkeypatch.setattr(contact, "DRIFT", 0.5)
+    monkeypatch.setattr(heating, "DRIFT", 0.5)
     kept = ngwear.simulate(lumped_stop(), progress=False)
     once = len(factorised)
     monkeypatch.setattr(solver, "SWEEPS", 0)                      # no refinement: each μ's own factorisation
@@ -225,13 +226,13 @@ def test_a_cycle_jump_heats_the_body_and_the_disc_as_the_stops_it_applies(tmp_pa
     disc = result.foundation_temperature
     cooled = 1.0 + (3 / 3.2) ** 15 * (disc[43] - 1.0)                     # stop 3's end over one dwell
     assert disc[44] == pytest.approx(cooled + 3 * (cooled - disc[33]), rel=1e-10)
-    assert result.heating.heat.time == pytest.approx(result.times[-1], rel=1e-14)
+    assert result.continuation["heat_heat"][0] == pytest.approx(result.times[-1], rel=1e-14)   # the heat's time
     assert abs(seen[-1].residual) < 1e-8 * seen[-1].supplied          # the dwells' solves: cond ≈ 1e6 each
     # the state of the stop the jump extrapolates from goes into a checkpoint: resumed after it, the same to the bit
     stop, original, count = threading.Event(), Recording.append, []
 
-    def counting(recording, step):
-        original(recording, step)
+    def counting(recording, *step):
+        original(recording, *step)
         count.append(1)
         if len(count) == 40:                                              # in stop 3, the cycle the jump repeats
             stop.set()
@@ -270,8 +271,8 @@ def test_resume_is_bit_identical_with_heat(tmp_path, monkeypatch):
     full = ngwear.simulate(scene, progress=False)
     stop, original, count = threading.Event(), Recording.append, []
 
-    def counting(recording, step):
-        original(recording, step)
+    def counting(recording, *step):
+        original(recording, *step)
         count.append(1)
         if len(count) == 8:
             stop.set()
@@ -295,7 +296,7 @@ def test_a_coefficient_out_of_range_stops_the_run_with_one_line_keeping_the_step
 
 def test_no_heat_records_no_heat_rows(tmp_path):
     result = ngwear.simulate(column(**{"heat.model": "none", "time.steps": 2}), progress=False)
-    assert tuple(result.rows) == ARRAYS and result.heating is None
+    assert tuple(result.rows) == ARRAYS and not any(key.startswith("heat_") for key in result.continuation)
     with pytest.raises(AttributeError, match="surface_temperature: not recorded"):
         result.surface_temperature
 

@@ -111,7 +111,7 @@ def test_a_run_kept_in_memory_checkpoints_a_copy(tmp_path):
 def test_a_checkpoint_holding_its_rows_still_resumes(tmp_path):
     """Checkpoints written before the rows had files of their own (all rows in checkpoint.npz) go on."""
     part = ngwear.simulate(small(), progress=False)
-    x, lam, step = part.recording.continuation
+    x, lam, step = (part.continuation[key] for key in ("x", "lam", "step"))
     np.savez(tmp_path / CHECKPOINT, **part.arrays(), x=x, lam=lam, step=np.array(step),
              scene=np.array(json.dumps(part.scene.to_dict())))
     save_mesh(part.discretization.mesh, tmp_path)

@@ -17,9 +17,10 @@ from conftest import PAPER
 import ngwear
 from ngwear.model.geometry import build_mesh
 from ngwear.model.programme import Schedule
-from ngwear.numerics.motion import contact_height
+from ngwear.numerics.recession import contact_height
 from ngwear.results.metrics import disc_taper, plane_slope, taper_along
-from ngwear.runs.life import WORN_OUT
+from ngwear.results.table import bare
+from ngwear.runs.checks import WORN_OUT
 
 
 def strip(programme, **keys):
@@ -137,7 +138,7 @@ def test_the_shipped_life_reports_its_tapers_its_blocks_and_the_stops_left(tmp_p
     assert main(["run", "brake_pad_life", "--out", str(out), "--quiet", "--no-check"]) == 0
     printed = capsys.readouterr().out
     assert "block 2" in printed and "per MJ" in printed and (out / "life.png").stat().st_size > 10_000
-    stops = pd.read_csv(out / "stops.csv", index_col="stop")
+    stops = pd.read_csv(out / "stops.csv", index_col="stop").rename(columns=bare)
     summary = json.loads((out / "summary.json").read_text())
     for column in ("taper_radial", "taper_circumferential", "taper_slope"):
         assert np.isfinite(stops[column]).all() and column in summary
@@ -313,8 +314,8 @@ def interrupted(scene, folder, rows, monkeypatch):
 
     stop, append = threading.Event(), Recording.append
 
-    def counting(recording, step):
-        append(recording, step)
+    def counting(recording, *step):
+        append(recording, *step)
         if len(recording.result.times) == rows:
             stop.set()
 

@@ -21,6 +21,7 @@ from conftest import PAPER
 import ngwear
 from ngwear.results.checkpoint import CHECKPOINT
 from ngwear.results.recording import Recording
+from ngwear.runs import loop
 
 STEPS = 5000
 SETTINGS = ["mesh.maxh=0.2", f"time.steps={STEPS}", "output.checkpoint_seconds=0.02",
@@ -112,8 +113,8 @@ def test_stop_event_and_resume_in_python(tmp_path, monkeypatch):
     calls = []
     original = Recording.append
 
-    def counting(recording, step):
-        original(recording, step)
+    def counting(recording, *step):
+        original(recording, *step)
         calls.append(1)
         if len(calls) == 17:
             stop.set()
@@ -132,16 +133,16 @@ def test_stop_event_and_resume_in_python(tmp_path, monkeypatch):
 
 def test_ctrl_c_in_a_notebook_keeps_the_completed_steps(monkeypatch):
     scene = small()
-    original = ngwear.runs.stepper.Stepper.solve
+    original = loop.advance
     calls = []
 
-    def interrupting(stepper, *args):
+    def interrupting(*args):
         calls.append(1)
         if len(calls) == 9:
             raise KeyboardInterrupt
-        return original(stepper, *args)
+        return original(*args)
 
-    monkeypatch.setattr(ngwear.runs.stepper.Stepper, "solve", interrupting)
+    monkeypatch.setattr(loop, "advance", interrupting)
     result = ngwear.simulate(scene, progress=False)
     assert result.status == "interrupted" and result.steps == 7
     assert len(result.newton) == 8 and len(result.wear) == 8

@@ -18,7 +18,7 @@ import ngwear
 from ngwear.model.geometry import build_mesh
 from ngwear.model.kinds import KINDS
 from ngwear.numerics.discrete import Discretization
-from ngwear.numerics.motion import (
+from ngwear.numerics.recession import (
     QUALITY,
     Extension,
     Recession,

@@ -10,8 +10,8 @@ from ngwear.numerics import patch as patch_module
 from ngwear.numerics.columns import Columns
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.patch import PatchSystem
-from ngwear.numerics.problem import PATCH_SHARE, Problem, patch_share
 from ngwear.numerics.solver import CondensedSystem, PlateRows, PointLaw
+from ngwear.numerics.systems import PATCH_SHARE, normal_response, patch_share, plate_rows
 
 ROOT = Path(__file__).resolve().parents[1]
 FIELDS = ("normal_displacement", "wear", "pressure", "reaction", "plate_displacement")
@@ -99,13 +99,14 @@ def test_columns_are_exact_and_computed_once_nearest_to_contact_first(monkeypatc
 
 def test_block_responses_equal_single_ones(paper_scene):
     """``normal_response`` for k columns: one back-substitution with k right-hand sides, the k single products."""
-    problem = Problem(Discretization(paper_scene.replace(**{"mesh.maxh": 0.3})))
-    n = problem.n
-    directions = problem.condensation.nu[None, :] + problem.contact.friction_directions(0.0)
+    disc = Discretization(paper_scene.replace(**{"mesh.maxh": 0.3}))
+    n, contact = disc.points.n, disc.contact
+    directions = disc.condensation.nu[None, :] + contact.friction_directions(contact.coefficients, 1.0)
     rng = np.random.default_rng(0)
     normal, directed = rng.standard_normal((2, n, 3))
-    block = problem.normal_response(normal, directed, directions)
-    single = np.column_stack([problem.normal_response(normal[:, k], directed[:, k], directions) for k in range(3)])
+    block = normal_response(disc, normal, directed, directions)
+    single = np.column_stack([normal_response(disc, normal[:, k], directed[:, k], directions)
+                              for k in range(3)])
     assert np.abs(block - single).max() <= 1e-13 * np.abs(single).max()
 
 
@@ -125,11 +126,11 @@ def test_the_pin_on_its_patch_equals_the_dense_solve_in_a_newton_step_a_step(pin
     scene, mesh = pin
     dense = ngwear.simulate(scene, discretization=Discretization(scene, mesh, contact_solve="dense"), progress=False)
     disc = Discretization(scene, mesh)
-    assert disc.matrix_free and patch_share(Problem(disc)) <= PATCH_SHARE
+    assert disc.matrix_free and patch_share(disc) <= PATCH_SHARE
     rhs = []
-    respond = Problem.normal_response
-    monkeypatch.setattr(Problem, "normal_response",
-                        lambda self, *a: (rhs.append(np.shape(a[0])[1]), respond(self, *a))[1])
+    respond = normal_response
+    monkeypatch.setattr("ngwear.numerics.systems.normal_response",
+                        lambda disc, *a: (rhs.append(np.shape(a[0])[1]), respond(disc, *a))[1])
     fast = ngwear.simulate(scene, discretization=disc, progress=False)
     assert dense.completed and fast.completed
     for name in FIELDS:
@@ -146,9 +147,10 @@ def test_the_rigid_predictor_balances_the_plate_force(pin):
     """From rest the body moves rigidly until the contact carries the plate's force (no product)."""
     scene, mesh = pin
     disc = Discretization(scene, mesh)
-    problem, law = Problem(disc), disc.contact.law
+    contact, law = disc.contact, disc.contact.law
     cond, n = disc.condensation, disc.points.n
-    rows = problem._plate_rows(cond.plate.directed(cond.nu[None, :] + disc.contact.friction_directions(0.0)), 1.0)
+    rows = plate_rows(disc, cond.plate.directed(
+        cond.nu[None, :] + contact.friction_directions(contact.coefficients, 1.0)), 1.0)
     R = Compliance(n)
     system = PatchSystem(Columns(R, n), cond.compliance_estimate, disc.points.weights, disc.loads.s_load, cond.d0,
                          scene.contact.gap, PointLaw(law, law.derivative), {}, rows)
@@ -181,6 +183,6 @@ def test_the_patch_equals_the_dense_solve_where_points_are_active(name, settings
 def test_auto_solves_on_the_patch_only_where_it_is_a_part_of_the_contact_face(pin):
     """The rigid body's patch: 8 % of the pin's Γ_C, all of the pad's."""
     scene, mesh = pin
-    assert 0.05 < patch_share(Problem(Discretization(scene, mesh))) < 0.15
+    assert 0.05 < patch_share(Discretization(scene, mesh)) < 0.15
     pad = ngwear.load_scene(ROOT / "geometries" / "brake_pad.toml")
-    assert patch_share(Problem(Discretization(pad))) == 1.0
+    assert patch_share(Discretization(pad)) == 1.0

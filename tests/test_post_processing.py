@@ -21,6 +21,7 @@ from ngwear.model.materials import Compaction, Energy, Isotropic, TransverselyIs
 from ngwear.results.bulk_stress import BulkStress, full_tensor, von_mises
 from ngwear.results.provenance import COLUMNS
 from ngwear.results.result import load_result
+from ngwear.results.table import bare
 from ngwear.studies.sweep import simulate_case
 
 OMEGA, STOP, DENSITY = 50.0, 4.0, 2500.0    # the pad's disc: rad/s, s to rest; the friction material's ρ
@@ -129,8 +130,8 @@ def test_contact_file_holds_the_contact_fields_at_the_contact_points(stop):
     r = np.hypot(*result.contact_points[:, :2].T)
     for step in result.stored_steps:
         face = pv.read(out / f"contact_step{step:03d}.vtu")
-        assert set(face.point_data) == {"displacement", "pressure", "reaction", "wear", "slip_rate", "friction",
-                                        "wear_coefficient"}
+        assert set(face.point_data) == {"displacement", "pressure", "reaction", "wear", "total_wear",
+                                        "remaining_thickness", "slip_rate", "friction", "wear_coefficient"}
         assert np.array_equal(face.points, result.contact_points)
         for name in ("pressure", "reaction", "wear"):
             assert np.array_equal(face.point_data[name], getattr(result, name)[step]), name
@@ -160,9 +161,10 @@ def test_p2_contact_file_adds_the_vertices_with_linear_values(backed_p2, tmp_pat
 def test_history_csv_is_the_result_table_with_units(stop):
     result, out, _ = stop
     table = pd.read_csv(out / "history.csv")
-    assert table.equals(result.to_dataframe())
+    assert table.rename(columns=bare).equals(result.to_dataframe())
     assert list(table.columns) == [
-        "step", "times [s]", "normal_force [N]", "torque [N m]", "friction_force [N]", "apparent_friction",
+        "step", "times [s]", "speed_factor", "load_factor", "normal_force [N]", "torque [N m]", "friction_force [N]",
+        "apparent_friction",
         "contact_area [m^2]", "wear_volume [m^3]", "max_wear [m]", "max_pressure [Pa]", "mean_pressure [Pa]",
         "friction_power [W]", "dissipated_energy [J]", "plate_displacement [m]", "tangential_force_x [N]",
         "tangential_force_y [N]", "tangential_force_z [N]", "newton_iterations"]

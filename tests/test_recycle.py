@@ -5,10 +5,9 @@ import numpy as np
 import pytest
 
 import ngwear
-from ngwear.numerics import recycle
+from ngwear.numerics import recycle, systems
 from ngwear.numerics.discrete import Discretization
-from ngwear.numerics.problem import Problem
-from ngwear.runs.stepper import Stepper
+from ngwear.runs import loop
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -181,8 +180,8 @@ def test_a_run_reuses_products_and_equals_the_dense_solve(monkeypatch):
     mesh = Discretization(scene).mesh
     krylov = Discretization(scene, mesh, contact_solve="krylov")
     products = []
-    respond = Problem.normal_response
-    monkeypatch.setattr(Problem, "normal_response", lambda self, *a: (products.append(1), respond(self, *a))[1])
+    respond = systems.normal_response
+    monkeypatch.setattr(systems, "normal_response", lambda disc, *a: (products.append(1), respond(disc, *a))[1])
     fast = ngwear.simulate(scene, discretization=krylov, progress=False)
     dense = ngwear.simulate(scene, discretization=Discretization(scene, mesh, contact_solve="dense"), progress=False)
     for name in ("normal_displacement", "wear", "pressure", "torque", "plate_displacement"):
@@ -194,7 +193,7 @@ def test_a_run_reuses_products_and_equals_the_dense_solve(monkeypatch):
 def test_the_stops_of_a_programme_reuse_the_products_of_the_stops_before(monkeypatch):
     """The life pad's stops to rest, matrix-free: μ n* goes to 0 at each stop's end and back (two sets of products).
 
-    Both are kept across the stops (``problem.KEPT``): a later stop pays a fraction of the first one's
+    Both are kept across the stops (``systems.KEPT``): a later stop pays a fraction of the first one's
     back-substitutions (each stop started from none before), and the run is the dense solve's.
     """
     scene = ngwear.load_scene(ROOT / "geometries" / "brake_pad_life.toml").replace(**{
@@ -203,9 +202,9 @@ def test_the_stops_of_a_programme_reuse_the_products_of_the_stops_before(monkeyp
     mesh = Discretization(scene).mesh
     krylov = Discretization(scene, mesh, contact_solve="krylov")
     products, stops = [], []
-    respond, solve = Problem.normal_response, Stepper.solve
-    monkeypatch.setattr(Problem, "normal_response", lambda self, *a: (products.append(1), respond(self, *a))[1])
-    monkeypatch.setattr(Stepper, "solve", lambda self, step, *a: (stops.append(len(products)), solve(self, step, *a))[1])
+    respond, solve = systems.normal_response, loop.advance
+    monkeypatch.setattr(systems, "normal_response", lambda disc, *a: (products.append(1), respond(disc, *a))[1])
+    monkeypatch.setattr(loop, "advance", lambda *a: (stops.append(len(products)), solve(*a))[1])
     fast = ngwear.simulate(scene, discretization=krylov, progress=False)
     monkeypatch.undo()
     dense = ngwear.simulate(scene, discretization=Discretization(scene, mesh, contact_solve="dense"), progress=False)

@@ -159,6 +159,8 @@ CHANGES = {
     "contact.gap": lambda s: {"contact.gap": 0.8 * s.contact.gap},
     "contact.friction": lambda s: {"contact.friction": s.contact.friction + 0.1},
     "contact.wear": lambda s: {"contact.wear": 2 * s.contact.wear},
+    "contact.wear_law": lambda s: {"contact.wear_law": "energy"},
+    "contact.wear_exponents": lambda s: {"contact.wear_law": "power", "contact.wear_exponents": [1.5, 2.0]},
     "contact.direction": lambda s: {"contact.direction": [0.1, *s.contact.direction[1:]]},
     "foundation.velocity": lambda s: {"foundation.velocity": [0.5, *s.foundation.velocity[1:]]},
     "foundation.angular_velocity": lambda s: {"foundation.angular_velocity": 0.2 if s.dim == 2 else
@@ -320,7 +322,7 @@ def test_zero_friction_matrix_is_symmetric(paper_scene):
     disc = Discretization(paper_scene.replace(**{"mesh.maxh": 0.2}))
     H = disc.condensation.normal_compliance
     assert np.allclose(H, H.T, atol=1e-14 * np.abs(H).max())
-    frictional = H + disc.condensation.friction_compliance(disc.contact.n_star(0.0))
+    frictional = H + disc.condensation.friction_compliance(disc.contact.motion.n_star(1.0))
     assert not np.allclose(frictional, frictional.T, atol=1e-6 * np.abs(H).max())
 
 

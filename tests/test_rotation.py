@@ -10,7 +10,7 @@ import pytest
 from conftest import ROOT
 
 import ngwear
-from ngwear.model.kinematics import Slip
+from ngwear.model.motion import Motion
 
 BOX = ROOT / "geometries" / "box3d.toml"
 
@@ -52,7 +52,8 @@ def test_archard_identity_with_per_point_alpha(box, integrator):
     scene = spun(box, 1.0, **{"wear.integrator": integrator, "foundation.center": [0.2, 0.1, 0.0]})
     result = ngwear.simulate(scene, progress=False)
     assert result.completed
-    alpha = np.array([result.discretization.contact.alpha(t) for t in result.times])
+    contact = result.discretization.contact
+    alpha = np.array([contact.alpha(contact.coefficients, s) for s in result.speed_factor])
     assert alpha.min() < 0.2 * alpha.max()                # the slip really varies over Γ_C
     th_old, th_new = {"explicit": (1, 0), "implicit": (0, 1), "trapezoidal": (0.5, 0.5)}[integrator]
     rate = alpha * result.pressure
@@ -69,7 +70,8 @@ def test_points_on_the_axis_neither_rub_nor_wear(box):
     assert len(corner) == 1 and result.pressure[-1, corner[0]] > 0
     assert result.wear[:, corner[0]].max() == 0.0
     disc = result.discretization
-    assert disc.contact.alpha(0.5)[corner[0]] == 0 and not disc.contact.n_star(0.5)[corner[0]].any()
+    assert disc.contact.alpha(disc.contact.coefficients, 1.0)[corner[0]] == 0
+    assert not disc.contact.motion.n_star(1.0)[corner[0]].any()
     others = np.delete(np.arange(len(result.weights)), corner)
     assert (result.wear[-1, others][result.pressure[-1, others] > 0] > 0).all()
 
@@ -78,9 +80,9 @@ def test_friction_direction_and_torque_of_a_pure_rotation(box):
     scene = spun(box, 1.0, **{"foundation.center": [0.5, -0.6, 0.0], "foundation.angular_velocity": [0, 0, 3.0],
                               "wear.integrator": "implicit"})
     result = ngwear.simulate(scene, progress=False)
-    slip = Slip(scene.foundation, result.contact_points, scene.contact.direction)
+    motion = Motion(scene, result.contact_points, scene.contact.direction)
     arms = result.contact_points - np.array([0.5, -0.6, 0.0])
-    n_star = slip.n_star(0.3)
+    n_star = motion.n_star(1.0)
     assert np.allclose(np.linalg.norm(n_star, axis=1), 1.0)
     assert np.allclose(np.einsum("ij,ij->i", n_star, arms), 0.0, atol=1e-14)   # tangential to the circles
     assert np.allclose(np.cross(arms, n_star)[:, 2], -np.linalg.norm(arms[:, :2], axis=1))   # against ω
@@ -94,7 +96,8 @@ def test_speed_reversal_flips_the_friction_direction(box):
     result = ngwear.simulate(scene, progress=False)
     assert result.completed
     disc = result.discretization
-    assert np.array_equal(disc.contact.n_star(0.9), -disc.contact.n_star(0.2))
+    motion = disc.contact.motion
+    assert np.array_equal(motion.n_star(motion.at(0.9).speed), -motion.n_star(motion.at(0.2).speed))
     assert np.sign(result.torque[2]) == -np.sign(result.torque[-1]) != 0
 
 

@@ -13,17 +13,20 @@ import pytest
 from conftest import PAPER
 
 import ngwear
-from ngwear.numerics.wear import WearIntegrator
-from ngwear.results.invariants import Checker, StepCheck, allowances, invariants
+from ngwear.model.motion import Instant
+from ngwear.numerics.wear import WearStep
+from ngwear.results.invariants import Checker, allowances, invariants
+from ngwear.runs.checks import StepCheck
+from ngwear.runs.state import State
 
 BREAK = """
 import sys
-from ngwear.numerics.wear import WearIntegrator
-solved, wear_at = [0], WearIntegrator.wear_at
+from ngwear.numerics.wear import WearStep
+solved, wear_at = [0], WearStep.wear_at
 def broken(self, z):
     solved[0] += 1
     return wear_at(self, z) - (1e-3 if solved[0] == 6 else 0.0)
-WearIntegrator.wear_at = broken
+WearStep.wear_at = broken
 from ngwear.cli import main
 sys.exit(main())
 """
@@ -35,13 +38,13 @@ def small(paper_scene):
 
 def test_a_broken_step_stops_the_run_and_keeps_the_steps_before_it(paper_scene, monkeypatch):
     good = ngwear.simulate(small(paper_scene), progress=False)
-    solved, wear_at = [0], WearIntegrator.wear_at
+    solved, wear_at = [0], WearStep.wear_at
 
     def broken(self, z):
         solved[0] += 1
         return wear_at(self, z) - (1e-3 if solved[0] == 6 else 0.0)
 
-    monkeypatch.setattr(WearIntegrator, "wear_at", broken)
+    monkeypatch.setattr(WearStep, "wear_at", broken)
     result = ngwear.simulate(small(paper_scene), progress=False)
     assert not result.completed and result.steps == 4
     name = result.status.removeprefix("step 5 (t = 0.25): invariant ").split()[0]
@@ -78,12 +81,13 @@ def test_valid_runs_keep_every_invariant_at_every_step(paper_scene, integrator, 
     assert checker.bounded
     values = invariants(result)
     assert "wear_le_penetration" in values and checker.broken(values) is None
-    later = StepCheck(type("Rows", (), {"scene": scene, "discretization": result.discretization,
-                                        **{k: getattr(result, k)[:3] for k in ("times", "wear", "normal_displacement",
-                                                                               "pressure", "reaction")}})())
+    later = StepCheck(type("Rows", (), {"scene": scene, **{k: getattr(result, k)[:3] for k in (
+        "times", "wear", "normal_displacement", "pressure", "reaction", "speed_factor")}})(), result.discretization)
     for j in range(3, result.steps + 1):
-        assert later(result.times[j], result.wear[j], result.normal_displacement[j], result.pressure[j],
-                     result.reaction[j]) is None
+        state = State(None, result.reaction[j], result.discretization.contact.coefficients, result.wear[j],
+                      Instant(result.times[j], result.speed_factor[j], result.load_factor[j]),
+                      normal=result.normal_displacement[j], pressure=result.pressure[j])
+        assert later(state) is None
 
 
 def test_an_allowed_unstable_run_is_not_held_to_the_monotone_bound(paper_scene):
@@ -121,9 +125,10 @@ def test_the_gap_check_is_absolute(soft):
     """A row whose z passes g by 10⁻⁶ g breaks ``gap``, however large the loads' displacements S are."""
     scene, last = soft.scene, slice(-1, None)
     checker = Checker(scene, soft.discretization)
-    assert checker.scale(soft.times).min() > 1e6 * scene.contact.gap
+    assert checker.scale(soft.load_factor).min() > 1e6 * scene.contact.gap
     s = soft.normal_displacement[last].copy()
-    rows = soft.times[last], soft.wear[last], s, soft.pressure[last], soft.reaction[last]
+    rows = (soft.times[last], soft.wear[last], s, soft.pressure[last], soft.reaction[last], soft.speed_factor[last],
+            soft.load_factor[last])
     assert checker.violations(*rows)["gap"] == 0
     s[0, np.argmax(s[0] - soft.d0)] += 1e-6 * scene.contact.gap
     values = checker.violations(*rows)

@@ -77,7 +77,8 @@ def test_set_that_needs_the_varied_keys_is_applied_with_each_case():
 
 @pytest.mark.parametrize("data, message", [
     ({"grid": {"contact.frictoin": [0.2, 0.4]}},
-     "grid.contact.frictoin: unknown key (allowed: law, stiffness, exponent, gap, friction, wear, direction)"),
+     "grid.contact.frictoin: unknown key (allowed: law, stiffness, exponent, wear_law, wear_exponents, gap, friction, "
+     "wear, direction)"),
     ({"grid": {"contactt.friction": [0.2]}}, "grid.contactt.friction: contactt: unknown section (allowed:"),
     ({"grid": {"contact.friction": [-1.0, -2.0]}}, "grid.contact.friction: must be >= 0 (got -1.0)"),
     ({"grid": {"contact.friction": 0.2}}, "grid.contact.friction: must be a non-empty list of values (got 0.2)"),
@@ -153,7 +154,8 @@ def test_cli_refuses_invalid_study_before_running(tmp_path):
                           capture_output=True, text=True, cwd=ROOT, timeout=120)
     assert done.returncode == 2 and not (tmp_path / "out").exists()
     assert done.stderr.strip().splitlines() == [
-        "ngwear: grid.contact.frictoin: unknown key (allowed: law, stiffness, exponent, gap, friction, wear, direction)"]
+        "ngwear: grid.contact.frictoin: unknown key (allowed: law, stiffness, exponent, wear_law, wear_exponents, gap, "
+        "friction, wear, direction)"]
 
 
 def test_shipped_studies_are_valid():

@@ -77,7 +77,7 @@ def test_never_after_an_interrupt(strip):
                          "checks hold")
     stop.set()
     assert cli._uniqueness(result, stop, progress=False) is None
-    result.recording.interrupt()
+    result.status = "interrupted"
     assert cli._uniqueness(result, threading.Event(), progress=False) is None
 
 

@@ -27,7 +27,8 @@ def test_millimetres_typed_for_metres_are_refused_with_the_remedy(tmp_path):
 def test_the_rate_is_the_largest_over_the_contact_points(paper_scene):
     """On a turning disc α = κ|ω|r is largest at the outer radius; the foundation's translation alone gives 0."""
     pad = ng.load_scene(PAD).replace(**{"mesh.maxh": 0.012, "time.steps": 20, "contact.wear": 1.6e-10})
-    alpha = Discretization(pad).contact.largest_alpha()
+    contact = Discretization(pad).contact
+    alpha = contact.alpha(contact.coefficients, contact.motion.largest_speed).max()
     assert k_alpha_slope(pad) == 0.0
     radius = max(np.hypot(*Discretization(pad).points.coords[:, :2].T))
     assert alpha == pytest.approx(pad.contact.wear * 50.0 * radius, rel=1e-12)

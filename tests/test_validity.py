@@ -21,7 +21,7 @@ from ngwear.numerics.plate import plate_modes
 from ngwear.numerics.strain import outer_facets, segments
 from ngwear.numerics.topology import facets
 from ngwear.results.recording import Recording
-from ngwear.results.validity import FAIL, THROUGH, WARN, WORN
+from ngwear.runs.validity import FAIL, THROUGH, WARN, WORN
 
 THICKNESS = 0.012 + 0.0055      # the pad's friction material and backing plate [m]
 PAD = {"mesh.maxh": 0.012, "time.T": 2.0, "time.steps": 2, "output.every": 2.0}
@@ -200,8 +200,8 @@ def test_a_resumed_run_says_the_worn_layer_once_from_its_first_time(paper_scene,
     whole = ngwear.simulate(scene, progress=False)
     stop, original = threading.Event(), Recording.append
 
-    def counting(recording, step):
-        original(recording, step)
+    def counting(recording, *step):
+        original(recording, *step)
         if len(recording.result.times) == 96:
             stop.set()
 

@@ -211,50 +211,6 @@ class Schedule:
         return tuple(ends[stop, 0] + (ends[stop, 1] - ends[stop, 0]) * phase for ends in (self.speed, self.load))
 
 
-class Drive:
-    """The factors s_v, s_F a run of a programme reads: those of the step it is at, set by the time loop.
-
-    ``at(i, j)``: stop i's step j (its factors on the stop's grid, the same bits for every stop of a block, whatever
-    the time); ``resting()``: between stops (no load, no sliding).
-    """
-
-    def __init__(self, schedule: Schedule):
-        self.schedule, self.stop, self.step = schedule, 0, 0
-        self.still = False
-
-    def at(self, stop: int, step: int) -> Drive:
-        self.stop, self.step, self.still = stop, step, False
-        return self
-
-    def resting(self) -> Drive:
-        self.still = True
-        return self
-
-    def speed(self, t: float | None = None) -> float:
-        """s_v at the step set (``t`` is not read: the step decides)."""
-        return self._factor(self.schedule.speed)
-
-    def load(self, t: float | None = None) -> float:
-        """s_F at the step set."""
-        return self._factor(self.schedule.load)
-
-    def _factor(self, ends: np.ndarray) -> float:
-        if self.still:
-            return 0.0
-        start, end = ends[self.stop]
-        return float(start + (end - start) * (self.step / self.schedule.steps))
-
-    @property
-    def largest_speed(self) -> float:
-        """Max |s_v| over the programme (its ramps are linear: their ends)."""
-        return float(np.abs(self.schedule.speed).max())
-
-    @property
-    def largest_load(self) -> float:
-        """Max |s_F| over the programme."""
-        return float(np.abs(self.schedule.load).max())
-
-
 # ---------------------------------------------------------------- the scene's [programme] table
 
 
@@ -354,6 +310,11 @@ class Programme(Section):
         return math.fsum(b.count * b.period for b in self.blocks)
 
     @property
+    def count(self) -> int:
+        """S, the number of stops."""
+        return sum(b.count for b in self.blocks)
+
+    @property
     def steps(self) -> int:
         """The time steps of the programme's stops, one after the other (its dwells take none)."""
-        return sum(b.count for b in self.blocks) * self.steps_per_stop
+        return self.count * self.steps_per_stop

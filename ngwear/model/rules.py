@@ -15,6 +15,8 @@ from .compliance import COMPLIANCES, largest_slope
 from .keys import SceneError, range_text
 from .kinds import KINDS, check_features, owners
 from .materials import LAWS, check_table
+from .wear_laws import WEAR_LAWS
+from .wear_laws import constants as wear_constants
 
 
 def check(scene) -> None:
@@ -137,6 +139,14 @@ def _check_contact(scene) -> None:
         if value != constant.default:       # another law's key
             raise SceneError(f"contact.{constant.name}: must be {constant.default:g} with contact.law = {c.law!r} "
                              f"(got {value!r})")
+    for constant in [k for k in wear_constants() if k not in WEAR_LAWS[c.wear_law].constants]:
+        value = getattr(c, constant.name)
+        if value != constant.default:       # another wear law's key
+            owner = next(law.name for law in WEAR_LAWS.values() if constant in law.constants)
+            shown = list(value) if isinstance(value, tuple) else value
+            raise SceneError(f"contact.{constant.name}: only with contact.wear_law = {owner!r} (got {shown} with "
+                             f"contact.wear_law = {c.wear_law!r})")
+    WEAR_LAWS[c.wear_law].check(c)
     slope = largest_slope(c)
     if slope is not None and not slope <= BIG:
         raise SceneError(f"contact.stiffness: the layer's largest slope L·e·g^(e−1) must be <= {BIG:g} (got L = "

@@ -22,6 +22,8 @@ from .kinds import KINDS, ordered
 from .materials import LAWS, constants, groups, lame
 from .programme import Programme
 from .thermal import HeatSpec
+from .wear_laws import WEAR_LAWS
+from .wear_laws import constants as wear_constants
 
 KindName = Literal[tuple(kind.name for kind in ordered())]
 Coefficient = float | str | tuple[float, ...] | Table
@@ -199,7 +201,19 @@ ContactLawKeys = create_model("ContactLawKeys", __base__=ContactLaw, __module__=
 """The compliance's keys: :class:`ContactLaw` and those the laws declare (:mod:`ngwear.model.compliance`)."""
 
 
-class Contact(ContactLawKeys):
+class WearLawKey(ContactLawKeys):
+    """The wear law of ``[contact]``; :data:`WearLawKeys` adds the laws' own keys (:mod:`ngwear.model.wear_laws`)."""
+
+    wear_law: Literal[tuple(WEAR_LAWS)] = key(next(iter(WEAR_LAWS)), "the wear law: " + ", ".join(
+        f"`{name}` {law.doc}" for name, law in WEAR_LAWS.items()), reuse=Level.NOTHING)
+
+
+WearLawKeys = create_model("WearLawKeys", __base__=WearLawKey, __module__=__name__,
+                           **{c.name: c.declaration() for c in wear_constants()})
+"""The wear law's keys: :class:`WearLawKey` and those the laws declare."""
+
+
+class Contact(WearLawKeys):
     """Normal compliance p, soft-layer thickness g, friction μ, wear κ, contact direction ν (a unit vector)."""
 
     gap: Number = key(0.2, "g, thickness of the soft layer", reuse=Level.NOTHING, gt=0)

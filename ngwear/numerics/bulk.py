@@ -11,7 +11,7 @@ with the load f − n(u): the fixed point u = G(u) of
 which :class:`Anderson` mixing accelerates (:func:`fixed_point`, the loop of the step solver and of the displacement's
 recovery from contact forces).  Its rate is set by the spread of K⁻¹F'(u):
 for the compaction law with K₀ (the compressed tangent) the tangent varies by (2η + d(λ + β))/(2η + dλ), so the
-step solver refactorises at the current state when the iteration is slow (:mod:`ngwear.runs.stepper`).
+step solver refactorises at the current state when the iteration is slow (:mod:`ngwear.runs.step`).
 """
 from __future__ import annotations
 

@@ -60,7 +60,7 @@ class Discretization:
     compliance's columns of the points in contact, :mod:`~ngwear.numerics.patch`) or ``auto``: dense up to
     ``operators.DENSE_LIMIT`` contact DOFs, or up to ``operators.SOFT_LIMIT`` when the layer is soft against the body
     (:meth:`layer_ratio` < 1); beyond, ``patch`` where the rigid body's patch is a part of Γ_C, else ``krylov``
-    (``numerics.problem.PATCH_SHARE``).
+    (``numerics.systems.PATCH_SHARE``).
 
     Parameters
     ----------
@@ -91,21 +91,17 @@ class Discretization:
         What the contact points read at each step: load factor, slip v*, α, μ n*, the compliance p.
     """
 
-    def __init__(self, scene: Scene, mesh: ngs.Mesh | None = None, contact_solve: str = "auto"):
+    def __init__(self, scene: Scene, mesh: ngs.Mesh | None = None, contact_solve: str = "auto", *,
+                 body: Body | None = None, elastic: Elastic | None = None, condensation: Condensation | None = None,
+                 loads: Loads | None = None):
         if contact_solve not in CONTACT_SOLVES:
             raise ValueError(f"contact_solve: must be auto, dense, krylov or patch (got {contact_solve!r})")
         self.scene, self.contact_solve = scene, contact_solve
-        self._assemble(Body(scene, mesh if mesh is not None else build_mesh(scene)))
-
-    def _assemble(self, body: Body, elastic: Elastic | None = None, condensation: Condensation | None = None,
-                  loads: Loads | None = None) -> None:
-        """Take the given pieces and make the missing ones (new pieces are empty: they build on first use)."""
-        scene = self.scene
-        self.body = body
-        self.elastic = elastic or Elastic(scene, body, schur=self._dense(scene, body))
-        self.condensation = condensation or Condensation(scene, body, self.elastic)
-        self.loads = loads or Loads(scene, body, self.elastic, self.condensation)
-        self.contact = Contact(scene, body.points, self.condensation.nu)
+        self.body = body if body is not None else Body(scene, mesh if mesh is not None else build_mesh(scene))
+        self.elastic = elastic or Elastic(scene, self.body, schur=self._dense(scene, self.body))
+        self.condensation = condensation or Condensation(scene, self.body, self.elastic)
+        self.loads = loads or Loads(scene, self.body, self.elastic, self.condensation)
+        self.contact = Contact(scene, self.body.points, self.condensation.nu)
 
     def reuse(self, scene: Scene) -> Reuse:
         """What a discretization of ``scene`` keeps of this one (see :class:`Reuse`; ``str()`` for a status line).
@@ -123,40 +119,33 @@ class Discretization:
         rebuilt = self.reuse(scene).rebuilt
         if rebuilt is Level.MESH:
             return Discretization(scene, contact_solve=self.contact_solve)
-        new = Discretization.__new__(Discretization)
-        new.scene, new.contact_solve = scene, self.contact_solve
-        kept = [piece if rebuilt > level else None for piece, level in
-                ((self.elastic, Level.STIFFNESS), (self.condensation, Level.DIRECTION), (self.loads, Level.LOADS))]
-        new._assemble(self.body if rebuilt > Level.SPACE else Body(scene, self.body.mesh), *kept)
-        return new
+        kept = {name: piece if rebuilt > level else None for name, piece, level in
+                (("elastic", self.elastic, Level.STIFFNESS), ("condensation", self.condensation, Level.DIRECTION),
+                 ("loads", self.loads, Level.LOADS))}
+        body = self.body if rebuilt > Level.SPACE else Body(scene, self.body.mesh)
+        return Discretization(scene, contact_solve=self.contact_solve, body=body, **kept)
 
     def moved(self, mesh: ngs.Mesh, regions: tuple[str, ...]) -> Discretization:
         """The discretization of ``mesh``: this one's elements, the vertices of ``regions`` moved (a geometry update).
 
         Everything is built anew on the moved mesh (the contact points, K and its factorisation, d₀, the loads, the
         plate) but what the move leaves: the space (on the same mesh object), the gradient blocks of the other regions
-        (those of the pad's backing plate: 10 of the 24 s of K's assembly at 323k DOFs) and K's ordering (the same
-        elements: METIS is skipped).
+        (those of a pad's backing plate) and K's ordering (the same elements: METIS is skipped).
         """
-        new = Discretization.__new__(Discretization)
-        new.scene, new.contact_solve = self.scene, self.contact_solve
-        built = vars(self.body).get("gradient_blocks")
+        built = self.body.kept("gradient_blocks")
         body = Body(self.scene, mesh, {region: blocks for region, blocks in built.built.items() if region not in regions}
                     if built is not None else None, like=self.body)
-        schur = new._dense(self.scene, body)
-        new._assemble(body, Elastic(self.scene, body, schur, ordering=None if schur else self.elastic.factored_ordering))
-        return new
+        schur = self._dense(self.scene, body)
+        elastic = Elastic(self.scene, body, schur, ordering=None if schur else self.elastic.factored_ordering)
+        return Discretization(self.scene, contact_solve=self.contact_solve, body=body, elastic=elastic)
 
     def tangent(self, state: np.ndarray, columns: dict | None = None) -> Discretization:
         """The discretization with K the laws' tangent at the displacement ``state``.
 
         A new factorisation, or an update of this one's (see :class:`~ngwear.numerics.pieces.Elastic`, ``columns``).
         """
-        new = Discretization.__new__(Discretization)
-        new.scene, new.contact_solve = self.scene, self.contact_solve
-        new._assemble(self.body, Elastic(self.scene, self.body, self.elastic.schur, state, base=self.elastic,
-                                         columns=columns))
-        return new
+        elastic = Elastic(self.scene, self.body, self.elastic.schur, state, base=self.elastic, columns=columns)
+        return Discretization(self.scene, contact_solve=self.contact_solve, body=self.body, elastic=elastic)
 
     def stages(self) -> list[tuple[str, callable]]:
         """(label, build) of what the condensed path still has to build before its first step (for a progress bar)."""
@@ -167,7 +156,7 @@ class Discretization:
             todo.append((self.condensation, "normal_rows", f"contact compliance ({self.points.n} points)"))
         todo += [(self.loads, "u_load", "loads"), (self.condensation, "plate", "plate")]
         return [(label, lambda piece=piece, name=name: getattr(piece, name))
-                for piece, name, label in todo if name not in vars(piece)]
+                for piece, name, label in todo if not piece.built(name)]
 
     # ---- shortcuts to the body ----------------------------------------------------------
     @property
@@ -211,15 +200,15 @@ class Discretization:
         size = len(body.contact_dofs)
         return not (size > DENSE_LIMIT or (size > SOFT_LIMIT and layer_ratio(scene, body) < 1.0))
 
-    def recover(self, forces: np.ndarray, t: float, plate: np.ndarray, nonlinear: bool = True) -> np.ndarray:
-        """Displacement DOF vector under the point forces f_c: u = s_F(t) K⁻¹ f + D δ − K⁻¹ Pᵀ f_c.
+    def recover(self, forces: np.ndarray, load: float, plate: np.ndarray, nonlinear: bool = True) -> np.ndarray:
+        """Displacement DOF vector under the point forces f_c and the loads' factor s_F: u = s_F K⁻¹ f + D δ − K⁻¹ Pᵀ f_c.
 
         One back-substitution for a linear body (or ``nonlinear=False``: the part a step solver adds to); with a
         nonlinear material the fixed point u = that − K⁻¹ n(u) (:mod:`ngwear.numerics.bulk`), solved to the
         Newton tolerance.
         """
         solve = self.elastic.operator.solve
-        u = self.contact.load_factor(t) * self.loads.u_load - solve(self.points.P.T @ forces.ravel())
+        u = load * self.loads.u_load - solve(self.points.P.T @ forces.ravel())
         coupling = self.condensation.plate
         u = u if coupling is None else u + coupling.response @ plate
         if not nonlinear or self.elastic.linear:

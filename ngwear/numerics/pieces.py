@@ -33,7 +33,19 @@ LOW_RANK = 32
 """Most kink points whose branch a tangent may change against a factorised K before it is factorised itself."""
 
 
-class Body:
+class Lazy:
+    """A piece whose members (``cached_property``) are built on first use and kept: :meth:`built` says which are."""
+
+    def built(self, name: str) -> bool:
+        """Whether the member ``name`` has been built (a cached_property keeps its value in the instance)."""
+        return name in self.__dict__
+
+    def kept(self, name: str):
+        """The member ``name`` if it has been built, else None (without building it)."""
+        return self.__dict__.get(name)
+
+
+class Body(Lazy):
     """Mesh, displacement space (clamped on the Dirichlet and plate boundaries) and contact points.
 
     ``blocks``: gradient blocks kept from a body of the same elements, by region (see :class:`GradientBlocks`).
@@ -45,9 +57,9 @@ class Body:
         self.mesh, self._blocks, self._patterns = mesh, blocks, None
         if like is not None and like.mesh is mesh:
             self.fes, self.free = like.fes, like.free
-            if "gradient_blocks" in vars(like):
+            if like.built("gradient_blocks"):
                 self._patterns = like.gradient_blocks.patterns
-            if "outer_facets" in vars(like):
+            if like.built("outer_facets"):
                 self.outer_facets = like.outer_facets
         else:
             self.fes = displacement_space(mesh, scene)
@@ -103,7 +115,7 @@ class Body:
         gf.vec.FV().NumPy()[:] = self.points.Q @ values
 
 
-class Elastic:
+class Elastic(Lazy):
     """The laws of the body's regions, a stiffness K and its factorisation.
 
     K is the laws' tangent at ε = 0 (K₀: for linear laws the stiffness), or with ``state`` their tangent at that
@@ -122,7 +134,7 @@ class Elastic:
         self.changed = np.zeros(0, dtype=int)   # the kink points whose branch differs from the root's
         if base is not None:                # a tangent shares K_lin and the kink of the operator it follows
             for name in ("kink", "linear_stiffness"):
-                if name in vars(base):
+                if base.built(name):
                     setattr(self, name, getattr(base, name))
             changed = None if self.kink is None else np.flatnonzero(self.branches != base.root.branches)
             if changed is not None and len(changed) <= LOW_RANK:
@@ -206,7 +218,7 @@ class Elastic:
     @property
     def factored_ordering(self) -> np.ndarray | None:
         """The ordering K's factorisation took (None before it is built, and with the Schur complement)."""
-        operator = vars(self.root).get("operator")
+        operator = self.root.kept("operator")
         return None if operator is None else operator.ordering
 
     @property
@@ -215,7 +227,7 @@ class Elastic:
         return self.branches[self.changed].astype(float) - self.root.branches[self.changed]
 
 
-class Condensation:
+class Condensation(Lazy):
     """What the contact direction ν adds to the factorised body: N, d₀, the rows ν·G and the plate's coupling."""
 
     def __init__(self, scene: Scene, body: Body, elastic: Elastic):
@@ -296,7 +308,7 @@ class Condensation:
         return rigid
 
 
-class Loads:
+class Loads(Lazy):
     """The loads at unit time factor: f, K⁻¹f, its normal part at the points, and their work on the plate."""
 
     def __init__(self, scene: Scene, body: Body, elastic: Elastic, condensation: Condensation):

@@ -50,7 +50,7 @@ class NewtonRecord:
     """History of one step's Newton solve.
 
     ``cutbacks``: the load continuations tried before the step converged (or before it was given up),
-    each cutting the step's load change into m = 2, 4, 8 parts (``runs.stepper.Stepper``); the
+    each cutting the step's load change into m = 2, 4, 8 parts (:mod:`ngwear.runs.step`); the
     other fields are those of the last solve.
     A nonlinear material's step: ``bulk`` iterations of its fixed point, ``tangents`` factorised in the run so far.
     """

@@ -1,17 +1,20 @@
-"""Wear integrators for Archard's law  w' = α p(u_ν − d₀ − w),  α = κ‖v*‖,  w(0) = 0.
+"""Wear integrators for the wear law  w' = α g(p(u_ν − d₀ − w)),  α = α(κ, μ, ‖v*‖),  w(0) = 0.
 
-Every integrator writes step j as the nodal relation  w_j = a_j + c_j p(z_j − w_j)  with
-z_j = s_j − d₀ known only once step j is solved, so the solver sees the effective law
-p_j(z) = p(z − W(z)) with  W(z) = a + c p(z − W)  and  dp_j/dz = p'/(1 + c p'):
+Archard's law (the paper's) is α = κ‖v*‖, g(p) = p; the laws are declared in :mod:`ngwear.model.wear_laws`.  Every
+integrator writes step j as the nodal relation  w_j = a_j + c_j g(p(z_j − w_j))  with z_j = s_j − d₀ known only
+once step j is solved, so the solver sees the effective law p_j(z) = p(z − W(z)) with  W(z) = a + c g(p(z − W))
+and  dp_j/dz = p'/(1 + c g'(p) p'):
 
 with α = α_i per contact point (a rotating counterface slides faster away from its axis):
 
-* ``explicit`` (paper eq. 15):  a_j = w_{j−1} + k α_{j−1} p_{j−1},  c_j = 0  (first order;
-  for p = L r₊ stable for k α L < 2, oscillating for k α L > 1);
+* ``explicit`` (paper eq. 15):  a_j = w_{j−1} + k α_{j−1} g(p_{j−1}),  c_j = 0  (first order;
+  for p = L r₊ and Archard's law stable for k α L < 2, oscillating for k α L > 1);
 * ``implicit`` (backward Euler):  a_j = w_{j−1},  c_j = k α_j  (first order, unconditionally stable);
-* ``trapezoidal``:  a_j = w_{j−1} + k/2 α_{j−1} p_{j−1},  c_j = k/2 α_j  (second order).
+* ``trapezoidal``:  a_j = w_{j−1} + k/2 α_{j−1} g(p_{j−1}),  c_j = k/2 α_j  (second order).
 """
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -26,20 +29,24 @@ INTEGRATORS = {
 }
 
 
-def worn(law: Compliance, a: np.ndarray, c: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """W(z) solving W = a + c p(z − W) nodewise (W = a where z ≤ a or c = 0)."""
+def worn(law: Compliance, a: np.ndarray, c: np.ndarray, z: np.ndarray, wear_law=None) -> np.ndarray:
+    """W(z) solving W = a + c g(p(z − W)) nodewise (W = a where z ≤ a or c = 0); g the wear law's (default: p)."""
     if not np.any(c):
         return a
     r0 = z - a
-    if law.is_linear:
+    linear = wear_law is None or wear_law.linear
+    if law.is_linear and linear:
         return a + c * law.stiffness * np.maximum(r0, 0.0) / (1 + c * law.stiffness)
+    g, dg = (lambda p: p, lambda p: 1.0) if linear else (wear_law.g, wear_law.dg)
     lo, hi = a.copy(), np.maximum(z, a)
-    w = a + c * law(r0) / (1 + c * law.derivative(r0))  # one Newton step from W = a
+    p0 = law(r0)
+    w = a + c * g(p0) / (1 + c * dg(p0) * law.derivative(r0))  # one Newton step from W = a
     w = np.clip(w, lo, hi)
     for _ in range(60):
-        h = w - a - c * law(z - w)
+        p = law(z - w)
+        h = w - a - c * g(p)
         lo, hi = np.where(h < 0, w, lo), np.where(h > 0, w, hi)
-        w_new = w - h / (1 + c * law.derivative(z - w))
+        w_new = w - h / (1 + c * dg(p) * law.derivative(z - w))
         bad = (w_new <= lo) | (w_new >= hi)
         w_new[bad] = 0.5 * (lo + hi)[bad]
         if np.all(np.abs(w_new - w) <= 1e-15 * (1 + np.abs(w))):
@@ -48,44 +55,63 @@ def worn(law: Compliance, a: np.ndarray, c: np.ndarray, z: np.ndarray) -> np.nda
     return w
 
 
-class WearIntegrator:
-    """Advances the nodal wear by one of the schemes of :data:`INTEGRATORS` (any step size k each step)."""
+@dataclass(frozen=True)
+class WearStep:
+    """One step's nodal wear relation w_j = a + c g(p(z − w_j)) (:meth:`WearIntegrator.step`)."""
 
-    def __init__(self, name: str, law: Compliance, n: int):
-        self.law = law
-        self.theta_old, self.theta_new = INTEGRATORS[name]
-        self.a, self.c = np.zeros(n), np.zeros(n)
+    a: np.ndarray
+    c: np.ndarray
+    law: Compliance
+    wear_law: object = None
 
     def point_law(self) -> PointLaw:
-        """The effective law p_j(z) the solver uses at the current step."""
-        law, a, c = self.law, self.a, self.c
+        """The effective law p_j(z) the solver uses at this step."""
+        law, a, c, wear_law = self.law, self.a, self.c, self.wear_law
         if not c.any():
             return PointLaw(lambda z: law(z - a), lambda z: law.derivative(z - a))
-        if law.is_linear:  # closed form p = L (z − a)₊ / (1 + c L), free of cancellation in z − W
+        linear = wear_law is None or wear_law.linear
+        if law.is_linear and linear:  # closed form p = L (z − a)₊ / (1 + c L), free of cancellation in z − W
             scale = law.stiffness / (1 + c * law.stiffness)
             return PointLaw(lambda z: scale * np.maximum(z - a, 0.0), lambda z: np.where(z >= a, scale, 0.0))
 
         def derivative(z):
-            dp = law.derivative(z - worn(law, a, c, z))
-            return dp / (1 + c * dp)
-        return PointLaw(lambda z: law(z - worn(law, a, c, z)), derivative)
+            r = z - worn(law, a, c, z, wear_law)
+            dp = law.derivative(r)
+            return dp / (1 + c * dp) if linear else dp / (1 + c * wear_law.dg(law(r)) * dp)
+        return PointLaw(lambda z: law(z - worn(law, a, c, z, wear_law)), derivative)
 
     def wear_at(self, z: np.ndarray) -> np.ndarray:
         """w_j for the solved z_j."""
-        return worn(self.law, self.a, self.c, z)
+        return worn(self.law, self.a, self.c, z, self.wear_law)
 
-    def prepare(self, w: np.ndarray, pressure: np.ndarray, alpha: np.ndarray, alpha_next: np.ndarray,
-                k: float) -> None:
-        """Prepare the step of size k from w_j, p_j and α_j, α_{j+1} (per contact point)."""
-        self.a = w + self.theta_old * k * alpha * pressure if self.theta_old and alpha.any() else w
-        self.c = self.theta_new * k * alpha_next
+
+@dataclass(frozen=True)
+class WearIntegrator:
+    """One of the schemes of :data:`INTEGRATORS` for the compliance p and the wear law (any step size k each step)."""
+
+    name: str
+    law: Compliance
+    wear_law: object = None
+
+    def step(self, w: np.ndarray, pressure: np.ndarray, alpha: np.ndarray, alpha_next: np.ndarray,
+             k: float) -> WearStep:
+        """The step of size k from w_j, p_j and α_j, α_{j+1} (per contact point)."""
+        theta_old, theta_new = INTEGRATORS[self.name]
+        if theta_old and alpha.any():
+            g = pressure if self.wear_law is None or self.wear_law.linear else self.wear_law.g(pressure)
+            w = w + theta_old * k * alpha * g
+        return WearStep(w, theta_new * k * alpha_next, self.law, self.wear_law)
+
+    def rest(self, w: np.ndarray) -> WearStep:
+        """A step that wears nothing from w (a programme's crossing of a dwell, step 0 of a run)."""
+        return WearStep(w, np.zeros_like(w), self.law, self.wear_law)
 
 
 def stable_step(scene, rate: float) -> float:
     """The largest step at which the wear update does not overshoot: 1/(αL_p) explicit, 2/(αL_p) trapezoidal.
 
-    ``rate``: the largest α_i L_p,i (:meth:`Discretization.largest_rate`), L_p,i the largest slope of p_i over
-    [0, g] and α_i = κ_i‖v*_i‖ over the points and time.  Implicit: no limit (inf).
+    ``rate``: the largest α_i g'(p(g)) L_p,i over the points and time (:meth:`Contact.largest_rate`), L_p,i the
+    largest slope of p_i over [0, g].  Implicit: no limit (inf).
     """
     limit = {"explicit": 1.0, "trapezoidal": 2.0, "implicit": np.inf}[scene.wear.integrator]
     return limit / rate if rate > 0 else np.inf

@@ -35,50 +35,53 @@ KEYS = ("scene", "x", "lam", "step", "contact_points", "weights", "newton_iterat
 """What every checkpoint holds (older ones have no ``rows``, ``history``, ``checksums``, ``mesh_sha256``)."""
 
 
-def write_checkpoint(folder, result: Result) -> Path:
-    """Write (or replace) the checkpoint of ``result`` (its recording's ``continuation``) in ``folder``; the mesh, once.
+def write_checkpoint(folder, result: Result, recording: Recording | None = None,
+                     continuation: dict[str, np.ndarray] | None = None) -> Path:
+    """Write (or replace) the checkpoint of a run in ``folder``: its record and its continuation; the mesh, once.
 
-    Rows kept elsewhere (in memory: the explorer's runs) are copied into a new history folder of ``folder``;
-    the history folders of earlier runs there go once this checkpoint names another.
+    ``continuation``: the solver's warm start ``x``, ``lam``, the adaptive clock's next ``step`` and the heat's and
+    the moved surface's state (:meth:`~ngwear.runs.loop.Run.continuation`; default: the finished run's,
+    ``result.continuation``).  ``recording``: where the run's rows are (default: the result's rows, in memory).  Rows
+    kept elsewhere (in memory: the explorer's runs) are copied into a new history folder of ``folder``; the history
+    folders of earlier runs there go once this checkpoint names another.
     """
-    x, lam, step = result.recording.continuation
-    folder, history, rows = Path(folder), result.recording.history, len(result.times)
+    recording = recording or Recording(result, History(dict(result.rows)))
+    continuation = result.continuation if continuation is None else continuation
+    folder, history, rows = Path(folder), recording.history, len(result.times)
     if not history.is_in(folder):
         history = history.moved(folder, rows)
     mesh = keep_mesh(result, folder)
     history.flush()
     with replacing(folder / CHECKPOINT) as tmp:
-        np.savez(tmp, **result.header(), **_heat(result), **_moved(result), rows=np.array(rows),
-                 history=np.array(history.folder.name),
+        np.savez(tmp, **result.header(), **continuation, **_temperatures(result), **_moved(result),
+                 rows=np.array(rows), history=np.array(history.folder.name),
                  checksums=np.array(json.dumps(history.checksums(rows))), mesh_sha256=np.array(mesh),
-                 x=x, lam=lam, step=np.array(step), scene=np.array(json.dumps(result.scene.to_dict())))
+                 scene=np.array(json.dumps(result.scene.to_dict())))
     remove_others(folder, history.folder)
     return folder / CHECKPOINT
 
 
-def _heat(result: Result) -> dict[str, np.ndarray]:
-    """The heating's state (``heat_*``) and the kept nodal temperatures of a run with heat (none else)."""
-    if result.heating is None or result.heating.heat is None:
-        return {} if result.heating is None else result.heating.state
+def _temperatures(result: Result) -> dict[str, np.ndarray]:
+    """The kept nodal temperatures of a run with heat (none else)."""
+    if result.scene.heat.model == "none":
+        return {}
     steps = sorted(result.temperatures)
-    return {**result.heating.state, "temperature_steps": np.array(steps, dtype=int),
+    return {"temperature_steps": np.array(steps, dtype=int),
             "temperature_fields": np.array([result.temperatures[s] for s in steps])}
 
 
 def _moved(result: Result) -> dict[str, np.ndarray]:
-    """What a run that moved its worn surface needs to go on (none before the first update).
+    """What a run that moved its worn surface keeps of its record to go on (none before the first update).
 
-    The :class:`~ngwear.runs.life.Surface`'s state (X₀, W, the vertices now, exact: ``mesh.vol`` is not), the bodies
-    its frames show (:attr:`Result.meshes`) and the displacements recovered on an earlier body (up to the last update).
+    The bodies its frames show (:attr:`Result.meshes`) and the displacements recovered on an earlier body (up to the
+    last update); the surface's own state is the continuation's (:attr:`~ngwear.runs.surface.Surface.state`).
     """
-    if not result.geometry_updates or result.surface is None:
+    if not result.geometry_updates:
         return {}
     steps = sorted(j for j in result.fields if j <= result.removed_rows[-1])
     meshes = sorted(result.meshes)
-    return {**result.surface.state, "body_meshes": np.array(meshes, dtype=int),
-            "body_coordinates": np.array([result.meshes[k] for k in meshes]),
-            "moved_steps": np.array(steps, dtype=int),
-            "moved_fields": np.array([result.fields[j] for j in steps])}
+    return {"body_meshes": np.array(meshes, dtype=int), "body_coordinates": np.array([result.meshes[k] for k in meshes]),
+            "moved_steps": np.array(steps, dtype=int), "moved_fields": np.array([result.fields[j] for j in steps])}
 
 
 def saved_scene(folder) -> Scene:
@@ -238,22 +241,23 @@ class Saver:
         self.full: OSError | None = None
         self.rows = rows                    # the steps the last checkpoint written (or read, resuming) keeps
 
-    def maybe(self, result: Result) -> bool:
-        """Checkpoint if it is time; whether the run may go on."""
+    def maybe(self, recording: Recording, continuation) -> bool:
+        """Checkpoint if it is time (``continuation()``: what it needs besides the record); whether the run may go on."""
         if self.folder is not None and self.seconds > 0 and time.perf_counter() - self.last >= self.seconds:
-            self.write(result)
+            self.write(recording, continuation)
         return self.full is None
 
-    def write(self, result: Result) -> None:
-        if self.folder is not None and result.recording.continuation is not None:
+    def write(self, recording: Recording, continuation) -> None:
+        """Write the checkpoint now (not before step 0: nothing to go on from)."""
+        if self.folder is not None and len(recording.result.times):
             try:
-                write_checkpoint(self.folder, result)
+                write_checkpoint(self.folder, recording.result, recording, continuation())
             except OSError as err:
                 if not no_space(err):
                     raise
                 self.full = err
                 return
-            self.last, self.rows = time.perf_counter(), len(result.times)
+            self.last, self.rows = time.perf_counter(), len(recording.result.times)
 
     def kept(self, result: Result) -> str:
         """What a run stopped by a full disk keeps, in one line."""

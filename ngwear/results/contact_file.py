@@ -18,8 +18,6 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from ..model.kinematics import Slip
-
 CELL_TYPES = {(2, 1): 3, (2, 2): 21, (3, 1): 5, (3, 2): 22, (4, 1): 9, (4, 2): 23}
 """VTK cell types by (corners, order): line, quadratic edge, triangle, quadratic triangle, quad, quadratic quad."""
 
@@ -28,13 +26,15 @@ CELL_TYPES = {(2, 1): 3, (2, 2): 21, (3, 1): 5, (3, 2): 22, (4, 1): 9, (4, 2): 2
 class ContactField:
     """One point field of the contact file: its name, quantity (:mod:`ngwear.results.units`), meaning and values.
 
-    ``values(result, step)``: an array (n,) or (n, d) at the contact points.
+    ``values(result, step)``: an array (n,) or (n, d) at the contact points, the step's own (what it was solved with);
+    ``heat``: only in runs with a temperature.
     """
 
     name: str
     quantity: str | None
     doc: str
     values: Callable
+    heat: bool = False
 
 
 def _displacement(result, step):
@@ -43,18 +43,34 @@ def _displacement(result, step):
 
 
 def _slip_rate(result, step):
-    return Slip(result.scene.foundation, result.contact_points, result.scene.contact.direction).speeds(
-        result.times[step])
+    return result.motion.speeds(result.speed_factor[step])
+
+
+def _coefficient(row: str, fixed: str):
+    """A contact coefficient of the step: its row (a coefficient of the state), else the run's fixed field."""
+    def values(result, step):
+        return result.rows[row][step] if row in result.rows else getattr(result, fixed)
+    return values
 
 
 CONTACT_FIELDS = (
     ContactField("displacement", "length", "u (for ParaView's Warp By Vector, as the frame's)", _displacement),
     ContactField("pressure", "pressure", "p, the compliance's pressure", lambda r, j: r.pressure[j]),
     ContactField("reaction", "pressure", "λ, the rigid reaction where u_ν − d₀ = g", lambda r, j: r.reaction[j]),
-    ContactField("wear", "length", "w", lambda r, j: r.wear[j]),
-    ContactField("slip_rate", "velocity", "‖v*‖, the foundation's slip speed at the step's time", _slip_rate),
-    ContactField("friction", None, "μ (`contact.friction`)", lambda r, j: r.friction_coefficient),
-    ContactField("wear_coefficient", "wear coefficient", "κ (`contact.wear`)", lambda r, j: r.wear_coefficient),
+    ContactField("wear", "length", "w, the layer's wear (since the last geometry update in `\"surface\"` runs)",
+                 lambda r, j: r.wear[j]),
+    ContactField("total_wear", "length", "all the material removed: w and what the geometry updates moved into the "
+                                         "body", lambda r, j: r.total_wear_at(j)),
+    ContactField("remaining_thickness", "length", "the worn region's thickness left under the point",
+                 lambda r, j: r.remaining_thickness_of(r.total_wear_at(j))),
+    ContactField("slip_rate", "velocity", "‖v*‖, the foundation's slip speed at the step (its speed factor s_v)",
+                 _slip_rate),
+    ContactField("friction", None, "μ of the step (`contact.friction`, at the last step's state where it depends on "
+                                   "it)", _coefficient("step_friction", "friction_coefficient")),
+    ContactField("wear_coefficient", "wear coefficient", "κ of the step (`contact.wear`, as μ)",
+                 _coefficient("step_wear_coefficient", "wear_coefficient")),
+    ContactField("temperature", "temperature", "T at the contact point at the step's end (`heat`)",
+                 lambda r, j: r.surface_temperature[j], heat=True),
 )
 """The contact file's point fields, in its order."""
 
@@ -118,7 +134,8 @@ def write_contact(result, step: int, face: Surface, path: Path) -> None:
     import pyvista as pv
 
     grid = pv.UnstructuredGrid(face.cells, face.points)
-    for field in CONTACT_FIELDS:
+    heated = result.scene.heat.model != "none"
+    for field in (f for f in CONTACT_FIELDS if heated or not f.heat):
         values = face.values(np.asarray(field.values(result, step), dtype=float))
         grid.point_data[field.name] = np.pad(values, ((0, 0), (0, 3 - values.shape[1]))) if values.ndim == 2 else values
     grid.save(path)

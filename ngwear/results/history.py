@@ -96,6 +96,11 @@ class History:
         _reserve(path, capacity * 8 * int(np.prod(shape, dtype=int)))
         return np.memmap(path, dtype=np.float64, mode="r+", shape=(capacity, *shape))
 
+    def reserve(self, row: int) -> None:
+        """Room for ``row`` in every array (doubling their capacity when full): OSError on a full disk, else room."""
+        if any(len(buffer) <= row for buffer in self.buffers.values()):
+            self._grow(2 * (row + 1))
+
     def put(self, name: str, row: int, value) -> np.ndarray:
         """Write ``value`` into ``row`` (doubling the capacity of every array when full); the rows up to it."""
         if len(self.buffers[name]) <= row:

@@ -12,8 +12,9 @@ With z = u_ν − d₀ at the contact points, g the layer, w the wear, p the pre
   solver drives it to g·tolerance (an active point sits at z = g exactly);
 * ``wear_sign`` (−w)₊ / g and ``wear_monotone`` (w_j − w_{j+1})₊ / g;
 * ``pressure_law``: |p − p(z − w)| / max p, beyond the round-off of forming z − w;
-* ``archard``: the integrator's nodal update |w_{j+1} − w_j − k κ (θ_old ‖v*_j‖ p_j + θ_new ‖v*_{j+1}‖ p_{j+1})| / g
-  (κ of the step j + 1: a coefficient of state is read at step j's state);
+* ``archard``: the integrator's nodal update |w_{j+1} − w_j − k (θ_old α_j g(p_j) + θ_new α_{j+1} g(p_{j+1}))| / g
+  of the wear law w' = α g(p) (:mod:`ngwear.model.wear_laws`; α of the coefficients of step j + 1 at the speeds of
+  steps j and j + 1: a coefficient of state is read at step j's state);
 * ``wear_le_penetration``: (w_j − max_{m≤j} (z_m)₊)₊ / g, where the update is monotone
   (:func:`wear_bounded`).  The exact wear never passes the largest penetration reached so far
   (w' > 0 only while z > w); after lift-off w > z is physical, so the bound is the running maximum.
@@ -74,11 +75,12 @@ def allowances(scene) -> dict[str, float]:
 
 @dataclass(frozen=True)
 class Row:
-    """The last checked step: its time, wear, ‖v*‖ p (read at its own stop) and the running maximum of (z)₊ up to it."""
+    """The last checked step: its time, wear, pressure, slip speeds ‖v*‖ and the running maximum of (z)₊ up to it."""
 
     t: float
     w: np.ndarray
-    vp: np.ndarray
+    p: np.ndarray
+    v: np.ndarray
     peak: np.ndarray | float
 
 
@@ -95,23 +97,27 @@ class Checker:
         self.d0 = disc.condensation.d0[None, :]
         self.height = float(np.abs(disc.condensation.d0).max(initial=0.0)) + self.g
 
-    def scale(self, times: np.ndarray) -> np.ndarray:
-        """S_j, the length scale of Newton's merit at t_j."""
-        factors = np.abs([self.disc.contact.load_factor(t) for t in times])
-        return np.maximum(factors * self.s_load, self.g)
+    def scale(self, loads: np.ndarray) -> np.ndarray:
+        """S_j, the length scale of Newton's merit at the loads' factors s_F of the rows."""
+        return np.maximum(np.abs(loads) * self.s_load, self.g)
 
-    def violations(self, times, w, s, p, lam, before: Row | None = None, halves: bool = True,
-                   kappa: np.ndarray | None = None) -> dict[str, float]:
+    def speeds(self, factors) -> np.ndarray:
+        """‖v*(x_i)‖ at the rows' speed factors s_v (rows × points)."""
+        return self.disc.contact.motion.speeds(np.asarray(factors, dtype=float))
+
+    def violations(self, times, w, s, p, lam, speed, load, before: Row | None = None, halves: bool = True,
+                   kappa: np.ndarray | None = None, friction: np.ndarray | None = None) -> dict[str, float]:
         """The invariants over rows (steps × points); ``before``: the step before the first row (None: none).
 
-        ``halves``: also ``reaction_sign``, which ``contact`` bounds (|min(a, b)| ≥ a₋).  ``kappa``: the κ_i each
-        row's step was solved with (coefficients of state, rows × points); None: the contact's current κ.  The
-        update from t_j to t_{j+1} is k κ_{j+1} (θ_old ‖v*(t_j)‖ p_j + θ_new ‖v*(t_{j+1})‖ p_{j+1}).
+        ``speed``, ``load``: the rows' factors s_v, s_F.  ``halves``: also ``reaction_sign``, which ``contact``
+        bounds (|min(a, b)| ≥ a₋).  ``kappa``, ``friction``: the κ_i, μ_i each row's step was solved with
+        (coefficients of state, rows × points); None: the contact's fixed coefficients.  The update from t_j to t_{j+1}
+        is k (θ_old α(κ_{j+1}, μ_{j+1}, ‖v*_j‖) g(p_j) + θ_new α(κ_{j+1}, μ_{j+1}, ‖v*_{j+1}‖) g(p_{j+1})).
         """
         if not all(np.isfinite(a).all() for a in (w, s, p, lam)):
             return {"finite": math.inf}
         g, z = self.g, s - self.d0
-        scale = self.scale(times)[:, None]
+        scale = self.scale(load)[:, None]
         roundoff = 16 * EPS * (float(np.abs(s).max(initial=0.0)) + self.height) / scale   # of z, g − z and λ/c
         out = {"finite": 0.0,
                "contact": _excess(np.abs(np.minimum(lam * self.inverse_c, g - z)) / scale, roundoff),
@@ -120,26 +126,29 @@ class Checker:
         out["gap"] = _excess((z - g) / g, 16 * EPS * (np.abs(s) + self.height) / g)
         if halves:
             out["reaction_sign"] = _excess(-lam * self.inverse_c / scale, roundoff)
-        contact = self.disc.contact
-        rate = self.speeds(times) * p
+        v = self.speeds(speed)
         if before is not None:
-            times, w, rate = np.r_[before.t, times], np.vstack([before.w, w]), np.vstack([before.vp, rate])
+            times, w, p, v = np.r_[before.t, times], np.vstack([before.w, w]), np.vstack([before.p, p]), \
+                np.vstack([before.v, v])
         if len(times) > 1:
             dw = np.diff(w, axis=0)
-            old, new = self.theta
-            coefficient = contact.coefficients_at(times[-1]).wear if kappa is None else kappa[len(kappa) - len(dw):]
-            update = np.diff(times)[:, None] * coefficient * (old * rate[:-1] + new * rate[1:])
             out["wear_monotone"] = max(-float(dw.min(initial=0.0)), 0.0) / g
-            out["archard"] = float(np.abs(dw - update).max(initial=0.0)) / g
+            out["archard"] = float(np.abs(dw - self._update(times, p, v, kappa, friction)).max(initial=0.0)) / g
         if self.bounded:
             peak = 0.0 if before is None else before.peak
             reached = np.maximum.accumulate(np.maximum(np.maximum(z, 0), peak), axis=0)
             out["wear_le_penetration"] = max(float((w[len(w) - len(z):] - reached).max(initial=0.0)), 0.0) / g
         return out
 
-    def speeds(self, times) -> np.ndarray:
-        """‖v*(x_i, t)‖ of each of ``times`` (rows × points)."""
-        return np.array([self.disc.contact.slip.speeds(t) for t in times])
+    def _update(self, times, p, v, kappa, friction) -> np.ndarray:
+        """K (θ_old α_old g(p_j) + θ_new α_new g(p_{j+1})) of each step (rows − 1 × points)."""
+        contact, (old, new) = self.disc.contact, self.theta
+        law, rows = contact.wear_law, len(times) - 1
+        fixed = contact.coefficients
+        k = kappa[len(kappa) - rows:] if kappa is not None else fixed.wear
+        mu = friction[len(friction) - rows:] if friction is not None else fixed.friction
+        gp = law.g(p)
+        return np.diff(times)[:, None] * (old * law.alpha(k, mu, v[:-1]) * gp[:-1] + new * law.alpha(k, mu, v[1:]) * gp[1:])
 
     def _pressure_law(self, z, w, p) -> float:
         """The largest |p − p(z − w)| / max p beyond the round-off of z − w, which p amplifies by its slope (L = 1e12)."""
@@ -170,7 +179,8 @@ def invariants(result) -> dict[str, float]:
         return {"finite": 0.0}
     checker = Checker(result.scene, result.discretization)
     return checker.violations(result.times, result.wear, result.normal_displacement, result.pressure, result.reaction,
-                              kappa=result.rows.get("step_wear_coefficient"))
+                              result.speed_factor, result.load_factor, kappa=result.rows.get("step_wear_coefficient"),
+                              friction=result.rows.get("step_friction"))
 
 
 def worst(result, violations: dict[str, float]) -> tuple[str, float]:
@@ -178,37 +188,6 @@ def worst(result, violations: dict[str, float]) -> tuple[str, float]:
     allowed = allowances(result.scene)
     name = max(violations, key=lambda k: violations[k] / allowed[k])
     return name, violations[name]
-
-
-class StepCheck:
-    """The invariants of each step as it is recorded (the time loop): the new row after the last one, O(n).
-
-    It carries the last row and the running maximum of (z)₊ (read from the rows kept when a run resumes).
-    """
-
-    def __init__(self, result):
-        self.checker = checker = Checker(result.scene, result.discretization)
-        self.last = None
-        if len(result.times):
-            peak = np.maximum(result.normal_displacement - checker.d0, 0).max(axis=0)
-            t = result.times[-1]
-            self.last = Row(t, result.wear[-1], checker.speeds([t])[0] * result.pressure[-1], peak)
-
-    def __call__(self, t: float, w, s, p, lam) -> tuple[str, float] | None:
-        """The worst broken invariant of the step ending at t (None: all hold, and the step becomes the last)."""
-        checker = self.checker
-        broken = checker.broken(checker.violations(np.array([t]), w[None, :], s[None, :], p[None, :], lam[None, :],
-                                                   self.last, halves=False))
-        if broken is None:
-            peak = np.maximum(s - checker.disc.condensation.d0, 0)
-            self.last = Row(t, w, checker.speeds([t])[0] * p,
-                            peak if self.last is None else np.maximum(self.last.peak, peak))
-        return broken
-
-
-    def cross(self, t: float, w: np.ndarray) -> None:
-        """The next step crosses a programme's dwell to t: from the wear ``w`` (a jump's added), no wear across it."""
-        self.last = Row(t, w, np.zeros_like(w), self.last.peak)
 
 
 def overshoot(result) -> float:

@@ -1,37 +1,34 @@
-"""A run recording itself: each step's row into its :class:`~ngwear.results.result.Result`, kept to go on from.
+"""A run recording itself: each step's row into its :class:`~ngwear.results.result.Result`.
 
 :meth:`Recording.start` makes a run's empty result with room for its rows, in memory or (an output folder) in mapped
-files there (:mod:`ngwear.results.history`); :meth:`Recording.append` records one :class:`StepRecord`; the
-recording keeps the solver's warm start to go on from the last step (``continuation``, what a checkpoint writes)
-and the bookkeeping of a run that stops: a failed step (:meth:`~Recording.fail`), an interrupt (even one inside
-:meth:`~Recording.append`: :meth:`~Recording.settle`), rows moved to another folder (:meth:`~Recording.keep_in`).
+files there (:mod:`ngwear.results.history`); :meth:`Recording.append` records the row of a step's state; the
+recording keeps the bookkeeping of a run that stops: a failed step (:meth:`~Recording.fail`), an interrupt (even one
+inside :meth:`~Recording.append`: :meth:`~Recording.settle`), rows moved to another folder
+(:meth:`~Recording.keep_in`), and a geometry update that moves the last row's wear into the body
+(:meth:`~Recording.moved`).
 """
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 import numpy as np
 
 from ..numerics.solver import NewtonRecord
+from ..numerics.topology import coordinates
 from .folder import NoSpace, no_space
 from .history import History
 from .provenance import provenance
 from .result import Result, output_times, row_shapes
 
 
-@dataclass(frozen=True)
-class StepRecord:
-    """One completed step: its Newton record and its row of each recorded field, by name.
-
-    The fields are those of :data:`~ngwear.results.step_fields.RECORDED` that the run records, each given once.
-    """
-
-    rows: dict
-    newton: NewtonRecord
+def step_rows(state) -> dict[str, np.ndarray]:
+    """The rows every run records of a step's state (:data:`~ngwear.results.step_fields.RECORDED`)."""
+    instant = state.instant
+    return {"times": instant.t, "speed_factor": instant.speed, "load_factor": instant.load, "wear": state.wear,
+            "normal_displacement": state.normal, "pressure": state.pressure, "reaction": state.lam,
+            "forces": state.forces, "plate_displacement": state.plate}
 
 
 class Recording:
-    """The recording of a run into ``result``: its rows in ``history``, its warm start ``continuation``.
+    """The recording of a run into ``result``: its rows in ``history``.
 
     Attributes
     ----------
@@ -39,13 +36,10 @@ class Recording:
         What the run produced so far; its arrays are views of the recorded rows.
     history : History
         The rows' storage, in memory or in mapped files of an output folder.
-    continuation : tuple or None
-        (x, λ, next step): the solver's warm start and the adaptive clock's next step, to go on from the last step.
     """
 
-    def __init__(self, result: Result, history: History, continuation: tuple | None = None):
-        self.result, self.history, self.continuation = result, history, continuation
-        result.recording = self
+    def __init__(self, result: Result, history: History):
+        self.result, self.history = result, history
 
     @classmethod
     def start(cls, scene, disc, folder=None) -> Recording:
@@ -67,19 +61,55 @@ class Recording:
                         coefficients.wear, coefficients.stiffness, discretization=disc, provenance=provenance(scene))
         return cls(result, history)
 
-    def append(self, step: StepRecord) -> None:
-        """Record step j = the number of steps so far (the rows double when full: adaptive runs)."""
+    def reserve(self) -> None:
+        """Room for the next step's row: an OSError (a full disk) before anything of the step is kept, else none later."""
+        self.history.reserve(len(self.result.times))
+
+    def append(self, state, heated: dict | None = None) -> None:
+        """Record the state's step as step j = the number of steps so far (the rows double when full: adaptive runs).
+
+        ``heated``: the rows of the heat and of the coefficients of state (:meth:`~ngwear.runs.heating.Heating.after`).
+        """
         result, j = self.result, len(self.result.times)
-        if set(step.rows) != set(result.rows):
-            raise KeyError(f"a step records {', '.join(result.rows)} (got {', '.join(step.rows)})")
+        rows = {**step_rows(state), **(heated or {})}
+        if set(rows) != set(result.rows):
+            raise KeyError(f"a step records {', '.join(result.rows)} (got {', '.join(rows)})")
         for name in result.rows:
-            result.rows[name] = self.history.put(name, j, step.rows[name])
-        result.newton.append(step.newton)
+            result.rows[name] = self.history.put(name, j, rows[name])
+        result.newton.append(state.record)
 
     def revise(self, name: str, value: np.ndarray) -> None:
-        """Rewrite the last step's row of ``name`` (a geometry update moves its wear into the body)."""
+        """Rewrite the last step's row of ``name``."""
         result = self.result
         result.rows[name] = self.history.put(name, len(result.times) - 1, value)
+
+    def moved(self, realised: np.ndarray, disc, before: np.ndarray) -> None:
+        """A geometry update after the last step: its wear W at the points leaves the layer for the body (on ``disc``).
+
+        The mesh in force until now (its vertices ``before``) is kept if a frame since the last update shows it (and
+        ``disc``'s, in force from this step, until the next update tells), and the displacement of those frames and
+        of this step (a frame, or not: the next steps tell) is recovered on the discretization it was solved on,
+        before ``disc`` replaces it.  The last row's wear becomes w − W (≥ 0).
+        """
+        result = self.result
+        start, k = (result.removed_rows[-1] if len(result.removed_rows) else 0), len(result.removed_rows)
+        frames = [j for j in result.stored_steps if start <= j < result.steps]    # exact: no later step is nearer
+        if frames:
+            result.meshes[k] = before
+        else:
+            result.meshes.pop(k, None)
+        result.meshes[k + 1] = coordinates(disc.mesh)
+        for j in [j for j in result.fields if start <= j < result.steps and j not in frames]:
+            del result.fields[j]                        # the last update's step, no frame after all
+        for j in [*frames, result.steps]:
+            result.displacement(j)
+        w = np.maximum(result.wear[-1] - realised, 0.0)
+        result.removed = np.vstack([result.removed, realised]) if len(result.removed_rows) else realised[None, :].copy()
+        result.removed_rows = np.append(result.removed_rows, result.steps)
+        result.moved_weights = np.vstack([result.moved_weights, disc.points.weights]) \
+            if result.moved_weights is not None else disc.points.weights[None, :].copy()
+        self.revise("wear", w)
+        result.discretization, result.mesh_digest = disc, None
 
     def keep_field(self, u: np.ndarray) -> None:
         """Keep the displacement u of the step just recorded (a nonlinear body's: recovering it needs an iteration).

@@ -4,20 +4,14 @@ Arrays of shape (steps + 1, n_c) over the contact points (fewer rows if the run 
 ``times`` t_j need not be uniform, see ``time.adaptive``):
 ``wear`` w, ``normal_displacement`` u_ν, ``pressure`` p(u_ν − d₀ − w), ``reaction`` λ (the
 constraint multiplier, a traction like the pressure); ``plate_displacement`` δ (steps + 1, r) of a
-rigid plate (its translation along ν, then its tilts; r = 0 without a plate).  What an engineer
-reads off a part, one value per step, with m_i the nodal weights of the contact points:
-
-* ``normal_force``  Σ m_i (p_i + λ_i), the force the foundation carries;
-* ``torque``  T = Σ m_i μ p_i ((x_i − c) × n*_i)·e, the friction moment about the counterface's axis
-  (negative: it opposes the rotation; see :mod:`ngwear.model.kinematics`);
-* ``tangential_force``  F_t = Σ m_i μ_i p_i n*_i (steps + 1, d), the friction force on the foundation (against
-  its slip), ``friction_force`` ‖F_t‖ and ``apparent_friction`` ‖F_t‖ / normal force (0 where that is 0; it is
-  μ where every point slides one way and none is held at the bound, less on a turning counterface);
-* ``contact_area``  Σ m_i over the points with p_i + λ_i > 0;
-* ``wear_volume``  Σ m_i w_i, the worn volume (area in 2D).
+rigid plate (its translation along ν, then its tilts; r = 0 without a plate); ``speed_factor`` s_v and
+``load_factor`` s_F, the factors each step was solved with.  What an engineer reads off a part, one value per step
+(``normal_force``, ``torque``, ``friction_power``, ``wear_volume``, …), is computed from these rows by
+:mod:`ngwear.results.derived`, each quantity once.
 
 The contact coefficients at the points, shape (n_c,): ``friction_coefficient`` μ_i, ``wear_coefficient`` κ_i and
-``contact_stiffness`` L_i (numbers or fields of the scene, as evaluated there).  The per-step fields are declared in
+``contact_stiffness`` L_i (numbers or fields of the scene, as evaluated there; a coefficient of the state is recorded
+per step, ``step_friction`` and ``step_wear_coefficient``).  The per-step fields are declared in
 :mod:`ngwear.results.step_fields`; a run records its rows through a :class:`~ngwear.results.recording.Recording`.
 
 Full displacement fields are kept for the frames (``stored_steps``): the steps nearest to the
@@ -32,27 +26,31 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
+import ngsolve as ngs
 import numpy as np
-from scipy.integrate import cumulative_trapezoid
 
-from ..model.kinematics import Slip
-from ..model.programme import Schedule
+from ..model.motion import Motion
 from ..model.scene import Scene
+from ..numerics.expansion import ThermalLoad
 from ..numerics.points import initial_distance
 from ..numerics.solver import NewtonRecord
-from ..numerics.topology import coordinates
+from .derived import QUANTITIES
 from .folder import replacing
 from .mesh_file import keep_mesh, saved_discretization
 from .provenance import canonical
 from .records import records_from_arrays, records_to_arrays
 from .step_fields import DERIVED, RECORDED
+from .stops import QUANTITIES as STOP_QUANTITIES
+from .stops import stop_table
 from .summary import summary
-from .table import to_dataframe, write_history
+from .table import headed, to_dataframe, write_history
 from .units import units
 
 ARRAYS = tuple(f.name for f in RECORDED if f.when is None)
+_DOCS = {f.name: f"{f.doc}, shape {f.shown}." for f in DERIVED}
 """The rows every run records (:data:`~ngwear.results.step_fields.RECORDED`; :func:`recorded`: those of a scene)."""
 COEFFICIENTS = ("friction_coefficient", "wear_coefficient", "contact_stiffness")
 
@@ -77,9 +75,10 @@ class Result:
         :mod:`~ngwear.results.step_fields`).
     normal_force, torque, friction_force, apparent_friction, contact_area, wear_volume : ndarray
         Per step (N,): Σ m (p + λ), the friction moment about the counterface's axis, ‖F_t‖, ‖F_t‖ / normal force,
-        the area in contact and the worn volume (properties; ``tangential_force`` is F_t itself, (N, d)).
+        the area in contact and the worn volume (properties, :mod:`ngwear.results.derived`; ``tangential_force`` is
+        F_t itself, (N, d)).
     max_wear, max_pressure, mean_pressure, friction_power, dissipated_energy : ndarray
-        Per step (N,): max w, max p, normal force / contact area, P = Σ m μ p ‖v*‖ and ∫₀ᵗ P dt (properties).
+        Per step (N,): max of the total wear, max p, normal force / contact area, P = Σ m μ p ‖v*‖ and ∫₀ᵗ P dt.
     newton : list of NewtonRecord
         Each step's Newton iterations, residuals, active set, cut-backs.
     status : str
@@ -92,15 +91,16 @@ class Result:
         The mesh and factorisation it ran on (``displacement`` and pictures need it).
     rows : dict of ndarray
         The recorded per-step arrays by name.
-    recording : Recording or None
-        How the run recorded itself (its rows' storage and its warm start: a checkpoint needs them); None when read
-        from files.
     meshes : dict of int to ndarray
         ``wear.geometry = "surface"``: the vertices (nv, d) of the body after k geometry updates, kept for the meshes
-        the frames show (:meth:`body_coordinates`).
-    provenance : dict or None
+        the frames show (:meth:`body_coordinates`); ``recession`` the map that moves the mesh by a wear (the others').
+    provenance : dict
         ``ngwear``, ``ngsolve``, ``python``: the versions that computed it; ``scene_sha256``: the SHA-256 of its
-        scene's canonical JSON (:mod:`ngwear.results.provenance`).  None for a file written before they were kept.
+        scene's canonical JSON (:mod:`ngwear.results.provenance`).
+    continuation : dict or None
+        What a checkpoint needs besides the rows to go on from the last step (the solver's warm start, the adaptive
+        clock's next step, the heat's and a moved surface's state): a finished run's, for
+        :func:`~ngwear.results.checkpoint.write_checkpoint`.
     """
 
     scene: Scene
@@ -119,17 +119,17 @@ class Result:
     fields: dict[int, np.ndarray] = field(default_factory=dict)
     temperatures: dict[int, np.ndarray] = field(default_factory=dict)   # nodal T (P1) of the frames (`heat`)
     discretization: object = field(default=None, repr=False)
-    recording: object = field(default=None, repr=False)          # the run's Recording: its rows, to go on from
-    heating: object = field(default=None, repr=False)            # the run's Heating: thermal expansion's displacement
-    surface: object = field(default=None, repr=False)            # the run's Surface ("surface"): a checkpoint keeps it
-    mesh_digest: str | None = field(default=None, repr=False)   # SHA-256 of the mesh.vol written for it
-    provenance: dict | None = field(default=None, repr=False)    # versions and scene hash (None: an older file's)
+    recession: object = field(default=None, repr=False)           # "surface": the map moving the mesh by a wear
+    mesh_digest: str | None = field(default=None, repr=False)     # SHA-256 of the mesh.vol written for it
+    provenance: dict | None = field(default=None, repr=False)
     jumped: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
     measured: np.ndarray | None = field(default=None, repr=False)   # the worn region's thickness (see thickness)
     removed_rows: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
     removed: np.ndarray | None = field(default=None, repr=False)      # (U, n): each geometry update's W at the points
     moved_weights: np.ndarray | None = field(default=None, repr=False)  # (U, n): m_i after each update
     meshes: dict[int, np.ndarray] = field(default_factory=dict, repr=False)   # k: the vertices after k updates
+    thermal: tuple | None = field(default=None, repr=False)       # (discretization, its f_th's G), for recovery
+    continuation: dict | None = field(default=None, repr=False)   # what a checkpoint needs to go on from the end
 
     @property
     def completed(self) -> bool:
@@ -144,111 +144,13 @@ class Result:
         """The index of ``step`` as a list's (−1: the last step); IndexError for a step the run does not have."""
         return range(self.steps + 1)[step]
 
-    @property
-    def compression(self) -> np.ndarray:
-        """u_ν − d₀ − w: how far the remaining (unworn) layer is compressed (p acts where > 0)."""
-        return self.penetration - self.wear
-
-    @property
-    def penetration(self) -> np.ndarray:
-        """u_ν − d₀: how far Γ_C has moved into the layer (≤ g); d₀ of the face as it is (moved by the updates)."""
-        reached = self.normal_displacement - self.d0[None, :]
-        return reached - (self.total_wear - self.wear) if len(self.removed_rows) else reached
-
-    @property
-    def normal_force(self) -> np.ndarray:
-        """Σ m_i (p_i + λ_i) per step."""
-        return _weighted(self.pressure + self.reaction, self.row_weights)
-
-    def _factors(self) -> tuple[Slip, np.ndarray]:
-        """The slip at the points and the factor s_v of each step (a programme's: of the step's place in its stop)."""
-        slip = Slip(self.scene.foundation, self.contact_points, self.scene.contact.direction)
-        if self.scene.programme is not None:
-            return slip, np.asarray(Schedule.of(self.scene.programme).row_factors(self.jumped, len(self.times))[0],
-                                    dtype=float)
-        return slip, np.array([slip.factor(t) for t in self.times], dtype=float)
-
-    @property
-    def torque(self) -> np.ndarray:
-        """Friction moment about the counterface's axis per step (negative when it brakes a rotation)."""
-        slip, factors = self._factors()
-        return np.sign(factors) * _weighted(self.pressure, self.friction * slip.moment_arms() * self.row_weights)
-
-    @property
-    def tangential_force(self) -> np.ndarray:
-        """F_t = Σ m_i μ_i p_i n*_i per step, shape (steps + 1, d): the friction force on the foundation."""
-        slip, factors = self._factors()
-        return np.sign(factors)[:, None] * ((self.pressure * self.friction * self.row_weights) @ slip.direction)
-
-    @property
-    def max_wear(self) -> np.ndarray:
-        """max_i w_i per step."""
-        return self.wear.max(axis=1, initial=0.0)
-
-    @property
-    def max_pressure(self) -> np.ndarray:
-        """max_i p_i per step."""
-        return self.pressure.max(axis=1, initial=0.0)
-
-    @property
-    def mean_pressure(self) -> np.ndarray:
-        """Normal force / contact area per step (0 where nothing touches)."""
-        area = self.contact_area
-        return np.divide(self.normal_force, area, out=np.zeros_like(area), where=area > 0)
-
-    @property
-    def friction_power(self) -> np.ndarray:
-        """P = Σ m_i μ_i p_i ‖v*_i(t)‖ per step (‖v*_i(t)‖: the slip speed at s_v = 1 times the factor's size)."""
-        slip, factors = self._factors()
-        return np.abs(factors) * _weighted(self.pressure, self.friction * slip.speed * self.row_weights)
-
-    @property
-    def dissipated_energy(self) -> np.ndarray:
-        """∫₀^{t_j} P dt per step, by the trapezoidal rule over the steps."""
-        power = self.friction_power
-        return cumulative_trapezoid(power, self.times, initial=0.0) if len(power) else power
-
-    @property
-    def friction(self) -> np.ndarray:
-        """μ_i of each step, shape (N, n) or (1, n) (coefficients fixed for the run: ``friction_coefficient``)."""
-        return self.rows["step_friction"] if "step_friction" in self.rows else self.friction_coefficient[None, :]
-
-    @property
-    def friction_force(self) -> np.ndarray:
-        """‖F_t‖ per step."""
-        return np.linalg.norm(self.tangential_force, axis=1)
-
-    @property
-    def apparent_friction(self) -> np.ndarray:
-        """‖F_t‖ / Σ m_i (p_i + λ_i) per step; 0 where the normal force is 0."""
-        normal = self.normal_force
-        return np.divide(self.friction_force, normal, out=np.zeros_like(normal), where=normal > 0)
-
-    @property
-    def contact_area(self) -> np.ndarray:
-        """Σ m_i over the points in contact (p_i + λ_i > 0) per step."""
-        return _weighted(self.pressure + self.reaction > 0, self.row_weights)
-
-    @property
-    def wear_volume(self) -> np.ndarray:
-        """Σ m_i w_i per step: the worn volume (an area in 2D)."""
-        return _weighted(self.total_wear, self.row_weights)
-
-    @property
-    def total_wear(self) -> np.ndarray:
-        """All material removed at the contact points per step: w plus what the geometry updates moved into the body.
-
-        ``wear.geometry = "layer"``: w.  ``"surface"``: w (the wear since the last update) + Σ W of the updates at or
-        before the step (:attr:`removed`, at :attr:`removed_rows`).
-        """
-        if not len(self.removed_rows):
-            return self.wear
-        moved = np.zeros_like(self.wear)
-        np.add.at(moved, self.removed_rows, self.removed)
-        return self.wear + np.cumsum(moved, axis=0)
+    @cached_property
+    def motion(self) -> Motion:
+        """The foundation's motion at the contact points (their moment arms, ‖v*‖ and n* at s_v = 1)."""
+        return Motion(self.scene, self.contact_points, self.scene.contact.direction)
 
     def total_wear_at(self, step: int) -> np.ndarray:
-        """``total_wear`` of one step alone (O(n): what the time loop reads after each step)."""
+        """``total_wear`` of one step alone (O(n): what the time loop reads after each step; −1: the last)."""
         step = self.step_index(step)
         if not len(self.removed_rows):
             return self.wear[step]
@@ -257,14 +159,6 @@ class Result:
     def last_total_wear(self) -> np.ndarray:
         """``total_wear`` of the last step."""
         return self.total_wear_at(-1)
-
-    @property
-    def row_weights(self) -> np.ndarray:
-        """m_i of each step, (N, n), or of all (n,) while the geometry never moved: an update moves them."""
-        if not len(self.removed_rows):
-            return self.weights
-        rows = np.searchsorted(self.removed_rows, np.arange(len(self.times)), side="left")   # updates before each
-        return np.vstack([self.weights, self.moved_weights])[rows]
 
     @property
     def geometry_updates(self) -> int:
@@ -281,44 +175,17 @@ class Result:
         None while the geometry never moved (the discretization's mesh is the body's).  After k updates the
         body is mesh k (0: as built), kept (:attr:`meshes`) for the frames that show it; the last (the
         discretization's) always.  A run's other meshes are made again from the first k updates' wear
-        (:meth:`~ngwear.numerics.motion.Recession.after`); a result read from its files has only the frames'.
+        (:meth:`~ngwear.numerics.recession.Recession.after`); a result read from its files has only the frames'.
         """
         if not len(self.removed_rows):
             return None
         k = self.updates_by(step)
-        if k not in self.meshes and self.surface is not None and self.surface.recession is not None:
-            return self.surface.recession.after(self.removed[:k])
+        if k not in self.meshes and self.recession is not None:
+            return self.recession.after(self.removed[:k])
         if k not in self.meshes:
             raise KeyError(f"the body's mesh at step {step} (after {k} geometry updates) was not kept; the frames' "
                            f"steps: {self.stored_steps}")
         return self.meshes[k]
-
-    def moved(self, realised: np.ndarray, disc, before: np.ndarray) -> None:
-        """A geometry update after the last step: its wear W at the points leaves the layer for the body (on ``disc``).
-
-        The mesh in force until now (its vertices ``before``) is kept if a frame since the last update shows it (and
-        ``disc``'s, in force from this step, until the next update tells), and the displacement of those frames and
-        of this step (a frame, or not: the next steps tell) is recovered on the discretization it was solved on,
-        before ``disc`` replaces it.
-        """
-        start, k = (self.removed_rows[-1] if len(self.removed_rows) else 0), len(self.removed_rows)
-        frames = [j for j in self.stored_steps if start <= j < self.steps]    # exact: no later step is nearer
-        if frames:
-            self.meshes[k] = before
-        else:
-            self.meshes.pop(k, None)
-        self.meshes[k + 1] = coordinates(disc.mesh)
-        for j in [j for j in self.fields if start <= j < self.steps and j not in frames]:
-            del self.fields[j]                          # the last update's step, no frame after all
-        for j in [*frames, self.steps]:
-            self.displacement(j)
-        w = np.maximum(self.wear[-1] - realised, 0.0)
-        self.removed = np.vstack([self.removed, realised]) if len(self.removed_rows) else realised[None, :].copy()
-        self.removed_rows = np.append(self.removed_rows, self.steps)
-        self.moved_weights = np.vstack([self.moved_weights, disc.points.weights]) if self.moved_weights is not None \
-            else disc.points.weights[None, :].copy()
-        self.recording.revise("wear", w)
-        self.discretization, self.mesh_digest = disc, None
 
     @property
     def thickness(self) -> np.ndarray:
@@ -337,17 +204,11 @@ class Result:
         return self.thickness - total_wear
 
     @property
-    def remaining_thickness(self) -> np.ndarray:
-        """The worn region's thickness along ν under each contact point minus ``total_wear``, per step."""
-        return self.remaining_thickness_of(self.total_wear)
-
-    @property
     def stops(self):
         """One row per stop of the programme (a pandas DataFrame; None without a programme).
 
         See :func:`ngwear.results.stops.stop_table`.
         """
-        from .stops import stop_table
         return stop_table(self) if self.scene.programme is not None else None
 
     @property
@@ -369,15 +230,31 @@ class Result:
         return sorted({int(j) for j in nearest} | {self.steps})
 
     def displacement(self, step: int) -> np.ndarray:
-        """DOF vector of u at a step, recovered with one back-substitution and cached."""
+        """DOF vector of u at a step, recovered with one back-substitution and cached.
+
+        u = s_F K⁻¹ f + D δ − K⁻¹ Pᵀ f_c with the step's recorded forces, δ and s_F, plus K⁻¹ f_th of the step's
+        temperature where a region expands (:class:`~ngwear.numerics.expansion.ThermalLoad`).
+        """
         step = self.step_index(step)
         if step not in self.fields:
-            if self.discretization is None:
+            disc = self.discretization
+            if disc is None:
                 raise KeyError(f"step {step} was not stored; stored steps: {sorted(self.fields)}")
-            u = self.discretization.recover(self.forces[step], self.times[step], self.plate_displacement[step])
-            thermal = None if self.heating is None else self.heating.displacement(self.temperatures[step])
-            self.fields[step] = u if thermal is None else u + thermal
+            u = disc.recover(self.forces[step], self.load_factor[step], self.plate_displacement[step])
+            load = self._thermal_load(disc)
+            if load is not None and step not in self.temperatures:
+                raise KeyError(f"step {step}: its temperature was not kept (the frames': {sorted(self.temperatures)})")
+            self.fields[step] = u if load is None else u + disc.elastic.operator.solve(load(self.temperatures[step]))
         return self.fields[step]
+
+    def _thermal_load(self, disc):
+        """f_th's G on ``disc`` (None: no temperature, or no region expands), kept for the discretization."""
+        if self.scene.heat.model == "none":
+            return None
+        if self.thermal is None or self.thermal[0] is not disc:
+            load = ThermalLoad(self.scene, disc.fes, ngs.H1(disc.mesh, order=1))
+            self.thermal = (disc, load if load.matrix is not None else None)
+        return self.thermal[1]
 
     def displacement_at(self, points, step: int) -> np.ndarray:
         """U at reference points of the body (shape (m, d)) at a step; shape (m, d)."""
@@ -399,8 +276,8 @@ class Result:
         """The run's per-step numbers, one row per step, as a pandas DataFrame: the table of ``history.csv``.
 
         Its columns (:mod:`ngwear.results.table`): ``step``, ``times``, every per-step number (``torque``, …), the
-        components of the short vectors, ``newton_iterations``; with the unit in their names in a scene in SI
-        (``torque [N m]``).
+        components of the short vectors, ``newton_iterations``, by their bare names (``history.csv`` heads them with
+        their units in a scene in SI, ``torque [N m]``).
         """
         return to_dataframe(self)
 
@@ -444,7 +321,7 @@ class Result:
             tmp.write_text(json.dumps(self.summary(), indent=2, ensure_ascii=False), encoding="utf-8")
         if self.scene.programme is not None:
             with replacing(out / "stops.csv") as tmp:
-                self.stops.to_csv(tmp)
+                headed(self.scene, self.stops, STOP_QUANTITIES).to_csv(tmp)
         if self.discretization is not None:
             from .vtk import write_series
             write_series(self, out)
@@ -456,13 +333,6 @@ class Result:
         if self.scene.heat.model == "none" or not all(s in self.temperatures for s in steps):
             return {}
         return {"temperature_fields": np.array([self.temperatures[s] for s in steps])}
-
-
-def _weighted(values: np.ndarray, weights: np.ndarray) -> np.ndarray:
-    """Σ_i values_ji m_i of each step j: one set of weights (n,) or (1, n), or a row per step (N, n)."""
-    if weights.ndim == 1 or len(weights) == 1:
-        return values @ weights.reshape(-1)
-    return np.einsum("ji,ji->j", values, weights)
 
 
 def output_times(out, times: np.ndarray, end: float) -> np.ndarray:
@@ -551,3 +421,5 @@ def _row(name: str):
 
 for _field in RECORDED:     # result.times, result.wear, …: the recorded rows, as declared
     setattr(Result, _field.name, property(_row(_field.name), doc=f"{_field.doc}, shape {_field.shown}."))
+for _name, _quantity in QUANTITIES.items():     # result.torque, result.total_wear, …: derived from the rows
+    setattr(Result, _name, property(_quantity, doc=_quantity.__doc__ or _DOCS.get(_name)))

@@ -62,6 +62,10 @@ class StepField:
 
 RECORDED = (
     StepField("times", (), "time", "t_j of each completed step (not uniform with `time.adaptive`)"),
+    StepField("speed_factor", (), None, "s_v, the factor of the foundation's velocity the step was solved with "
+                                        "(`foundation.speed_table`, or a programme's stop)"),
+    StepField("load_factor", (), None, "s_F, the factor of the loads the step was solved with (`loads.time_table`, or "
+                                       "a programme's stop)"),
     StepField("wear", ("n",), "length", "w at the contact points"),
     StepField("normal_displacement", ("n",), "length", "u_ν = u·ν at the contact points"),
     StepField("pressure", ("n",), "pressure", "p(u_ν − d₀ − w), the compliance's traction"),

@@ -5,7 +5,11 @@ are integrals over them by the trapezoidal rule on the stop's grid:
 
 * ``energy``  ∫ P dt, P = Σ m_i μ_i p_i ‖v*_i‖ (:attr:`Result.friction_power <ngwear.results.result.Result>`: μ_i and
   m_i of the step, a coefficient of state and a geometry update change them);
-* ``torque``, ``friction_force``, ``apparent_friction``  their means over the stop, (1/d) ∫ · dt;
+* ``torque``, ``friction_force``, ``apparent_friction``  their means over the stop's sliding, ∫ X |s_v| dt / ∫ |s_v| dt
+  (s_v the speed factor): the torque is the stop's energy over its sliding angle, ∫ T ω dt / ∫ ω dt on a turning
+  counterface, the friction force its energy over its sliding distance on a translating one, and the instant at rest
+  (s_v = 0) weighs nothing; ``apparent_friction`` is ‖F_t‖ / normal force per step
+  (:mod:`ngwear.results.derived`);
 * ``worn_volume``  Σ m_i Δw_i, Δw the stop's wear increment (end minus start), and ``worn_mass`` ρ times it
   (with ``material.density``);
 * ``max_total_wear``, ``min_remaining_thickness``  at its end, and the taper of the remaining thickness there
@@ -38,12 +42,25 @@ COLUMNS = ("stop", "block", "start", "energy", "torque", "friction_force", "appa
 
 TEMPERATURES = {"temperature": "max_temperature", "foundation_temperature": "foundation_temperature"}
 """The stop table's temperature columns' prefix and the step field each reads (with ``heat.model = "conduction"``)."""
+QUANTITIES = {"start": "time", "energy": "energy", "torque": "torque", "friction_force": "force",
+              "worn_volume": "volume", "worn_mass": "mass", "max_total_wear": "length",
+              "min_remaining_thickness": "length", "taper_radial": "length", "taper_circumferential": "length",
+              "taper_along": "length", **{c: "temperature" for c in COLUMNS if "temperature" in c}}
+"""The quantity of each column with a unit (``stops.csv``'s headers, :func:`ngwear.results.table.headed`)."""
 
 
-def _mean(values: np.ndarray, times: np.ndarray) -> float:
-    """(1/d) ∫ v dt by the trapezoidal rule over the stop's rows."""
+def _integral(values: np.ndarray, times: np.ndarray) -> float:
+    """∫ v dt by the trapezoidal rule over the stop's rows."""
+    return float(np.sum(0.5 * (values[1:] + values[:-1]) * np.diff(times)))
+
+
+def _sliding_mean(values: np.ndarray, speed: np.ndarray, times: np.ndarray) -> float:
+    """∫ v |s_v| dt / ∫ |s_v| dt over the stop's rows (a stop that slides nothing: the plain mean)."""
+    sliding = _integral(np.abs(speed), times)
+    if sliding > 0:
+        return _integral(values * np.abs(speed), times) / sliding
     span = times[-1] - times[0]
-    return float(np.sum(0.5 * (values[1:] + values[:-1]) * np.diff(times)) / span) if span > 0 else float(values[0])
+    return _integral(values, times) / span if span > 0 else float(values[0])
 
 
 def tapers(result, values: np.ndarray) -> dict[str, float]:
@@ -84,11 +101,12 @@ def stop_table(result, taper: bool = True):
     records, jumped = {}, set(result.jumped.tolist())
     for end in schedule.ends(rows):
         span, stop = slice(end - m, end + 1), int(stop_of[end])
-        times = result.times[span]
+        times, speed = result.times[span], result.speed_factor[span]
         increment = total[end] - total[end - m]
-        energy = float(np.sum(0.5 * (power[span][1:] + power[span][:-1]) * np.diff(times)))
-        row = {"energy": energy, "torque": _mean(torque[span], times), "friction_force": _mean(force[span], times),
-               "apparent_friction": _mean(apparent[span], times), "worn_volume": float(increment @ result.weights)}
+        row = {"energy": _integral(power[span], times), "torque": _sliding_mean(torque[span], speed, times),
+               "friction_force": _sliding_mean(force[span], speed, times),
+               "apparent_friction": _sliding_mean(apparent[span], speed, times),
+               "worn_volume": float(increment @ result.weights)}
         heat = {f"{name}_{when}": float(value) for name, values in heated.items()
                 for when, value in (("start", values[span][0]), ("peak", values[span].max()), ("end", values[end]))}
         k = stop

@@ -74,7 +74,7 @@ def life_metrics(result) -> dict:
     ``stops_to_limit``: the stops left at the last simulated stop's wear (:func:`~ngwear.results.metrics.stops_to_limit`).
     """
     scene = result.scene
-    remaining = result.remaining_thickness_of(result.last_total_wear()) if len(result.times) else result.thickness
+    remaining = result.remaining_thickness_of(result.total_wear_at(-1)) if len(result.times) else result.thickness
     low, mean, high = thickness_range(remaining, result.weights)
     out = {"remaining_thickness_min": low, "remaining_thickness_mean": mean, "remaining_thickness_max": high}
     if scene.programme is not None or scene.wear.geometry == "surface":

@@ -27,15 +27,13 @@ import numpy as np
 
 from ..model.scene import SceneError
 from ..numerics.wear import stable_step
+from .state import Target
 
 GROWTH, SHRINK, SAFETY = 4.0, 0.2, 0.9
 
 
 class Clock:
     """Where the next step ends, and whether the step just solved is accurate enough (adaptive)."""
-
-    still = False
-    """Whether the step being solved slides nothing (never: a programme's dwell, :class:`~ngwear.runs.life.StopClock`)."""
 
     def __init__(self, scene, largest_rate: float, rejected: int = 0, step: float | None = None):
         """``rejected`` and ``step`` (the next step) of a run that resumes; None: the scene's first step."""
@@ -81,17 +79,17 @@ class Clock:
         stretch = 0.0 if self.retrying else min(0.2 * self.step, self.ceiling - self.step)
         return mark if end >= mark - stretch else end
 
-    def prepare(self, integrator, contact, check, w: np.ndarray, p: np.ndarray, t: float, t_next: float) -> None:
-        """Prepare the wear law of the step from t to t_next (from w_j, p_j and the rates α at both ends).
+    def target(self, state, contact, integrator) -> Target:
+        """The step after the state's: its end t_{j+1} (:meth:`next_time`), instant and wear law.
 
-        ``check`` (the run's :class:`~ngwear.results.invariants.StepCheck`) is not told anything: every step is one
-        of the scheme's (a programme's clock tells it of the crossings, :class:`~ngwear.runs.life.StopClock`).
+        The wear law from w_j, p_j and the rates α at both ends, with the coefficients the step is solved with.
         """
-        integrator.prepare(w, p, contact.alpha(t), contact.alpha(t_next), t_next - t)
-
-    def heating(self, t: float, t_next: float) -> tuple[int, tuple[float, ...]]:
-        """(The stops a cycle jump applied, the heat's backward-Euler steps) over the step from t to t_next: itself."""
-        return 0, (t_next - t,)
+        t = state.instant.t
+        instant = contact.motion.at(self.next_time(state.steps, t))
+        alpha = contact.alpha(state.coefficients, state.instant.speed)
+        wear = integrator.step(state.wear, state.pressure, alpha, contact.alpha(state.coefficients, instant.speed),
+                               instant.t - t)
+        return Target(instant, wear, heat_steps=(instant.t - t,))
 
     def judge(self, times: list[float], rates: list[np.ndarray]) -> bool:
         """Accept the step to ``times[-1]`` from the rates at the last (up to three) times; set the next step."""

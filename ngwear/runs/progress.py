@@ -112,3 +112,36 @@ def duration(seconds: float) -> str:
     if seconds < 120:
         return f"{seconds:.1f} s"
     return f"{seconds / 60:.1f} min" if seconds < 7200 else f"{seconds / 3600:.1f} h"
+
+
+class RunProgress:
+    """A run's bar, from where the run starts: its steps (uniform), its time (adaptive) or its stops (a programme)."""
+
+    def __init__(self, scene, result):
+        self.scene, time = scene, scene.time
+        if scene.programme is not None:
+            self.shown = self._stops(result)
+            self.bar = bar(total=scene.programme.count, initial=self.shown, desc=scene.name, unit="stop", leave=False)
+        elif not time.adaptive:
+            self.bar = bar(total=time.steps, initial=max(result.steps, 0), desc=scene.name, unit="step", leave=False)
+        else:
+            self.bar = bar(total=time.T, initial=result.times[-1] if len(result.times) else 0.0, desc=scene.name,
+                           leave=False, bar_format="{l_bar}{bar}| t = {n:.4g} of {total:.4g} [{elapsed}<{remaining}]")
+
+    def _stops(self, result) -> int:
+        """The stops done: the simulated ones whose end is recorded, and the jumped ones."""
+        m = self.scene.programme.steps_per_stop
+        return len(range(m, len(result.times), m + 1)) + len(result.jumped)
+
+    def update(self, result) -> None:
+        """After a recorded step: one step, its time, or the stops it ended."""
+        if self.scene.programme is not None:
+            done = self._stops(result)
+            if done > self.shown:
+                self.bar.update(done - self.shown)
+                self.shown = done
+        else:
+            self.bar.update(1 if not self.scene.time.adaptive else result.times[-1] - result.times[-2])
+
+    def close(self) -> None:
+        self.bar.close()

@@ -1,30 +1,17 @@
-"""The time loop: scheme P^hk of the paper (eqs. 14–15) and its implicit / second-order variants.
+"""A run: scheme P^hk of the paper (eqs. 14–15) and its implicit / second-order variants, from set-up to its record.
 
-Step 0 solves the contact problem at t = 0 with no wear; then, step after step, the wear law of the
-next step is prepared from w_j, p_j (:mod:`ngwear.numerics.wear`), the contact problem is solved at
-t_{j+1} and s = ν·u, p, λ, w are recorded at the contact points.  The steps are uniform or chosen by
-an error estimate (:mod:`ngwear.runs.clock`; a rejected step is redone smaller).  Bulk displacement
-fields are recovered (one back-substitution each) only for the steps that are written or looked at.
-With a temperature or a coefficient of the state (:mod:`ngwear.runs.heating`) the coefficients are read from the
-last step's state before each step and the body heated after it.
+:func:`simulate` sets a run up (a new one: the discretization, its refusals and warnings; a resumed one: the
+checkpoint), runs the time loop (:mod:`ngwear.runs.loop`) and ends it: times, warnings, the last checkpoint.  The
+steps are uniform or chosen by an error estimate (:mod:`ngwear.runs.clock`), a programme's stops
+(:mod:`ngwear.runs.stop_clock`); bulk displacement fields are recovered (one back-substitution each) only for the
+steps that are written or looked at.
 
-Nothing is lost on an interrupt: a set ``stop`` event (the CLI's SIGINT/SIGTERM) or Ctrl-C ends the
-run at a step boundary with status ``interrupted`` and every completed step; with an output folder
-the run writes checkpoints there (:mod:`ngwear.results.checkpoint`) from which ``resume`` goes on, after removing
-the files of an earlier run there (:func:`~ngwear.results.folder.clear`).
-The run holds its folders (:func:`ngwear.results.folder.hold`); when the disk fills it stops at a step
-boundary, writes what fits and raises :class:`~ngwear.results.folder.NoSpace` saying which steps are kept.
-
-A part's life (:mod:`ngwear.runs.life`): a ``[programme]`` runs its stops through a
-:class:`~ngwear.runs.life.StopClock` (cycle jumps included), ``wear.geometry = "surface"`` moves the worn face after
-the steps that reach ``wear.update`` (:class:`~ngwear.runs.life.Surface`), and ``wear.limit`` ends the run as
-``worn_out`` (:func:`~ngwear.runs.life.worn_out`).
-
-Every step is checked against the invariants (:mod:`ngwear.results.invariants`) before it is recorded:
-the first step that breaks one stops the run (status naming the step, the invariant and by how much),
-keeping the steps before it.  After it is recorded, whether it stays where the model is valid
-(:mod:`ngwear.results.validity`): strains beyond 10 % stop the run after it, beyond 1 % and a worn-through
-layer are warnings.
+Nothing is lost on an interrupt: a set ``stop`` event (the CLI's SIGINT/SIGTERM) or Ctrl-C ends the run at a step
+boundary with status ``interrupted`` and every completed step; with an output folder the run writes checkpoints there
+(:mod:`ngwear.results.checkpoint`) from which ``resume`` goes on, after removing the files of an earlier run there
+(:func:`~ngwear.results.folder.clear`).  The run holds its folders (:func:`ngwear.results.folder.hold`); when the disk
+fills it stops at a step boundary, writes what fits and raises :class:`~ngwear.results.folder.NoSpace` saying which
+steps are kept.
 """
 from __future__ import annotations
 
@@ -37,25 +24,22 @@ from pathlib import Path
 import numpy as np
 
 from ..model import plausibility
-from ..model.coefficients import bound, describe
 from ..model.geometry import build_mesh
 from ..model.meshing import Stopped
+from ..model.motion import Instant
 from ..model.scene import Scene, SceneError
 from ..numerics.discrete import Discretization
-from ..numerics.problem import Problem
-from ..numerics.solver import ConvergenceError
+from ..numerics.systems import unknowns
 from ..numerics.wear import WearIntegrator, diverging, explicit_stability
 from ..results.checkpoint import Checkpoint, Saver
 from ..results.folder import NoSpace, clear, hold, no_space
-from ..results.invariants import StepCheck
-from ..results.recording import Recording, StepRecord
+from ..results.recording import Recording
 from ..results.result import Result
-from ..results.validity import Validity
-from .clock import Clock
+from .checks import WORN_OUT
 from .heating import Heating
-from .life import WORN_OUT, StopClock, Surface, worn_out
-from .progress import bar
-from .stepper import Step, Stepper
+from .loop import Run, run
+from .progress import RunProgress, bar
+from .state import State
 
 log = logging.getLogger(__name__)
 
@@ -122,44 +106,15 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
     stages = Stages(scene.name if scene is not None else "resume", progress, stop)
     start = (_start(scene, discretization, checkpoint, stages, stop) if resume is None
              else _resume(scene, resume, checkpoint, stages))
-    scene, disc, recording = start.scene, start.disc, start.recording
-    result = recording.result
+    scene, disc, recording, result = start.scene, start.disc, start.recording, start.recording.result
     stages.prepare(disc)
-    surface = result.surface = Surface(scene, disc, start.surface) if scene.wear.geometry == "surface" else None
-    clock = (Clock(scene, disc.contact.largest_rate(), result.rejected, start.step) if scene.programme is None
-             else StopClock(scene, disc.contact, result, surface))      # its drive set where the rows end
-    clock.replay(result.times, [disc.contact.alpha(t) * p for t, p in zip(result.times, result.pressure)])
-    stepper = Stepper(Problem(disc), StepCheck(result), Validity(result))
-    stepper.heating = result.heating = Heating.of(scene, disc, start.heat)
-    integrator = WearIntegrator(scene.wear.integrator, disc.contact.law, disc.points.n)
-    saver = Saver(start.checkpoint, scene.output.checkpoint_seconds, rows=start.kept)
-    steps_bar = _progress(scene, result) if progress else None
+    integrator = WearIntegrator(scene.wear.integrator, disc.contact.law, disc.contact.wear_law)
+    loop = Run(scene, disc, recording, start.state, integrator, start.saved,
+               Saver(start.checkpoint, scene.output.checkpoint_seconds, rows=start.kept),
+               RunProgress(scene, result) if progress else None, stop)
     before, solving = result.wall_time, time.perf_counter()
-    x, lam = start.x, start.lam
     try:
-        if result.steps < 0:
-            x, lam = _first(stepper, integrator, recording, x, lam)
-            recording.continuation = (x, lam, clock.next_step)
-            worn_out(result)
-        while result.completed and not clock.done(result.steps, result.times[-1]):
-            if stop is not None and stop.is_set():
-                recording.interrupt()
-                break
-            attempt = _next(stepper, integrator, clock, recording, x, lam)
-            if attempt is None:
-                break
-            x, lam = attempt
-            recording.continuation = (x, lam, clock.next_step)
-            if worn_out(result):
-                break
-            if surface is not None and surface.due(result.wear[-1]):
-                stepper = surface.apply(result, clock)
-                if stepper is None:
-                    break
-            if steps_bar is not None:
-                steps_bar.update(1 if not scene.time.adaptive else result.times[-1] - result.times[-2])
-            if not saver.maybe(result):
-                break
+        run(loop)
     except KeyboardInterrupt:
         recording.settle()
         recording.interrupt()
@@ -167,18 +122,20 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
         if not no_space(err):
             raise
         recording.settle()
-        saver.full = err
-    result.wall_time, result.rejected = before + time.perf_counter() - began, clock.rejected
+        loop.saver.full = err
+    result.wall_time, result.rejected = before + time.perf_counter() - began, loop.clock.rejected
     result.solve_time += time.perf_counter() - solving
-    stepper.validity.report(result)
-    if clock.unmet:
+    loop.validity.report(result)
+    if loop.clock.unmet:
         result.warnings.append(f"time.tolerance: steps at time.min_step = {scene.time.min_step:g} missed the "
                                "tolerance; lower time.min_step")
-    saver.write(result)
-    if steps_bar is not None:
-        steps_bar.close()
-    if saver.full is not None:
-        raise NoSpace(saver.kept(result), result, resumable=saver.rows > 0)
+    if len(result.times):
+        result.continuation = loop.continuation()
+    loop.saver.write(recording, lambda: result.continuation)
+    if loop.progress is not None:
+        loop.progress.close()
+    if loop.saver.full is not None:
+        raise NoSpace(loop.saver.kept(result), result, resumable=loop.saver.rows > 0)
     if result.status not in ("completed", WORN_OUT):
         log.warning("%s: %s", scene.name, result.status)
     return result
@@ -186,23 +143,20 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
 
 @dataclass
 class _Start:
-    """Where a run starts, new or resumed: one state the time loop goes on from.
+    """Where a run starts, new or resumed: its scene, discretization, recording and state.
 
-    Its scene, discretization and recording, the solver's warm start (x, λ), the output folder it checkpoints into,
-    and for a resumed run the adaptive clock's next step and the rows the checkpoint read keeps (``kept``; 0 when the
+    ``checkpoint``: the output folder it checkpoints into; ``saved``: a resumed run's heat, surface and adaptive
+    step (:class:`~ngwear.results.checkpoint.Checkpoint`); ``kept``: the rows the checkpoint read keeps (0 when the
     run goes on in another folder).
     """
 
     scene: Scene
     disc: Discretization
     recording: Recording
-    x: np.ndarray
-    lam: np.ndarray
+    state: State
     checkpoint: object
-    step: float | None = None
+    saved: dict
     kept: int = 0
-    heat: dict | None = None
-    surface: dict | None = None
 
 
 def _start(scene, discretization, checkpoint, stages, stop) -> _Start:
@@ -226,7 +180,10 @@ def _start(scene, discretization, checkpoint, stages, stop) -> _Start:
     if warning:
         log.warning("%s", warning)
         recording.result.warnings.append(warning)
-    return _Start(scene, disc, recording, Problem(disc).unknowns(), np.zeros(disc.points.n), checkpoint)
+    contact, n = disc.contact, disc.points.n
+    state = State(unknowns(disc), np.zeros(n), contact.coefficients, np.zeros(n),
+                  reference=Heating.reference(scene, contact))
+    return _Start(scene, disc, recording, state, checkpoint, {})
 
 
 def _resume(scene, resume, checkpoint, stages) -> _Start:
@@ -237,112 +194,18 @@ def _resume(scene, resume, checkpoint, stages) -> _Start:
         clear(folder)                           # the run goes on in another folder: the first stays as it was
     if not recording.history.is_in(folder):
         recording.keep_in(folder)
-    recording.continuation = (saved.x, saved.lam, saved.step)
     kept = len(saved.result.times) if recording.history.is_in(resume) else 0
-    return _Start(saved.scene, saved.result.discretization, recording, saved.x, saved.lam, folder, saved.step, kept,
-                  saved.heat, saved.surface)
-
-
-@dataclass
-class _Attempt:
-    """One solved step: the unknowns, the contact-point values and the Newton record."""
-
-    x: np.ndarray
-    lam: np.ndarray
-    s: np.ndarray
-    delta: np.ndarray
-    pressure: np.ndarray
-    wear: np.ndarray
-    record: object
-
-
-def _solve(stepper, integrator, t: float, t_prev: float | None, x, lam) -> _Attempt:
-    """Solve the step ending at t with the prepared wear law; ConvergenceError or ArithmeticError on failure."""
-    step, problem = Step(t, t_prev, integrator), stepper.problem
-    x, lam, record = stepper.solve(step, x, lam)
-    s, delta = problem.normal(x), problem.plate(x)
-    pressure = step.law.pressure(s - problem.d0)
-    if not all(np.all(np.isfinite(a)) for a in (s, lam, pressure, delta)):
-        raise ArithmeticError(record)
-    return _Attempt(x, lam, s, delta, pressure, integrator.wear_at(s - problem.d0), record)
-
-
-def _record(recording: Recording, stepper, t: float, attempt: _Attempt, heating: tuple = (0, ()),
-            still: bool = False) -> bool:
-    """Record the step if it keeps the invariants; else stop the run.
-
-    ``heating``: (the stops a cycle jump applied, the heat's steps) over it (:meth:`~ngwear.runs.clock.Clock.heating`;
-    none at step 0); ``still``: it slid nothing.
-    """
-    broken = stepper.check(t, attempt.wear, attempt.s, attempt.pressure, attempt.lam)
-    if broken is not None:
-        name, value = broken
-        remedy = (f"a cycle jump of {heating[0]} stops ended here: try a smaller programme.jump_tolerance or "
-                  f"programme.jump = false" if heating[0] else "try wear.integrator = 'implicit' or more time.steps")
-        recording.fail(f"step {len(recording.result.times)} (t = {t:.4g}): invariant {name} broken by {value:.3g} "
-                       f"(allowed {stepper.check.checker.allowed[name]:.0e}; see ngwear.results.invariants); "
-                       f"{remedy}", attempt.record)
-        return False
-    forces = stepper.problem.contact.forces(attempt.pressure, attempt.lam, t)
-    heated = {} if stepper.heating is None else stepper.heating.advance(heating[1], t, attempt.pressure, still,
-                                                                        heating[0])
-    recording.append(StepRecord({"times": t, "wear": attempt.wear, "normal_displacement": attempt.s,
-                                 "pressure": attempt.pressure, "reaction": attempt.lam, "forces": forces,
-                                 "plate_displacement": attempt.delta, **heated}, attempt.record))
-    if heated and stepper.heating.heat is not None:
-        recording.keep_temperature(stepper.heating.heat.temperature)
-    displacement = stepper.displacement(attempt.x)
-    if displacement is not None:          # a nonlinear body's field is kept for the frames and the last step
-        recording.keep_field(displacement)
-    beyond = stepper.validity(recording.result.steps, t, attempt.s, attempt.delta, attempt.wear)
-    if beyond is not None:                # the step holds the model's equations, but beyond where it is valid
-        recording.result.status = beyond
-        return False
-    return True
-
-
-def _failed(recording: Recording, scene: Scene, j: int, t: float, err: Exception) -> None:
-    if isinstance(err, ArithmeticError):
-        recording.fail(f"step {j} (t = {t:.4g}): non-finite solution", err.args[0])
-    else:
-        recording.fail(f"step {j} (t = {t:.4g}): {err}; {_remedy(scene, err.record)}", err.record)
-
-
-def _first(stepper, integrator, recording: Recording, x, lam):
-    """Step 0: the contact problem at t = 0, before any wear (from the unloaded state)."""
-    try:
-        attempt = _solve(stepper, integrator, 0.0, None, x, lam)
-    except (ConvergenceError, ArithmeticError) as err:
-        _failed(recording, stepper.scene, 0, 0.0, err)
-        return x, lam
-    _record(recording, stepper, 0.0, attempt)
-    return attempt.x, attempt.lam
-
-
-def _next(stepper, integrator, clock: Clock, recording: Recording, x, lam):
-    """The step after the last recorded one, redone smaller while the clock rejects it; (x, λ) or None."""
-    result = recording.result
-    contact, j = stepper.problem.contact, result.steps
-    t, w, p = result.times[j], result.wear[j], result.pressure[j]
-    refusal = None if stepper.heating is None else stepper.heating.prepare(stepper, t, p)   # coefficients of state
-    if refusal is not None:
-        result.status = f"step {j + 1}: {refusal}"
-        return None
-    times = list(result.times[max(j - 1, 0):j + 1])
-    rates = [contact.alpha(tt) * pp for tt, pp in zip(times, result.pressure[max(j - 1, 0):j + 1])]
-    while True:
-        t_next = clock.next_time(j, t)
-        clock.prepare(integrator, contact, stepper.check, w, p, t, t_next)
-        try:
-            attempt = _solve(stepper, integrator, t_next, t, x, lam)
-        except (ConvergenceError, ArithmeticError) as err:
-            if clock.shrink():
-                continue
-            _failed(recording, stepper.scene, j + 1, t_next, err)
-            return None
-        if clock.judge([*times, t_next], [*rates, contact.alpha(t_next) * attempt.pressure]):
-            kept = _record(recording, stepper, t_next, attempt, clock.heating(t, t_next), clock.still)
-            return (attempt.x, attempt.lam) if kept else None
+    result, disc = saved.result, saved.result.discretization
+    contact = disc.contact
+    state = State(saved.x, saved.lam, contact.coefficients, result.wear[-1],
+                  instant=Instant(float(result.times[-1]), float(result.speed_factor[-1]),
+                                  float(result.load_factor[-1])),
+                  normal=result.normal_displacement[-1], pressure=result.pressure[-1],
+                  plate=result.plate_displacement[-1], forces=result.forces[-1],
+                  reference=Heating.reference(saved.scene, contact, saved.heat), record=result.newton[-1],
+                  steps=result.steps)
+    return _Start(saved.scene, disc, recording, state, folder,
+                  {"heat": saved.heat, "surface": saved.surface, "step": saved.step}, kept)
 
 
 class Stages:
@@ -382,27 +245,3 @@ class Stages:
     def close(self) -> None:
         if self.bar is not None:
             self.bar.close()
-
-
-
-
-def _remedy(scene: Scene, record) -> str:
-    """What to try after a Newton failure, from the failure's history."""
-    last = record.residuals[-1] if record.residuals else np.inf
-    if np.isfinite(last) and last < 1e3 * scene.solver.tolerance:
-        return f"the merit stalled at round-off: raise solver.tolerance above {last:.1e}"
-    tips = [f"more time.steps (now {scene.time.steps})",
-            f"solver.max_iterations > {scene.solver.max_iterations}"]
-    if bound(scene.contact.friction) != 0:
-        tips.append(f"a smaller contact.friction (μ = {describe(scene.contact.friction)} may exceed the smallness "
-                    f"bound (H_S): see `ngwear verify`)")
-    return "try " + ", ".join(tips)
-
-
-def _progress(scene: Scene, result: Result):
-    """A progress bar over the steps (uniform) or over time (adaptive), from where the run starts."""
-    if not scene.time.adaptive:
-        return bar(total=scene.time.steps, initial=max(result.steps, 0), desc=scene.name, unit="step",
-                   leave=False)
-    return bar(total=scene.time.T, initial=result.times[-1] if len(result.times) else 0.0, desc=scene.name,
-               leave=False, bar_format="{l_bar}{bar}| t = {n:.4g} of {total:.4g} [{elapsed}<{remaining}]")

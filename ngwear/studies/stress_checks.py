@@ -12,7 +12,7 @@ import numpy as np
 
 from ..model.keys import piecewise_linear
 from ..results.invariants import TOL
-from ..results.validity import WORN
+from ..runs.validity import WORN
 
 
 def _has_warning(row, word):
@@ -152,7 +152,7 @@ CHECKS: dict[str, Callable] = {
     "wear_overshoots": _check_wear_overshoots,
     "plate_balance": _check_plate_balance,
     "cut_back": lambda row, r: [] if row.cutbacks > 0 else ["expected a load continuation (cut-back)"],
-    # of the scheme: a layer worn through is the scene's physics (ngwear.results.validity), said where it happens
+    # of the scheme: a layer worn through is the scene's physics (ngwear.runs.validity), said where it happens
     "no_warning": lambda row, r: [f"unexpected warning: {w}" for w in row.warnings if not w.startswith(WORN)],
     "oscillation_warning": lambda row, r: _has_warning(row, "oscillates"),
     "divergence_warning": lambda row, r: _has_warning(row, "diverges"),

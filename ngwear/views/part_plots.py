@@ -24,7 +24,6 @@ from matplotlib.figure import Figure
 from matplotlib.tri import Triangulation
 
 from ..model.coefficients import state_of
-from ..model.kinematics import Slip
 from ..results.stops import TAPERS
 from ..results.units import label, unit
 from .plots import _along, _sampled, _save, plain
@@ -184,7 +183,7 @@ def history(result, path) -> Path:
     A counterface that turns gets the torque about its axis; one that translates, the friction force ‖F_t‖.
     """
     scene = result.scene
-    turning = Slip(scene.foundation, result.contact_points, scene.contact.direction).rotating
+    turning = result.motion.rotating
     friction = (("friction torque T (< 0: braking)", result.torque, "torque") if turning
                 else ("friction force |F_t| = |Σ m μ p n*|", result.friction_force, "force"))
     panels = [("normal force Σ m (p + λ)", result.normal_force, "force"), friction,
@@ -269,9 +268,9 @@ def temperatures(result, path, count: int = 4) -> Path:
 
 def pressure_radius(result, path, count: int = 4) -> Path:
     """p·r against r (the distance from the axis) at ``count`` steps: flat once the pad is worn in."""
-    slip = Slip(result.scene.foundation, result.contact_points, result.scene.contact.direction)
-    arm = result.contact_points - slip.center
-    axis = np.asarray(slip.axis, dtype=float)
+    motion = result.motion
+    arm = result.contact_points - motion.center
+    axis = np.asarray(motion.axis, dtype=float)
     radius = np.linalg.norm(arm - np.outer(arm @ axis, axis), axis=1) if axis.ndim else np.linalg.norm(arm, axis=1)
     fig = Figure(figsize=(6.5, 4), layout="constrained")
     ax = fig.add_subplot()

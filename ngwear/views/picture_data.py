@@ -145,19 +145,19 @@ class PictureData:
 
         Its radii and angles cover the contact points' with a margin; ``level`` is its surface ν·x.
         """
-        scene, slip = self.result.scene, self.result.discretization.contact.slip
+        scene, motion = self.result.scene, self.result.motion
         nu = np.asarray(scene.contact.direction)
-        if self.dim != 3 or not slip.rotating or abs(abs(slip.axis @ nu) - 1) > 1e-9:
+        if self.dim != 3 or not motion.rotating or abs(abs(motion.axis @ nu) - 1) > 1e-9:
             return None
         first = np.cross(nu, np.eye(3)[np.argmin(np.abs(nu))])
         basis = np.array([first / np.linalg.norm(first), np.cross(nu, first / np.linalg.norm(first))])
-        arms = (self.result.contact_points - slip.center) @ basis.T
+        arms = (self.result.contact_points - motion.center) @ basis.T
         radius, angle = np.linalg.norm(arms, axis=1), np.unwrap(np.arctan2(arms[:, 1], arms[:, 0]))
         width = max(np.ptp(radius), 0.05 * radius.max())
         turn = max(np.ptp(angle), 3 * width / max(radius.max(), 1e-300))
         level = float((self.result.contact_points @ nu).max()) + scene.contact.gap
         return {"nu": nu, "basis": basis, "level": level,
-                "center": slip.center + (level - slip.center @ nu) * nu,
+                "center": motion.center + (level - motion.center @ nu) * nu,
                 "radii": (max(radius.min() - 0.3 * width, 0.0), radius.max() + 0.3 * width),
                 "angles": (angle.min() - 0.4 * turn, angle.max() + 0.25 * turn), "depth": 0.08 * width,
                 "free": angle.min() - 0.05 * turn}
@@ -214,15 +214,14 @@ class PictureData:
 
     def motion(self, step: int) -> tuple[StraightArrow | ArcArrow, np.ndarray, str] | None:
         """Arrow, label position and label of the foundation's motion at a step (None when it is at rest)."""
-        slip, t = self.result.discretization.contact.slip, self.result.times[step]
-        factor = slip.factor(t)
-        if factor == 0 or not (slip.rotating or np.any(self.result.scene.foundation.velocity)):
+        motion, factor = self.result.motion, float(self.result.speed_factor[step])
+        if factor == 0 or not (motion.rotating or np.any(self.result.scene.foundation.velocity)):
             return None
         if self.rotor is not None:
-            return self._arc(factor * np.asarray(slip.omega))
+            return self._arc(factor * np.asarray(motion.omega))
         # v* where Γ_C is, at its contact point nearest to the centroid (the translation v₀ s_v if no ω)
-        nearest = np.argmin(np.linalg.norm(slip.points - slip.points.mean(axis=0), axis=1))
-        v = slip.velocity(t)[nearest]
+        nearest = np.argmin(np.linalg.norm(motion.points - motion.points.mean(axis=0), axis=1))
+        v = motion.velocity(factor)[nearest]
         if not v.any():
             return None
         box, dim = self.box(), self.dim

@@ -30,7 +30,7 @@ def write_pictures(result, out_dir) -> list[Path]:
         paths.append(part_plots.coefficient_maps(result, out / "coefficients.png"))
     if result.scene.heat.model != "none":
         paths.append(part_plots.temperatures(result, out / "temperatures.png"))
-    if result.discretization.contact.slip.rotating:
+    if result.motion.rotating:
         paths.append(part_plots.pressure_radius(result, out / "pressure_radius.png"))
     if result.scene.programme is not None and result.steps >= result.scene.programme.steps_per_stop:  # a stop done
         paths.append(part_plots.life(result, out / "life.png"))

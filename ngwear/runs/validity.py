@@ -19,7 +19,7 @@ import logging
 import numpy as np
 
 from ..model.plausibility import softest, unlikely_modulus
-from .units import unit
+from ..results.units import unit
 
 log = logging.getLogger(__name__)
 
@@ -48,8 +48,8 @@ class Validity:
         (t, area share) of the last step.
     """
 
-    def __init__(self, result):
-        scene, disc = result.scene, result.discretization
+    def __init__(self, result, disc):
+        scene = result.scene
         self.scene, self.segments, self.g = scene, disc.condensation.segments, scene.contact.gap
         self.area = result.weights / result.weights.sum()
         self.peak, self.worn, self.last = (0.0, -1, 0.0), None, (0.0, 0.0)
@@ -62,10 +62,11 @@ class Validity:
             self.peak, self.last = (float(strains[j]), j, times[j]), (times[-1], float(shares[-1]))
             self.worn = (times[worn[0]], float(shares[worn[0]])) if len(worn) else None
 
-    def __call__(self, j: int, t: float, s: np.ndarray, delta: np.ndarray, w: np.ndarray) -> str | None:
-        """Check step j ending at t (s = ν·u, the plate's δ, the wear w): the run's failure, or None to go on."""
-        self.wear(t, w)
-        return self.strain(j, t, s, delta)
+    def __call__(self, state) -> str | None:
+        """Check the state's step (s = ν·u, the plate's δ, the wear w): the run's failure, or None to go on."""
+        t = state.instant.t
+        self.wear(t, state.wear)
+        return self.strain(state.steps, t, state.normal, state.plate)
 
     def strain(self, j: int, t: float, s, delta) -> str | None:
         """ε̂ of step j: a failure beyond :data:`FAIL`; the log's line when it first passes :data:`WARN`."""

@@ -1,0 +1,200 @@
+"""The time loop, written once: the clock's steps one after the other, and what watches each of them.
+
+    state₀ → advance → state₁ → advance → …        (:func:`~ngwear.runs.step.advance`, one step each)
+
+Step 0 solves the contact problem at t = 0 with no wear; then, step after step, the heat sets the coefficients of the
+next step from the last state (:meth:`~ngwear.runs.heating.Heating.before`), the clock says where the step ends and
+what wear law it solves (:class:`~ngwear.runs.clock.Clock`, :class:`~ngwear.runs.stop_clock.StopClock`; a rejected
+adaptive step is redone smaller), and :func:`~ngwear.runs.step.advance` solves it.  A step is kept when it holds the
+scheme's invariants (:class:`~ngwear.runs.checks.StepCheck`); then the heat heats the body over it, the recording
+records its row, the validity checks (:mod:`ngwear.runs.validity`), ``wear.limit``, the geometry update
+(:class:`~ngwear.runs.surface.Surface`), the progress bar and the checkpoints see it, in that order.  The first that
+ends the run says why in ``Result.status``; every step before it is kept.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..model.coefficients import bound, describe
+from ..numerics.solver import ConvergenceError
+from .checks import StepCheck, worn_out
+from .clock import Clock
+from .heating import Heating
+from .state import State, Target
+from .step import StepCaches, advance
+from .stop_clock import StopClock
+from .surface import Surface
+from .validity import Validity
+
+
+class Run:
+    """One run: its discretization and caches, its state, its clock and the observers of its steps.
+
+    Parameters
+    ----------
+    scene, disc
+        What runs, on which discretization (a geometry update replaces ``disc``: :meth:`moved`).
+    recording : Recording
+        The record (``recording.result``) and where its rows go.
+    state : State
+        Where the run starts: the unloaded body, or a checkpoint's last step.
+    integrator : WearIntegrator
+        The wear scheme.
+    saved : dict
+        A resumed run's heat and surface state and the adaptive clock's next step (empty for a new run).
+    saver, progress, stop
+        The checkpoints (:class:`~ngwear.results.checkpoint.Saver`), the progress bar (None: none) and a stop event.
+    """
+
+    def __init__(self, scene, disc, recording, state: State, integrator, saved: dict, saver, progress=None,
+                 stop=None):
+        result = recording.result
+        self.scene, self.disc, self.recording, self.state, self.integrator = scene, disc, recording, state, integrator
+        self.saver, self.progress, self.stop = saver, progress, stop
+        self.caches = StepCaches.on(disc)
+        self.surface = Surface(scene, disc, saved.get("surface")) if scene.wear.geometry == "surface" else None
+        if self.surface is not None:
+            result.recession = self.surface.recession
+        self.clock = (Clock(scene, disc.contact.largest_rate(), result.rejected, saved.get("step"))
+                      if scene.programme is None else StopClock(scene, result, self.surface))
+        contact = disc.contact
+        self.clock.replay(result.times, [contact.rate(state.coefficients, v, p) for v, p in
+                                         zip(result.speed_factor, result.pressure)])
+        self.heating = Heating.of(scene, disc, saved.get("heat"))
+        state.heat = None if self.heating is None else self.heating.heat
+        self.check, self.validity = StepCheck(result, disc), Validity(result, disc)
+        self.proposed = self.clock.next_step        # the clock's next step after the last recorded one
+
+    @property
+    def result(self):
+        return self.recording.result
+
+    def first(self) -> bool:
+        """Step 0: the contact problem at the first instant, before any wear (from the unloaded state)."""
+        contact = self.disc.contact
+        place = self.clock.first() if isinstance(self.clock, StopClock) else None
+        target = Target(contact.motion.at(0.0, place), self.integrator.rest(self.state.wear))
+        try:
+            state, _ = advance(self.disc, self.caches, self.state, target)
+        except (ConvergenceError, ArithmeticError) as err:
+            self._failed(0, 0.0, err)
+            return False
+        return self._keep(state, target) and not worn_out(self.result)
+
+    def next(self) -> bool:
+        """The step after the last recorded one, redone smaller while the clock rejects it; whether the run goes on."""
+        result, state, contact = self.result, self.state, self.disc.contact
+        j = state.steps
+        refusal = None if self.heating is None else self.heating.before(state, self.caches)
+        if refusal is not None:
+            result.status = f"step {j + 1}: {refusal}"
+            return False
+        rows = slice(max(j - 1, 0), j + 1)
+        times = list(result.times[rows])
+        rates = [contact.rate(state.coefficients, v, p) for v, p in zip(result.speed_factor[rows], result.pressure[rows])]
+        while True:
+            target = self.clock.target(state, contact, self.integrator)
+            if target.still:
+                self.check.cross(target.instant.t, target.wear.a)
+            try:
+                new, _ = advance(self.disc, self.caches, state, target)
+            except (ConvergenceError, ArithmeticError) as err:
+                if self.clock.shrink():
+                    continue
+                self._failed(j + 1, target.instant.t, err)
+                return False
+            rate = contact.rate(new.coefficients, new.instant.speed, new.pressure)
+            if self.clock.judge([*times, target.instant.t], [*rates, rate]):
+                return self._keep(new, target) and self._watched()
+
+    def done(self) -> bool:
+        """Whether the clock has reached the run's end."""
+        if isinstance(self.clock, StopClock):
+            return self.clock.done(self.state, self.disc.contact)
+        return self.clock.done(self.state.steps, self.state.instant.t)
+
+    def _keep(self, state: State, target: Target) -> bool:
+        """Record the step if it keeps the invariants (else stop the run); then whether the model holds there."""
+        broken = self.check(state)
+        if broken is not None:
+            name, value = broken
+            remedy = (f"a cycle jump of {target.jumped} stops ended here: try a smaller programme.jump_tolerance or "
+                      "programme.jump = false" if target.jumped else
+                      "try wear.integrator = 'implicit' or more time.steps")
+            self.recording.fail(f"step {state.steps} (t = {state.instant.t:.4g}): invariant {name} broken by "
+                                f"{value:.3g} (allowed {self.check.allowed(name):.0e}; see ngwear.results.invariants); "
+                                f"{remedy}", state.record)
+            return False
+        self.recording.reserve()
+        heated = {} if self.heating is None else self.heating.after(state, target)
+        self.state, self.proposed = state, self.clock.next_step
+        self.recording.append(state, heated)
+        if heated and self.heating.heat is not None:
+            self.recording.keep_temperature(self.heating.heat.temperature)
+        if state.displacement is not None:          # a nonlinear body's field is kept for the frames and the last step
+            self.recording.keep_field(state.displacement)
+        beyond = self.validity(state)
+        if beyond is not None:                      # the step holds the model's equations, but beyond where it is valid
+            self.result.status = beyond
+            return False
+        return True
+
+    def _watched(self) -> bool:
+        """After a recorded step (not step 0): ``wear.limit``, the geometry update, the progress, the checkpoints."""
+        if worn_out(self.result):
+            return False
+        if self.surface is not None and self.surface.due(self.state.wear):
+            disc = self.surface.update(self.recording, self.state.wear)
+            if disc is None:
+                return False
+            self.moved(disc)
+        if self.progress is not None:
+            self.progress.update(self.result)
+        return self.saver.maybe(self.recording, self.continuation)
+
+    def moved(self, disc) -> None:
+        """Go on on ``disc`` after a geometry update: its caches and checks anew, the heat on the moved body."""
+        self.disc, self.caches = disc, StepCaches.on(disc)
+        self.state.wear, self.state.displacements = self.result.wear[-1], ()
+        self.check, self.validity = StepCheck(self.result, disc), Validity(self.result, disc)
+        if self.heating is not None:
+            self.heating.moved(disc)
+
+    def continuation(self) -> dict[str, np.ndarray]:
+        """What a checkpoint needs besides the record to go on from the last step, bit for bit."""
+        state = self.state
+        heat = {} if self.heating is None else self.heating.state(state.reference)
+        surface = {} if self.surface is None else self.surface.state
+        return {"x": state.x, "lam": state.lam, "step": np.array(self.proposed), **heat, **surface}
+
+    def _failed(self, j: int, t: float, err: Exception) -> None:
+        if isinstance(err, ArithmeticError):
+            self.recording.fail(f"step {j} (t = {t:.4g}): non-finite solution", err.args[0])
+        else:
+            self.recording.fail(f"step {j} (t = {t:.4g}): {err}; {remedy(self.scene, err.record)}", err.record)
+
+
+def run(loop: Run) -> None:
+    """The loop: step 0 if the run has none, then the clock's steps until its end, a stop or a failure."""
+    result, stop = loop.result, loop.stop
+    if loop.state.steps < 0 and not loop.first():
+        return
+    while result.completed and not loop.done():
+        if stop is not None and stop.is_set():
+            loop.recording.interrupt()
+            return
+        if not loop.next():
+            return
+
+
+def remedy(scene, record) -> str:
+    """What to try after a Newton failure, from the failure's history."""
+    last = record.residuals[-1] if record.residuals else np.inf
+    if np.isfinite(last) and last < 1e3 * scene.solver.tolerance:
+        return f"the merit stalled at round-off: raise solver.tolerance above {last:.1e}"
+    tips = [f"more time.steps (now {scene.time.steps})",
+            f"solver.max_iterations > {scene.solver.max_iterations}"]
+    if bound(scene.contact.friction) != 0:
+        tips.append(f"a smaller contact.friction (μ = {describe(scene.contact.friction)} may exceed the smallness "
+                    f"bound (H_S): see `ngwear verify`)")
+    return "try " + ", ".join(tips)
