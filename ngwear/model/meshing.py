@@ -11,28 +11,25 @@ Against Netgen on the shipped scenes and refined strips and boxes it is within a
 thick, refined: 3 × under).  A scene whose estimate passes ``mesh.max_elements`` is refused before meshing
 (:func:`check_size`), naming ``mesh.maxh`` (or ``mesh.contact_maxh`` when the refined layer makes most of it).
 
-Where (:func:`generate`).  A mesh estimated above :data:`IN_PROCESS` elements is made in a child process that
-builds the part from the same keys (the same mesh as in this process) and writes the mesh file: a set ``stop``
-kills it at once (:class:`Stopped`), as does the end of this process (``PR_SET_PDEATHSIG``); it ignores SIGINT
-(this process decides).  Netgen does not stop in this process: its volume mesher ignores its own terminate flag
-for tens of seconds.  Smaller meshes, a few seconds of Netgen, are made here.
+Where (:func:`generate`).  A mesh estimated above :data:`IN_PROCESS` elements is made in a child process
+(:func:`ngwear.child.run`) that builds the part from the same keys (the same mesh as in this process) and writes the
+mesh file: a set ``stop`` kills it at once (:class:`Stopped`), the end of this process within a second; it ignores
+SIGINT (this process decides), and Netgen crashing there is an error here.  Netgen does not stop in this process:
+its volume mesher ignores its own terminate flag for tens of seconds.  Smaller meshes, a few seconds of Netgen, are
+made here.
 
 With a refined zone (:mod:`ngwear.model.zone`) Γ_C's faces carry no size of their own (:func:`part`): Netgen's
 local size is held in the zone instead.  The estimate is made on the faces refined all over, an upper bound.
 """
 from __future__ import annotations
 
-import os
-import pickle
-import signal
-import subprocess
-import sys
 import threading
 from pathlib import Path
 
 import netgen.meshing
 from netgen.occ import OCCGeometry
 
+from ..child import ChildError, ChildStopped, run
 from . import zone
 from .keys import SceneError
 from .kinds import KINDS
@@ -41,8 +38,6 @@ DENSITY = {2: 2.3, 3: 5.5}
 """c_d: Netgen's elements per h^d of area (2D) or volume (3D) at mesh size h."""
 IN_PROCESS = 10_000
 """Largest estimated mesh made in this process (~2 s of Netgen here); larger ones in a child that a stop kills."""
-POLL = 0.05
-"""Seconds between two looks at the child and at the stop event."""
 
 
 class Stopped(RuntimeError):
@@ -83,37 +78,21 @@ def generate(scene, shape, path: Path, stop: threading.Event | None = None) -> N
     """Mesh ``shape`` (built from ``scene``, :func:`part`) and write it to ``path``: here, or in a child when large.
 
     Raises :class:`Stopped` when ``stop`` is set while a child meshes (the child is killed, ``path`` not written),
-    SceneError when a refined zone holds no point of Γ_C, and what Netgen raises (in a child: a RuntimeError with its
-    last line).
+    SceneError when a refined zone holds no point of Γ_C, and what Netgen raises (in a child: a RuntimeError, one
+    line, also when Netgen crashes).
     """
     g, m, direction = scene.geometry, scene.mesh, tuple(scene.contact.direction)
     if estimate(shape, g.dim, m.maxh, m.grading)[0] <= IN_PROCESS:
         _mesh(shape, g, m, direction).Save(str(path))
         return
-    child = subprocess.Popen([sys.executable, "-c", f"from {__name__} import _child; _child()"],
-                             stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     try:
-        child.stdin.write(pickle.dumps((g, m, direction, str(path))))
-        child.stdin.close()
-        while True:
-            try:
-                child.wait(POLL)
-                break
-            except subprocess.TimeoutExpired:
-                if stop is not None and stop.is_set():
-                    raise Stopped("meshing (Netgen)") from None
-        if child.returncode:
-            if child.returncode < 0:
-                raise RuntimeError(f"Netgen died of {signal.Signals(-child.returncode).name} in its child process")
-            last = (child.stderr.read().decode(errors="replace").strip().splitlines() or ["no reason"])[-1]
-            if last.startswith("SceneError: "):
-                raise SceneError(last.removeprefix("SceneError: "))
-            raise RuntimeError(last)
-    finally:
-        if child.poll() is None:
-            child.kill()
-            child.wait()
-        child.stderr.close()
+        run(_generate, g, m, direction, str(path), stop=stop, quiet=True)
+    except ChildStopped:
+        raise Stopped("meshing (Netgen)") from None
+    except ChildError as err:
+        if isinstance(err.__cause__, SceneError):
+            raise err.__cause__ from None
+        raise RuntimeError(f"Netgen died of {err.signal} in its child process" if err.signal else str(err)) from None
 
 
 def _mesh(shape, g, m, direction):
@@ -126,19 +105,8 @@ def _mesh(shape, g, m, direction):
     return OCCGeometry(shape, dim=g.dim).GenerateMesh(parameters)
 
 
-def _child() -> None:
-    """The child of :func:`generate`: read (geometry, mesh, ν, path), build the part, mesh it, write the mesh file."""
+def _generate(geometry, mesh, direction, path: str) -> None:
+    """:func:`generate` in its child: build the part from the keys, mesh it, write the mesh file."""
     from . import cad, shapes  # noqa: F401 - they register the kinds
 
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if sys.platform == "linux":                     # die with the parent, however it ends
-        import ctypes
-        ctypes.CDLL(None).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
-    geometry, mesh, direction, path = pickle.loads(sys.stdin.buffer.read())
-    if os.getppid() == 1:                           # the parent ended before the line above
-        sys.exit(1)
-    try:
-        _mesh(part(geometry, mesh), geometry, mesh, direction).Save(path)
-    except Exception as err:  # noqa: BLE001 - Netgen's and OpenCASCADE's own types: their message, one line
-        print(f"{type(err).__name__}: {err}".strip().splitlines()[0], file=sys.stderr)
-        sys.exit(1)
+    _mesh(part(geometry, mesh), geometry, mesh, direction).Save(path)

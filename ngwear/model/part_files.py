@@ -4,8 +4,7 @@ Files from outside are read first in a child process (:func:`describe`, cached b
 Netgen and OpenCASCADE trust their input, and a damaged file (a ``.vol`` cut short) can crash them, which
 in the child is a :class:`PartError` naming the file instead of the end of the run, the explorer or a
 study's client.  :func:`read_mesh` and :func:`read_shape` read a file in this process only once it has
-been described.  The child runs this file as a script (``python -P part_files.py KIND PATH``), so it
-imports nothing of ngwear.
+been described.  The child (:func:`ngwear.child.run`) imports this module, not ngwear's API.
 
 Regions: the solid (a mesh's material) that carries the faces named ``contact`` is the region ``body``, and
 so is an unnamed one (no name, or Netgen's ``default``); every other solid (material) is the region of its
@@ -14,9 +13,6 @@ name (:func:`solid_regions`, :func:`mesh_regions`).
 from __future__ import annotations
 
 import json
-import signal
-import subprocess
-import sys
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -24,6 +20,8 @@ from pathlib import Path
 import netgen.meshing
 import numpy as np
 from netgen.occ import OCCGeometry, TopoDS_Shape
+
+from ..child import ChildError, run
 
 SHAPE_FILES = (".step", ".stp", ".iges", ".igs", ".brep")
 MESH_FILES = (".vol", ".msh")
@@ -61,21 +59,17 @@ def describe(path: str, kind: str) -> Part:
 
 @lru_cache(maxsize=32)
 def _describe(path: str, kind: str, size: int, mtime: int) -> Part:
-    """:func:`_read` in a child process (this file run as a script), whose crash is a PartError."""
-    done = subprocess.run([sys.executable, "-P", __file__, kind, path], capture_output=True, text=True)
-    name = Path(path).name
-    if done.returncode < 0:
-        reader = "OpenCASCADE" if kind == "step" else "Netgen"
-        raise PartError(f"{reader} crashed reading {name} ({signal.Signals(-done.returncode).name}): the file is "
-                        "damaged or cut short")
-    answers = [line for line in done.stdout.splitlines() if line.startswith("{")]   # the readers print too
-    if done.returncode or not answers:
-        reason = (done.stderr.strip().splitlines() or ["no answer"])[-1]
-        raise PartError(f"cannot read {name} ({reason})")
-    answer = json.loads(answers[-1])
-    if "error" in answer:
-        raise PartError(answer["error"])
-    return Part(answer["dim"], tuple(answer["boundaries"]), answer["extent"], tuple(answer["regions"]))
+    """:func:`_read` in a child process, whose crash is a PartError."""
+    try:
+        return run(_read, path, kind, quiet=True)
+    except ChildError as err:
+        if isinstance(err.__cause__, PartError):
+            raise err.__cause__ from None
+        name = Path(path).name
+        if err.signal:
+            reader = "OpenCASCADE" if kind == "step" else "Netgen"
+            raise PartError(f"{reader} crashed reading {name} ({err.signal}): the file is damaged or cut short") from None
+        raise PartError(f"cannot read {name} ({err})") from None
 
 
 def _read(path: str, kind: str) -> Part:
@@ -176,10 +170,3 @@ def _load_mesh(path: str) -> netgen.meshing.Mesh:
         for index, name in enumerate(mesh_regions(mesh), start=1):
             mesh.SetMaterial(index, name)
     return mesh
-
-
-if __name__ == "__main__":        # the child of _describe: ``python -P cad.py KIND PATH`` prints the Part as JSON
-    try:
-        print(json.dumps(_read(sys.argv[2], sys.argv[1]).__dict__))
-    except PartError as err:
-        print(json.dumps({"error": str(err)}))

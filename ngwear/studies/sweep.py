@@ -11,7 +11,7 @@ mix text with numbers (``contact.friction = [0.3, "0.2 + 0.1*x"]``) is a column 
 (``"0.3"``).
 
 Reuse.  Cases are submitted grouped by mesh and material (:attr:`Case.group`).  A worker runs its
-cases in a case process of its own (:class:`~ngwear.studies.child.Child`, one per worker thread), which
+cases in a case process of its own (:class:`~ngwear.child.Child`, one per worker thread), which
 keeps the discretizations of the last :data:`CACHED_GROUPS` groups it ran and passes them to
 ``simulate(scene, discretization=...)``, so a worker meshes and factorises once per group it meets.
 A case ``factorised`` when the change from its group's last case rebuilt the stiffness (:meth:`Discretization.reuse`)
@@ -48,6 +48,7 @@ from pathlib import Path
 from time import perf_counter, sleep
 from typing import TYPE_CHECKING, Any
 
+from ..child import Child, ChildError
 from ..model.keys import Level
 from ..model.scene import SceneError
 from ..results.folder import hold, remove, replacing
@@ -55,7 +56,6 @@ from ..results.provenance import COLUMNS as PROVENANCE
 from ..results.provenance import columns
 from ..runs.progress import bar as progress_bar
 from ..runs.simulate import simulate
-from .child import Child, ChildError
 from .outputs import OUTPUTS, outputs
 from .study import Case, Study, StudyError, load_study, study_from_dict
 
@@ -168,9 +168,9 @@ _CACHE: OrderedDict = OrderedDict()
 def run_case(scene, group: str) -> tuple[dict, dict[str, bytes]]:
     """Run one case on this Dask worker, in a case process of the worker; (row, saved files).
 
-    The case runs in a :class:`~ngwear.studies.child.Child` of this worker that keeps the
+    The case runs in a :class:`~ngwear.child.Child` of this worker that keeps the
     discretizations of its groups (one that ran ``group`` last is taken when idle), so a case that
-    kills its process fails alone with :class:`~ngwear.studies.child.ChildError`, and the worker, with
+    kills its process fails alone with :class:`~ngwear.child.ChildError`, and the worker, with
     the cases queued on it, lives on.
     """
     with _IDLE_LOCK:
