@@ -135,8 +135,8 @@ class Discretization:
 
         Everything is built anew on the moved mesh (the contact points, K and its factorisation, d₀, the loads, the
         plate) but what the move leaves: the space (on the same mesh object), the gradient blocks of the other regions
-        (those of the pad's backing plate: 10 of the 24 s of K's assembly at 323k DOFs) and K's ordering (the same
-        elements: METIS is skipped).
+        (those of the pad's backing plate: a large part of K's assembly) and K's ordering (the same elements: METIS is
+        skipped).
         """
         new = Discretization.__new__(Discretization)
         new.scene, new.contact_solve = self.scene, self.contact_solve

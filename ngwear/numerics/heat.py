@@ -1,4 +1,4 @@
-"""Transient heat conduction in the body, heated by friction on Γ_C (DESIGN §6; issue 31).
+"""Transient heat conduction in the body, heated by friction on Γ_C (``docs/guide/heat.md``).
 
     ρc ∂T/∂t = ∇·(k ∇T) in Ω,   k ∂T/∂n = η q on Γ_C,   −k ∂T/∂n = h_b (T − T_∞) on the convected boundaries b,
     ∂T/∂n = 0 on every other boundary,   T(0) = T₀,

@@ -21,8 +21,9 @@ from .solver import CondensedSystem, Factors, FullSystem, KrylovSystem, PlateRow
 from .wear import WearIntegrator
 
 PATCH_SHARE = 0.9
-"""Largest share of the contact points in the rigid body's patch for which ``auto`` solves on the patch (measured:
-the patch 2–11× faster than GCR up to a share of 0.84, GCR 1.1–3.9× faster on pads pressed flat, share 1)."""
+"""Largest share of the contact points in the rigid body's patch for which ``auto`` solves on the patch: the patch
+computes a compliance column for each of its points and factorises their matrix, which pays while the patch is a part
+of Γ_C; on a pad pressed flat (share 1) GCR's products cost less (``benchmarks/contact_scaling.py --crossover``)."""
 
 
 KEPT = 2

@@ -435,7 +435,7 @@ class Result:
         if self.scene.units:
             arrays["units"] = np.array(json.dumps(units(self.scene, arrays), ensure_ascii=False))
         with replacing(out / "result.npz") as tmp:
-            np.savez(tmp, **arrays)                 # not compressed: zlib takes 10x longer for 20 % less
+            np.savez(tmp, **arrays)                 # not compressed: zlib costs far more time than it saves space
 
         with replacing(out / "scene.json") as tmp:
             tmp.write_text(json.dumps(self.scene.to_dict(), indent=2))
