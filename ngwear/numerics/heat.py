@@ -191,10 +191,9 @@ class Heat:
                 "counterface": np.array(self.counterface.state, dtype=float)}
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
-        """Go on from a :attr:`state` (of a heat on the same mesh; an older one without ``removed``: 0)."""
+        """Go on from a :attr:`state` (of a heat on the same mesh)."""
         self.temperature = np.array(state["temperature"], dtype=float)
-        values = [float(v) for v in state["heat"]] + [0.0]         # an older state has no ``removed``
-        self.time, self.power, self.supplied, self.convected, self.removed = values[:5]
+        self.time, self.power, self.supplied, self.convected, self.removed = (float(v) for v in state["heat"])
         self.counterface.state = state["counterface"]
 
 

@@ -43,7 +43,7 @@ from ..model.scene import Scene
 from ..numerics.points import initial_distance
 from ..numerics.solver import NewtonRecord
 from ..numerics.topology import coordinates
-from .folder import replacing
+from .folder import FolderError, replacing
 from .mesh_file import keep_mesh, saved_discretization
 from .provenance import canonical
 from .records import records_from_arrays, records_to_arrays
@@ -55,6 +55,9 @@ from .units import units
 ARRAYS = tuple(f.name for f in RECORDED if f.when is None)
 """The rows every run records (:data:`~ngwear.results.step_fields.RECORDED`; :func:`recorded`: those of a scene)."""
 COEFFICIENTS = ("friction_coefficient", "wear_coefficient", "contact_stiffness")
+HEADER = ("contact_points", "weights", *COEFFICIENTS, *records_to_arrays([]), "status", "wall_time", "solve_time",
+          "rejected", "warnings", "jumped", "thickness", "removed_rows", "removed", "moved_weights", "provenance")
+"""The keys :meth:`Result.header` writes, of every run."""
 
 
 @dataclass
@@ -100,7 +103,7 @@ class Result:
         the frames show (:meth:`body_coordinates`).
     provenance : dict or None
         ``ngwear``, ``ngsolve``, ``python``: the versions that computed it; ``scene_sha256``: the SHA-256 of its
-        scene's canonical JSON (:mod:`ngwear.results.provenance`).  None for a file written before they were kept.
+        scene's canonical JSON (:mod:`ngwear.results.provenance`).  Every run records it; None for a Result made by hand.
     """
 
     scene: Scene
@@ -123,7 +126,7 @@ class Result:
     heating: object = field(default=None, repr=False)            # the run's Heating: thermal expansion's displacement
     surface: object = field(default=None, repr=False)            # the run's Surface ("surface"): a checkpoint keeps it
     mesh_digest: str | None = field(default=None, repr=False)   # SHA-256 of the mesh.vol written for it
-    provenance: dict | None = field(default=None, repr=False)    # versions and scene hash (None: an older file's)
+    provenance: dict | None = field(default=None, repr=False)    # versions and scene hash (None: not made by a run)
     jumped: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
     measured: np.ndarray | None = field(default=None, repr=False)   # the worn region's thickness (see thickness)
     removed_rows: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
@@ -418,7 +421,7 @@ class Result:
                 "jumped": self.jumped, "thickness": self.thickness, "removed_rows": self.removed_rows,
                 **{name: getattr(self, name) if len(self.removed_rows) else np.zeros((0, len(self.weights)))
                    for name in ("removed", "moved_weights")},
-                **({"provenance": np.array(canonical(self.provenance))} if self.provenance else {})}
+                "provenance": np.array(canonical(self.provenance))}
 
     def save(self, directory) -> Path:
         """Write result.npz, scene.json, mesh.vol, history.csv, summary.json and a VTU/PVD series of the frames."""
@@ -496,16 +499,22 @@ def load_result(directory) -> Result:
     FileNotFoundError
         ``directory`` holds no ``result.npz``.
     FolderError
-        ``mesh.vol`` is not the mesh the result was computed on.
+        ``result.npz`` lacks a key that :meth:`Result.save` writes, or ``mesh.vol`` is not the mesh the result was
+        computed on.
     """
     src = Path(directory)
     if not (src / "result.npz").is_file():
         raise FileNotFoundError(f"{src}: no result.npz (not a saved ngwear result)")
     data = np.load(src / "result.npz")
     scene = Scene.from_dict(json.loads((src / "scene.json").read_text()))
+    meshed = ("mesh_sha256", "frame_coordinates") if (src / "mesh.vol").is_file() else ()   # saved with its mesh
+    missing = [key for key in (*HEADER, *recorded(scene), "field_steps", "fields", *meshed) if key not in data.files]
+    if missing:
+        raise FolderError("directory", f"{src / 'result.npz'} is damaged or not a result of ngwear (no "
+                                       f"{', '.join(missing)})")
     result = from_arrays(scene, data, saved_discretization(scene, src, data))
     result.fields = {int(s): f for s, f in zip(data["field_steps"], data["fields"])}
-    if "frame_coordinates" in data and len(data["frame_coordinates"]):
+    if meshed and len(data["frame_coordinates"]):
         result.meshes = {result.updates_by(int(s)): x for s, x in zip(data["field_steps"], data["frame_coordinates"])}
     if "temperature_fields" in data:
         result.temperatures = {int(s): f for s, f in zip(data["field_steps"], data["temperature_fields"])}
@@ -526,19 +535,14 @@ def row_shapes(scene: Scene, disc) -> dict[str, tuple]:
 def from_arrays(scene: Scene, data, disc, rows: dict[str, np.ndarray] | None = None) -> Result:
     """The result that :meth:`Result.arrays` wrote (or :meth:`Result.header` and the ``rows``), on ``disc``."""
     rows = {name: np.array(data[name]) for name in recorded(scene)} if rows is None else rows
-    n = len(data["weights"])
-    coefficients = (np.array(data[name]) if name in data else np.full(n, float(getattr(scene.contact, key)))
-                    for name, key in zip(COEFFICIENTS, ("friction", "wear", "stiffness")))   # before fields: numbers
+    coefficients = (np.array(data[name]) for name in COEFFICIENTS)
     return Result(scene, data["contact_points"], data["weights"], rows, *coefficients, newton=records_from_arrays(data),
-                  status=str(data["status"]), wall_time=float(data["wall_time"]),
-                  solve_time=float(data["solve_time"]) if "solve_time" in data else 0.0,
+                  status=str(data["status"]), wall_time=float(data["wall_time"]), solve_time=float(data["solve_time"]),
                   warnings=[str(w) for w in data["warnings"]], rejected=int(data["rejected"]),
-                  discretization=disc, provenance=json.loads(str(data["provenance"])) if "provenance" in data else None,
-                  jumped=np.array(data["jumped"], dtype=int) if "jumped" in data else
-                  np.zeros(0, dtype=int), measured=np.array(data["thickness"]) if "thickness" in data else None,
-                  removed_rows=np.array(data["removed_rows"], dtype=int) if "removed_rows" in data else
-                  np.zeros(0, dtype=int), removed=np.array(data["removed"]) if "removed" in data else None,
-                  moved_weights=np.array(data["moved_weights"]) if "moved_weights" in data else None)
+                  discretization=disc, provenance=json.loads(str(data["provenance"])),
+                  jumped=np.array(data["jumped"], dtype=int), measured=np.array(data["thickness"]),
+                  removed_rows=np.array(data["removed_rows"], dtype=int), removed=np.array(data["removed"]),
+                  moved_weights=np.array(data["moved_weights"]))
 
 
 def _row(name: str):

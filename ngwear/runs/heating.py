@@ -19,8 +19,6 @@ heat's state as they change the wear: N cycles of the last simulated stop (:meth
 """
 from __future__ import annotations
 
-import logging
-
 import numpy as np
 
 from ..model.scene import SceneError
@@ -31,7 +29,6 @@ REFERENCE = "heat_friction_reference"
 """A checkpoint's key of the reference μ."""
 STARTED = "heat_started_"
 """The prefix of a checkpoint's keys of the heat's state at the last simulated stop's start (a programme's)."""
-log = logging.getLogger(__name__)
 
 
 class Heating:
@@ -141,10 +138,6 @@ class Heating:
         an Euler step of N in stop time, as it adds N Δw to the wear (:mod:`ngwear.runs.jumps`): exact in a periodic
         state (Δ = 0) and while the stops heat the body by the same amount each, and the energy balance holds.
         """
-        if self.started is None:
-            log.warning("heat: the checkpoint this run resumed from keeps no start of its last stop (an older ngwear): "
-                        "the %d stops jumped over are not heated", stops)
-            return
         now = self.heat.state
         change = {key: now[key] - self.started[key] for key in now}
         change["heat"][1] = 0.0                                         # the power is the crossing's own (0)
