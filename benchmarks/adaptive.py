@@ -1,9 +1,9 @@
-"""Adaptive steps against uniform steps of the same time error, on the paper's scene (issue 19).
+"""Adaptive steps against uniform steps of the same time error, on the paper's scene.
 
 The time error alone: every run on the paper's mesh (P1, maxh 0.05) against 8000 trapezoidal steps on the same
 mesh, measured as ``time.tolerance`` is meant, max_i |w_i(T) − w_ref,i(T)| / g.  Uniform runs of each integrator
 at 10 … 3200 steps; adaptive runs of each at tolerances 1e-2 … 1e-4, and ``time.adaptive`` with the integrator
-not named (the trapezoidal rule since issue 19).  For each adaptive run: its steps (and rejected ones), its error
+not named (the trapezoidal rule).  For each adaptive run: its steps (and rejected ones), its error
 against its tolerance, and the uniform steps of the same integrator and of the paper's explicit scheme that reach
 its error (log–log interpolation between the uniform runs: error ∝ N^(−q)).  Wall times: medians of ``--reps``.
 

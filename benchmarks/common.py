@@ -1,4 +1,4 @@
-"""Shared helpers of the ngwear benchmarks (issue 3, "Fast: solve only what changes").
+"""Shared helpers of the ngwear benchmarks ("Fast: solve only what changes").
 
 Every script in this folder:
 
@@ -153,7 +153,7 @@ def paper_scene():
 
 LIFE = ROOT / "geometries" / "brake_pad_life.toml"
 LIFE_SIZES = (None, 0.002, 0.00122)
-"""``mesh.maxh`` of the life pad's shipped mesh (None), 46k and 202k DOFs (issue 30 §5's size)."""
+"""``mesh.maxh`` of the life pad's shipped mesh (None), 46k and 202k DOFs."""
 
 
 def life_pad(maxh: float | None) -> tuple:

@@ -1,4 +1,4 @@
-"""Fine contact faces (issue 32): set-up + 100 steps against one elastic solve, before and after, as Γ_C is refined.
+"""Fine contact faces: set-up + 100 steps against one elastic solve, before and after, as Γ_C is refined.
 
 Cases: the pin ``geometries/pin_on_disc.toml`` (a spherical cap on a turning disc, held by its plate alone; 100
 steps over its 60 s) at ``mesh.contact_maxh`` = 0.3, 0.15, 0.1, 0.07 mm (a case ``pin:0.1``), and the shipped
@@ -12,7 +12,7 @@ brake pad ``geometries/brake_pad.toml`` (100 steps, k = 1 s) at ``mesh.maxh`` = 
   rigid body's patch is at most 90 % of Γ_C, and by GCR otherwise.
 
 Every measurement runs in a fresh process: ``elastic`` is one NGSolve linear-elastic solve on the same mesh and
-space (assemble + ``sparsecholesky`` + solve, the issue's yardstick), ``ngwear`` is ``Discretization`` + its set-up
+space (assemble + ``sparsecholesky`` + solve, the yardstick), ``ngwear`` is ``Discretization`` + its set-up
 stages (assembly, PARDISO, loads, plate) + ``simulate``.  Reported: set-up, the first step (from rest), ms per later
 step (mean; median of the steps that compute no column), ratio (set-up + steps) / elastic, in wall and in CPU time
 (the machine is shared: CPU time is less sensitive to the load), Newton iterations, right-hand sides solved with K's
@@ -250,7 +250,7 @@ def profile(args) -> None:
         for name in ("newton", "solves", "rhs", "gcr", "changes", "active_changes", "cpu_ms")] + [
         ("loop_s", "loop s", ".1f"), ("backsub_s", "back-subst. s", ".1f"), ("memory_s", "memory s", ".1f"),
         ("recall_s", "recall s", ".1f"), ("extend_s", "GCR QR s", ".1f"), ("lu_s", "LU s", ".2f")]
-    C.finish(args.name or "contact_profile", "Profile of the pin's contact solve (issue 32)", header, rows, columns,
+    C.finish(args.name or "contact_profile", "Profile of the pin's contact solve", header, rows, columns,
              None, args.quick)
 
 
@@ -316,7 +316,7 @@ def main():
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7)
     name = args.name or ("contact_crossover" if args.crossover else "contact_scaling")
-    C.finish(name, "Fine contact faces: set-up + 100 steps / one elastic solve (issue 32)", header, rows, columns, fig,
+    C.finish(name, "Fine contact faces: set-up + 100 steps / one elastic solve", header, rows, columns, fig,
              args.quick)
 
 

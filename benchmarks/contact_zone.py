@@ -1,4 +1,4 @@
-"""Local refinement of Γ_C (issue 29 §5): a sphere-ended pin refined within a zone, against the whole cap refined.
+"""Local refinement of Γ_C: a sphere-ended pin refined within a zone, against the whole cap refined.
 
 A steel pin of diameter 2 mm (a = 1 mm) with a hemispherical end (R = 1 mm), maxh 0.5 mm, pressed by a plate with
 1 kN onto a flat that is all but rigid (p = L r₊, L = 1e17 Pa/m: its compression is 1 % of Hertz's approach):

@@ -1,4 +1,4 @@
-"""Latency of the explorer app measured in the browser (issue 12): first picture ≤ 5 s, slider → picture ≤ 0.5 s.
+"""Latency of the explorer app measured in the browser: first picture ≤ 5 s, slider → picture ≤ 0.5 s.
 
 ``ngwear explore geometries/paper_strip.toml`` (the explorer's default: the paper's resolution,
 maxh 0.05 and 100 steps, an 800 × 330 picture) is opened in Debian's Chromium driven by Playwright,
@@ -110,7 +110,7 @@ def main():
                         presses[name].append(slider_latency(page, name, keys[i % 2]))
                 page.close()
                 for _ in range(args.runs):
-                    time.sleep(12)  # the next kernel preheats (about 5 s), the closed page's kernel ends
+                    time.sleep(12)  # longer than the next kernel's preheating; the closed page's kernel ends
                     page, first = open_page(browser, url)
                     warm.append(first)
                     page.close()

@@ -1,4 +1,4 @@
-"""Latency of the explorer (issue 5): a slider change must give a new picture in ≤ 0.5 s.
+"""Latency of the explorer: a slider change must give a new picture in ≤ 0.5 s.
 
 For each slider (load, speed ‖v*‖, κ, μ, g, time steps) the explorer on the paper scene is moved
 through 5 values (``--reps``, cycled), each update doing what the widget does: ``Explorer.set``

@@ -1,4 +1,4 @@
-"""What a frame's stress and contact file cost (issue 29 §1), against a step, on the shipped brake pad.
+"""What a frame's stress and contact file cost, against a step, on the shipped brake pad.
 
 ``geometries/brake_pad.toml`` (P1, maxh 0.006 as shipped; and 0.003) run for 20 steps; then, at its last step, the
 frame as before (VTKOutput of ``displacement`` and ``wear``), the frame as now (with ``stress`` and ``von_mises``,

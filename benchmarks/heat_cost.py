@@ -1,4 +1,4 @@
-"""What heat costs a run (issue 31 §5): the shipped pad and a >= 100k-DOF pad with heat.model "none" and "conduction".
+"""What heat costs a run: the shipped pad and a >= 100k-DOF pad with heat.model "none" and "conduction".
 
 ``geometries/brake_pad.toml`` (3 kN on a disc at 50 rad/s, 150 steps of 1 s; at the large size, maxh 0.00135 and
 187k DOFs — maxh 0.0014 gives 83k —, 20 steps) in three variants, timed from the cached mesh

@@ -1,4 +1,4 @@
-"""The heat equation's time scheme and mass matrix, measured on the half-space under a uniform flux (issue 31).
+"""The heat equation's time scheme and mass matrix, measured on the half-space under a uniform flux.
 
 A column 0.02 × 1 (P1 temperature, the strip's Netgen mesh at maxh h; k = ρ = c = 1) takes the flux q = 1 on Γ_C
 (y = 0) until T = 0.02, when the heat has gone 4√(κT) = 0.57 deep, the back (y = 1) still cold to 1e-7: the closed

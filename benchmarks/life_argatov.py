@@ -1,11 +1,11 @@
-"""A sphere wearing flat far beyond its layer (issue 30 §4): the contact radius against Argatov's a⁴ = a₀⁴ + 4κFsR/π.
+"""A sphere wearing flat far beyond its layer: the contact radius against Argatov's a⁴ = a₀⁴ + 4κFsR/π.
 
 The shipped pin on disc (``geometries/pin_on_disc.toml``: a spherical end R = 5 mm, 10 N, at 30 mm from the axis
 of a disc turning at 10 rad/s) with a thin, stiff layer (g = 10 µm, L = 10¹² Pa/m), its tip refined (0.1 mm within
 1.5 mm), ``wear.geometry = "surface"`` (``wear.update`` 0.5) for 150 s: 45 m of sliding, the tip worn 13 g.  The
 contact radius a = √(A/π), A the area of the points with p + λ > 0 (each step's weights), against Argatov's law
 from the measured a₀; it should agree within 5 % for s ≥ 4 s₀, a(s₀) = 2 a₀.  In ``"layer"`` mode the same scene
-stops wearing at g.  About 2 minutes.
+stops wearing at g.
 
     python benchmarks/life_argatov.py
 """

@@ -1,4 +1,4 @@
-"""The material laws and coefficient fields of issue 18 (§7): what they cost.
+"""The material laws and coefficient fields: what they cost.
 
 **Linear materials** (``--part linear``): the scenes of the strip, box and pad tables (``ratio.py``,
 ``scale3d.py``, ``pad.py``), 100 steps from the cached mesh (``Discretization(scene, mesh)`` + ``simulate``), with
@@ -21,7 +21,7 @@ and space (back face clamped, as ngwear's factorisation holds it) under the pad'
 traction on Γ_C — the pressure P = F/|Γ_C| along −ν and the friction traction μP along the disc's velocity —
 by NGSolve's own Newton (``NewtonSolver`` on the energy as ``Variation``, energy line search, tolerance
 1e-10 of NGSolve's error √⟨K⁻¹r, r⟩ relative to its first) with PARDISO (MKL, as ngwear) and with
-``sparsecholesky`` (the other tables' yardstick).  Target (issue 18 §7): ngwear ≤ 5× one nonlinear solve.
+``sparsecholesky`` (the other tables' yardstick).  Target: ngwear ≤ 5× one nonlinear solve.
 
     .venv/bin/python benchmarks/materials.py [--part linear|compaction|all] [--reps 3] [--quick]
         [--steps 100] [--large-steps 100]
@@ -51,7 +51,7 @@ def base_scene(kind: str, size, steps: int = 100):
     if kind == "strip":
         return C.scene_for(size, 1)
     settings = {"mesh.maxh": size, "time.steps": steps}
-    if kind == "pad":           # the pad as it was before issue 18: isotropic, E = 1 GPa, no backing plate
+    if kind == "pad":           # the pad without regions: isotropic, E = 1 GPa, no backing plate
         settings.update({"time.T": float(steps), "output.every": float(steps), "geometry.backing": None,
                          "material": {"young": 1.0e9, "poisson": 0.25}})
     return ngwear.load_scene(SCENES[kind]).replace(**settings)
@@ -245,7 +245,7 @@ def main():
         with C.blas_limit(args.blas_threads):
             for kind, size in linear_cases(args):
                 rows += linear_case(kind, size, args.reps, args.variants.split(","))
-        C.finish(f"materials_linear{args.suffix}", "Linear materials against today's (issue 18 §7)", header + [
+        C.finish(f"materials_linear{args.suffix}", "Linear materials against the isotropic one", header + [
             "100 steps from the cached mesh; variants interleaved in one process, medians; elastic = NGSolve "
             f"assemble + sparsecholesky + 1 solve; regression: > {REGRESSION - 1:.0%} slower than iso (per DOF "
             "for the backing)"], rows, LINEAR_COLUMNS, quick=args.quick)
@@ -257,7 +257,7 @@ def main():
             for beta in (float(b) for b in args.betas.split(",")):
                 rows.append(compaction_case(maxh, beta, steps, args.reps, args.blas_threads))
                 C.write_csv(f"{args.name}_partial", header, rows)          # kept should the run be stopped
-        C.finish(args.name, "The compaction pad against one nonlinear elastic solve (issue 18 §7)", header + [
+        C.finish(args.name, "The compaction pad against one nonlinear elastic solve", header + [
             "ngwear = Discretization + simulate from the cached mesh, each run in a fresh process; NGSolve Newton = "
             "one nonlinear solve of the same law under the pad's mean contact load (back clamped), PARDISO; "
             f"target: ngwear / Newton <= {TARGET:g} at 100 steps"], rows, COMPACTION_COLUMNS, quick=args.quick)

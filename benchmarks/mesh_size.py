@@ -1,4 +1,4 @@
-"""Netgen's memory and time per element, and ngwear's estimate of the element count (issue 28 §2).
+"""Netgen's memory and time per element, and ngwear's estimate of the element count.
 
 Each case meshes a part in a fresh process (no cache) and reports the estimate of
 :func:`ngwear.model.meshing.estimate` beside the elements Netgen made, the meshing time and the peak memory above
@@ -6,7 +6,7 @@ the process's memory before meshing (``VmHWM``, reset before it: Linux), per ele
 default of ``mesh.max_elements`` (docs/guide/scenes.md).  Cases are ``scene:key=value,...`` (``strip`` is the
 paper's strip, ``box`` box3d, ``pad`` the brake pad).
 
-    .venv/bin/python benchmarks/mesh_size.py            # ~10 min on the shared 2-core machine
+    .venv/bin/python benchmarks/mesh_size.py            # every case
     .venv/bin/python benchmarks/mesh_size.py --quick
 """
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Wear that removes material (issue 30): which extension keeps the pad's elements valid, and what an update costs.
+"""Wear that removes material: which extension keeps the pad's elements valid, and what an update costs.
 
 ``--part quality``: the shipped brake pad (12 mm of friction material on its 5.5 mm steel backing) worn in steps
 of 0.5 mm of mean wear up to the whole friction material, uniformly and with two tapers (circumferential

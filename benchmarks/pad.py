@@ -1,4 +1,4 @@
-"""The brake pad (issue 8 §6): 100 steps at three mesh sizes up to ≥ 100k DOFs, against one elastic solve.
+"""The brake pad: 100 steps at three mesh sizes up to ≥ 100k DOFs, against one elastic solve.
 
 ``geometries/brake_pad.toml`` (an annular-sector pad held by its rigid back plate alone, pressed with
 3 kN on a disc turning at 50 rad/s) at maxh 0.004, 0.002, 0.0011 (about 5k, 32k, 150k DOFs), 100 steps
@@ -60,7 +60,7 @@ def main():
     ax.set(xlabel="DOFs", ylabel="seconds", title="brake pad")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
-    C.finish("pad", "Brake pad: 100 steps vs one elastic solve (issue 8 §6)", header, rows, columns, fig, args.quick)
+    C.finish("pad", "Brake pad: 100 steps vs one elastic solve", header, rows, columns, fig, args.quick)
 
 
 if __name__ == "__main__":

@@ -7,7 +7,7 @@ Denominator ("elastic"): one linear-elastic solve with NGSolve on the same mesh 
 ``BilinearForm`` + ``Assemble`` (and the load form), ``Inverse(FreeDofs, "sparsecholesky")``, one
 solve; once sequential (as ngwear runs) and once inside ``ngs.TaskManager()`` (2 threads).
 Repetitions are interleaved (elastic, elastic+TaskManager, fast, elastic, ...) and the ratios are
-of medians measured in the same run.  Target (issue 3): ratio ≤ 10 at ~10k and ~50k DOFs, P1.
+of medians measured in the same run.  Target: ratio ≤ 10 at ~10k and ~50k DOFs, P1.
 
     /work/venv/bin/python benchmarks/ratio.py [--quick] [--reps 3] [--sizes 2k,10k] [--orders 1,2]
 """

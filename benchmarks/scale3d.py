@@ -1,6 +1,6 @@
-"""3D at scale (issue 10): time and peak memory against DOFs and contact points, P1 and P2.
+"""3D at scale: time and peak memory against DOFs and contact points, P1 and P2.
 
-Four series: ``geometries/box3d.toml`` at maxh 0.04, 0.025, 0.018 (P1, the issue's meshes) and 0.08,
+Four series: ``geometries/box3d.toml`` at maxh 0.04, 0.025, 0.018 (P1) and 0.08,
 0.05, 0.035 (P2, about the same DOFs), and the brake pad ``geometries/brake_pad.toml`` (held by its
 rigid back plate only, on a disc turning about z) at maxh 0.002, 0.0011, 0.0007, 0.00063 (P1, the
 last 844k DOFs and 18k contact points) and 0.004, 0.003, 0.002, 0.0014, 0.0012 (P2, the last 891k
@@ -207,7 +207,7 @@ def main():
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
     name = args.name or ("scale3d_crossover" if len(modes) > 1 else "scale3d")
-    C.finish(name, "3D at scale (issue 10)", header, rows, columns, fig, args.quick and name == "scale3d")
+    C.finish(name, "3D at scale", header, rows, columns, fig, args.quick and name == "scale3d")
 
 
 def verdict_of(row) -> str:

@@ -12,7 +12,7 @@ setup + (s / iteration) × (Newton iterations of the fast 100-step run; both pat
 iterations, checked where both run).  If the estimate is within ``--full-budget`` seconds the full
 100-step run is measured (its time is used); otherwise the extrapolated time is reported and marked
 so.  ``--full-skip`` (default ``200k:2``) skips the full path entirely.
-Target (issue 3): full / fast ≥ 30.
+Target: full / fast ≥ 30.
 
     /work/venv/bin/python benchmarks/speedup.py [--quick] [--full-budget 150] [--full-skip 200k:2]
 """

@@ -10,9 +10,9 @@ d log t / d log S (1 = linear; S = 10 → 100 also changes k, hence Newton itera
 b is the marginal cost of one more step, compared
 with one back-substitution with the elastic factorisation (``disc.elastic.operator.solve(rhs)``, SuperLU)
 and with NGSolve's sparsecholesky back-substitution (``inv * f``).  ``Recording.append`` (the per-step
-bookkeeping; O(S²) in total while it re-concatenated the arrays, as at commit 9a56360) is timed on
+bookkeeping; O(S²) in total if it re-concatenated the arrays) is timed on
 its own (S appends of arrays of the run's shapes) and extrapolated quadratically to 10 000 steps.
-Targets (issue 3): b ≤ one back-substitution; t(S) linear in S.
+Targets: b ≤ one back-substitution; t(S) linear in S.
 
 ``--extra 10000`` adds single runs at larger step counts (shown, not fitted).
 

@@ -1,4 +1,4 @@
-"""A 64-case study of the paper's scene: Dask local cluster vs a plain loop, and 1 vs 2 workers (issue 11).
+"""A 64-case study of the paper's scene: Dask local cluster vs a plain loop, and 1 vs 2 workers.
 
 The study is ``geometries/studies/paper_grid64.toml`` (8 × 8 grid of μ and κ at the paper's resolution,
 maxh 0.05, 100 steps; one mesh and material).  Each repetition times, interleaved:

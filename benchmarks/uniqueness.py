@@ -1,10 +1,10 @@
-"""The uniqueness check (H_S) of ``ngwear run`` against the run itself, on the brake pad (issue 19).
+"""The uniqueness check (H_S) of ``ngwear run`` against the run itself, on the brake pad.
 
 ``geometries/brake_pad.toml`` as shipped (150 steps) at maxh 0.002 (32k DOFs, 1 889 contact points; ``--quick``:
-0.004): the run (``Discretization`` from the cached mesh + ``simulate``), then the check as ``ngwear run`` made
-it before issue 19 (the paper's form, :func:`ngwear.studies.theory.smallness`: c₀ with a second factorisation,
-of the strain form) and as it makes it now (the energy form, :func:`ngwear.studies.theory.uniqueness`: Lanczos on
-the contact compliance with the run's own factorisation).  Repetitions interleave the three; medians.
+0.004): the run (``Discretization`` from the cached mesh + ``simulate``), then the check in the paper's form
+(:func:`ngwear.studies.theory.smallness`: c₀ with a second factorisation, of the strain form) and as ``ngwear run``
+makes it (the energy form, :func:`ngwear.studies.theory.uniqueness`: Lanczos on the contact compliance with the run's
+own factorisation).  Repetitions interleave the three; medians.
 
     .venv/bin/python benchmarks/uniqueness.py [--quick] [--reps 3]
 """

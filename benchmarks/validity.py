@@ -1,4 +1,4 @@
-"""What the run's validity checks cost per step (issue 28 §1): strains beyond the small-strain model, a worn layer.
+"""What the run's validity checks cost per step: strains beyond the small-strain model, a worn layer.
 
 The shipped brake pad (P1, maxh 0.006, 220 contact points) and finer (maxh 0.003, 0.002), 150 steps, on one
 discretization: the time loop with the checks (:class:`ngwear.runs.validity.Validity`) and with them replaced by
@@ -23,7 +23,7 @@ STEPS = 150
 
 
 class Off:
-    """The checks replaced by nothing (the loop as before issue 28 §1)."""
+    """The checks replaced by nothing (the loop without them)."""
 
     def __init__(self, result):
         pass

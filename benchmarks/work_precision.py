@@ -1,8 +1,8 @@
-"""Run time against error on the paper's scene: which setting is cheapest for a given accuracy (issue 9 §3).
+"""Run time against error on the paper's scene: which setting is cheapest for a given accuracy.
 
 Every run is measured against ONE fine reference: P1, maxh = 0.025, 1600 trapezoidal steps (a
 finer one, maxh 0.0125 with 3200 steps, makes every error evaluation 4× dearer: each step of each
-run is interpolated onto the reference mesh, and the study would take hours on this machine).
+run is interpolated onto the reference mesh, which would have four times the elements).
 Errors in the paper's norms (:func:`ngwear.studies.verify.errors`): the displacement in ‖ε(u)‖
 and the wear in L²(Γ_C), at T and summed over time; the table gives them relative to the reference's
 own norms at T.  Families of runs:

@@ -5,8 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/bootstrap.sh
 # Two workers on two cores: each worker's BLAS, MKL and OpenMP on one thread (a caller's setting wins).  With two
-# threads each they oversubscribe the cores: pytest took 12:13 (19.9 min of CPU) with two, 10:24 (16.3) with one,
-# each the second run in a clone, back to back.
+# threads each they oversubscribe the cores, and threads that wait for a busy core slow the suite down.
 export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}" MKL_NUM_THREADS="${MKL_NUM_THREADS:-1}" \
        OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
 .venv/bin/python -m pytest -m "slow or not slow or browser" -n 2 --dist loadgroup --durations=20 "$@"

@@ -43,7 +43,7 @@ onset, the layer worn through) as large curvature, whose true contribution is sm
 @pytest.mark.parametrize("integrator", ["explicit", "implicit", "trapezoidal"])
 @pytest.mark.parametrize("tolerance", [1e-2, 1e-3])
 def test_adaptive_run_meets_its_tolerance(paper, reference, integrator, tolerance):
-    """Met, and spent: not beaten by more than :data:`SPENT` (before: the explicit controller beat it 3× and more)."""
+    """Met, and spent: not beaten by more than :data:`SPENT`."""
     scene = paper.replace(**{"time.adaptive": True, "time.tolerance": tolerance, "wear.integrator": integrator})
     result = ngwear.simulate(scene, progress=False)
     assert result.completed and result.times[-1] == scene.time.T

@@ -135,7 +135,7 @@ def test_only_the_token_host_and_origin_are_served_and_saves_stay_in_the_folder(
             shots(page, "without-token")
 
             status, _, body = get(port, f"/?token={token}", Host=f"evil.example:{port}",
-                                  Origin=f"http://evil.example:{port}")  # the request, now with the token
+                                  Origin=f"http://evil.example:{port}")  # a foreign page's request, now with the token
             assert status == 403
             rebound = browser.new_page()  # a name that resolves to 127.0.0.1 (DNS rebinding), token and all
             assert rebound.goto(f"http://evil.example:{port}/?token={token}").status == 403
@@ -194,10 +194,10 @@ def test_misbehaving_websocket_clients_neither_grow_nor_block_the_server(tmp_pat
         kernel = kernel_id(get(port, f"/?token={token}")[2])
         start, samples = time.monotonic(), [rss_mb(app.pid)]
 
-        # the client: no v1 subprotocol, comm_open + request_states (then 11 GB, and the server blocked)
+        # a legacy client: no v1 subprotocol, comm_open + request_states (then 11 GB, and the server blocked)
         assert refused(port, kernel, f"&token={token}", subprotocols=()) == 400
         # a v1 client asking for every widget's state 20 times a second, reading nothing, until the server
-        # drops it (32 MB waiting: 20-30 s on a quiet machine, as fast as the kernel answers on a loaded one)
+        # drops it (32 MB waiting: sooner on a quiet machine, as fast as the kernel answers on a loaded one)
         session, comm = uuid.uuid4().hex, uuid.uuid4().hex
         with deaf_channels(port, kernel, f"&token={token}") as client, pytest.raises(OSError):
             client.sendall(masked(control_comm(session, comm)))

@@ -1,4 +1,4 @@
-"""Inputs are bounded before they cost memory or time: frames, tables, nesting, expressions (issue 28 §2).
+"""Inputs are bounded before they cost memory or time: frames, tables, nesting, expressions.
 
 Each case is refused with one line naming the key (exit 2 from the CLI), or runs in memory that does not
 grow with the number it gives.

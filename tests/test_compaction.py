@@ -1,6 +1,6 @@
 """The compaction law in whole runs: an independent NGSolve energy minimisation, the full path, mesh convergence, β = 0.
 
-ψ(ε) = η|ε|² + λ/2 tr(ε)² + β/2 min(tr ε, 0)² (issue 18 §3).  The laws' own Taylor tests are in test_materials.py;
+ψ(ε) = η|ε|² + λ/2 tr(ε)² + β/2 min(tr ε, 0)².  The laws' own Taylor tests are in test_materials.py;
 the nonlinear reference solver's closed-form columns in test_nonlinear.py.
 """
 import ngsolve as ngs

@@ -3,9 +3,9 @@
 Part files (``.vol``, ``.msh``, ``.step`` cut short, empty, random bytes) are read in a child process
 first, so a file that crashes Netgen (a ``.vol`` cut short: SIGSEGV) is a message naming ``geometry.file``,
 also for a study's case beside a valid one.  A resume checks its ``checkpoint.npz`` (readable, every key),
-its ``mesh.vol`` (there, with the SHA-256 the checkpoint recorded; older checkpoints: read in a child, with
-the checkpoint's contact points) and its rows (whole rows, as many as counted, their CRC-32) before it
-trusts them.
+its ``mesh.vol`` (there, with the SHA-256 the checkpoint recorded, and the checkpoint's contact points) and its rows
+(whole rows, as many as counted, their CRC-32) before it trusts them; a saved result's ``result.npz`` holds every
+key its writer writes.
 """
 import shutil
 
@@ -118,10 +118,9 @@ RESUME_CASES = {
     "mesh-missing": (lambda c, o: (c / "mesh.vol").unlink(), "holds no mesh.vol"),
     "mesh-foreign": (lambda c, o: shutil.copy(o / "mesh.vol", c / "mesh.vol"), "SHA-256 differs"),
     "mesh-cut": (lambda c, o: cut(c / "mesh.vol", 3000), "SHA-256 differs"),
-    "old-mesh-foreign": (lambda c, o: (without(c / CHECKPOINT, "mesh_sha256"),
-                                       shutil.copy(o / "mesh.vol", c / "mesh.vol")), "contact points differ"),
-    "old-mesh-cut": (lambda c, o: (without(c / CHECKPOINT, "mesh_sha256"), cut(c / "mesh.vol", 3000)),
-                     "mesh.vol: "),
+    "checkpoint-no-mesh-sha256": (lambda c, o: without(c / CHECKPOINT, "mesh_sha256"), "(no mesh_sha256)"),
+    "checkpoint-no-jumped": (lambda c, o: without(c / CHECKPOINT, "jumped"), "(no jumped)"),
+    "checkpoint-no-rows": (lambda c, o: without(c / CHECKPOINT, "rows"), "(no rows)"),
     "rows-cut": (lambda c, o: cut(steps(c) / "wear.f64", 200), "wear.f64 holds 1.5625 rows"),
     "rows-changed": (lambda c, o: flip(steps(c) / "pressure.f64", 808), "pressure.f64: its first 41 rows"),
     "rows-missing": (lambda c, o: (steps(c) / "reaction.f64").unlink(), "reaction.f64 is missing"),
@@ -158,6 +157,17 @@ def test_a_saved_result_with_a_foreign_mesh_is_refused(runs, tmp_path):
     shutil.copy(runs / "other" / "mesh.vol", folder / "mesh.vol")
     with pytest.raises(ng.SceneError, match=r"^directory: .*mesh\.vol is not the mesh its results were computed on"):
         ng.load_result(folder)
+
+
+@pytest.mark.parametrize("key", ["jumped", "solve_time", "thickness", "newton_cutbacks", "wear", "mesh_sha256"])
+def test_a_saved_result_missing_a_key_is_refused_in_one_line_naming_it(runs, tmp_path, key):
+    """A result.npz without a key that Result.save writes is not read: one line naming the file and the key."""
+    folder = tmp_path / "run"
+    shutil.copytree(runs / "base", folder)
+    without(folder / "result.npz", key)
+    with pytest.raises(ng.SceneError) as err:
+        ng.load_result(folder)
+    assert str(err.value) == f"directory: {folder / 'result.npz'} is damaged or not a result of ngwear (no {key})"
 
 
 def test_a_study_with_a_crashing_part_keeps_its_valid_case(runs, tmp_path):

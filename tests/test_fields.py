@@ -1,4 +1,4 @@
-"""Contact coefficients that vary over Γ_C (issue 18 §4) in whole runs: closed forms, Archard's identity, the forms.
+"""Contact coefficients that vary over Γ_C in whole runs: closed forms, Archard's identity, the forms.
 
 μ, κ and L as numbers, expressions in x, y, z, arrays over the contact points or callables; the expression
 grammar itself is tested in test_expressions.py.

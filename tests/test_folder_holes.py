@@ -1,4 +1,4 @@
-"""The output folders, closed (issue 28 §3): nothing ngwear writes follows a link planted at one of its names.
+"""The output folders, closed: nothing ngwear writes follows a link planted at one of its names.
 
 Others who can write into a shared output folder can plant links there; a run neither writes through them nor
 truncates a file that is not its own.  Leftovers of runs killed outright go with the next run, a new run leaves

@@ -1,4 +1,4 @@
-"""Hertz line contact (issue 4 §2): a half-cylinder pressed onto a rigid flat, against the closed form.
+"""Hertz line contact: a half-cylinder pressed onto a rigid flat, against the closed form.
 
 The curved Γ_C enters only through the initial distance d₀(x) = y(x) − min y.  For a cylinder of
 radius R on a rigid flat in plane strain, with contact force P′ per unit thickness,

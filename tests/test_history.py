@@ -4,12 +4,15 @@ The same numbers as in memory, checkpoints that write only what is new, room tha
 holds the history of one run.
 """
 import json
+import re
 
 import numpy as np
+import pytest
 from conftest import PAPER
 
 import ngwear
 from ngwear.results.checkpoint import CHECKPOINT
+from ngwear.results.folder import FolderError
 from ngwear.results.history import History
 from ngwear.results.mesh_file import save_mesh
 from ngwear.results.result import ARRAYS
@@ -108,14 +111,13 @@ def test_a_run_kept_in_memory_checkpoints_a_copy(tmp_path):
     assert np.array_equal(resumed.wear, ngwear.simulate(longer, progress=False).wear)
 
 
-def test_a_checkpoint_holding_its_rows_still_resumes(tmp_path):
-    """Checkpoints written before the rows had files of their own (all rows in checkpoint.npz) go on."""
+def test_a_checkpoint_holding_its_rows_is_refused(tmp_path):
+    """A checkpoint.npz with the rows in it, not in files of their own, is not ngwear's: one line naming what it lacks."""
     part = ngwear.simulate(small(), progress=False)
     x, lam, step = (part.continuation[key] for key in ("x", "lam", "step"))
     np.savez(tmp_path / CHECKPOINT, **part.arrays(), x=x, lam=lam, step=np.array(step),
              scene=np.array(json.dumps(part.scene.to_dict())))
     save_mesh(part.discretization.mesh, tmp_path)
-    longer = small(**{"time.T": 2.0, "time.steps": 80})
-    resumed = ngwear.simulate(longer, progress=False, resume=tmp_path)
-    assert np.array_equal(resumed.wear, ngwear.simulate(longer, progress=False).wear)
-    assert len(histories(tmp_path)) == 1
+    with pytest.raises(FolderError, match=rf"^resume: {re.escape(str(tmp_path / CHECKPOINT))} is damaged or not a "
+                                          r"checkpoint of ngwear \(no rows, history, checksums, mesh_sha256\)$"):
+        ngwear.simulate(small(**{"time.T": 2.0, "time.steps": 80}), progress=False, resume=tmp_path)

@@ -282,7 +282,8 @@ def test_surface_keeps_the_taper_as_the_pad_shrinks(surface):
 
         s = μ F (h − W̄) / (I (1 + μ t)),
 
-    the issue's μ F h / I with h shrinking with the mean wear and the face's inclination (here 2.5 %).
+    the closed form's μ F h / I (:mod:`ngwear.studies.closed_forms`) with h shrinking with the mean wear and the face's
+    inclination (here 2.5 %).
     """
     r = surface
     a, force, mu = 1.0, 0.1, 0.3

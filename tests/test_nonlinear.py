@@ -80,7 +80,7 @@ def test_compaction_column_in_tension_takes_the_soft_branch(dim):
 def test_regions_and_anisotropy_of_the_reference_solver():
     """Laws per region: two glued transversely isotropic blocks (axis along the column, ν_ap = 0) on a compliance.
 
-    The top displacement is s (h₁/E_a1 + h₂/E_a2 + 1/L) (issue 18 §5, glued regions, exact for P1).
+    The top displacement is s (h₁/E_a1 + h₂/E_a2 + 1/L) (glued regions, exact for P1).
     """
     lower = Box(Pnt(0, 0, 0), Pnt(1, 1, 1))
     upper = Box(Pnt(0, 0, 1), Pnt(1, 1, H))

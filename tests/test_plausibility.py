@@ -16,7 +16,7 @@ def test_the_shipped_si_scenes_are_plausible(name):
 
 
 def test_a_modulus_in_gpa_given_as_pa_is_named():
-    """The issue's slip: the steel backing's E = 210 (GPa meant) ran to an 8.9 m plate displacement unwarned."""
+    """A unit slip: the steel backing's E = 210 (GPa meant) ran to an 8.9 m plate displacement unwarned."""
     scene = ngwear.load_scene("brake_pad").replace(**{"material.regions.backing.young": 210.0})
     assert warnings(scene) == [
         "material.regions.backing.young = 210 Pa: far below the moduli of engineering materials (1e5 Pa, foams, to "

@@ -250,12 +250,13 @@ def test_provenance_traces_the_versions_and_the_scene(stop, tmp_path):
                                                           ensure_ascii=False).encode()).hexdigest()}
     assert json.loads((out / "summary.json").read_text())["provenance"] == expected
     assert load_result(out).provenance == expected and f"ngwear {ngwear.__version__}, NGSolve" in printed
-    with np.load(out / "result.npz") as data:                       # a file of before: no provenance, still read
-        older = {k: data[k] for k in data.files if k != "provenance"}
+    with np.load(out / "result.npz") as data:                       # without it: not a result of ngwear
+        damaged = {k: data[k] for k in data.files if k != "provenance"}
     for name in ("scene.json", "mesh.vol"):
         (tmp_path / name).write_bytes((out / name).read_bytes())
-    np.savez(tmp_path / "result.npz", **older)
-    assert load_result(tmp_path).provenance is None
+    np.savez(tmp_path / "result.npz", **damaged)
+    with pytest.raises(ngwear.SceneError, match=r"result\.npz is damaged or not a result of ngwear \(no provenance\)$"):
+        load_result(tmp_path)
 
 
 def test_a_study_row_records_the_provenance(backed_p2, tmp_path):

@@ -1,4 +1,4 @@
-"""Stability stress matrix (issue 4 §4): every extreme scene converges with its invariants or stops clearly.
+"""Stability stress matrix: every extreme scene converges with its invariants or stops clearly.
 
 One test per scene of :data:`ngwear.studies.stress.CATALOGUE`.  A scene must end (a) ``converged`` with
 every invariant held at every step, (b) ``stopped`` with a message naming the step and a remedy
@@ -43,7 +43,7 @@ def test_scene(spec):
     assert not row.check_failures, f"{where}; {row.check_failures}"
 
 
-def test_catalogue_covers_the_issue():
+def test_catalogue_covers_the_matrix():
     names = [s.name for s in CATALOGUE]
     assert len(names) >= 30 and len(set(names)) == len(names)
     scenes = {s.name: s.scene() for s in CATALOGUE if s.expect != "rejected"}
@@ -73,7 +73,7 @@ def test_catalogue_covers_the_issue():
 
 
 def test_catalogue_covers_regions_laws_and_fields():
-    """Issue 18: a backing 1000× stiffer, β = 100η, a μ field up to 2 with a zone of 0, κ = 0 on half of Γ_C.
+    """Regions, laws and fields: a backing 1000× stiffer, β = 100η, a μ field up to 2 with a zone of 0, κ = 0 on half of Γ_C.
 
     And a field negative somewhere, refused.
     """

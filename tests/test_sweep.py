@@ -242,7 +242,7 @@ def test_grouped_study_factorises_once_per_group(tmp_path):
 
 
 def test_study_of_regions_laws_and_fields(tmp_path):
-    """The keys of issue 18 in a grid and cases: text beside numbers, dotted region keys, groups by material."""
+    """Region, law and field keys in a grid and cases: text beside numbers, dotted region keys, groups by material."""
     path = write(tmp_path, f'''scene = "{PAPER}"
 [set]
 "mesh.maxh" = 0.25

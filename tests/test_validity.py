@@ -1,8 +1,8 @@
 """A run says when it leaves where its model holds: strains beyond the small-strain model, a worn-through layer.
 
 The strain: ε̂ = max_i |s_i − ν·r(x_i)| / ℓ_i over the contact points whose segment along −ν ends on a support
-(:mod:`ngwear.numerics.strain`); on the flat pad pressed by its back plate, ℓ_i = 12 + 5.5 mm and r = δ.  The
-issue's slip (the steel backing's E = 210, GPa meant) ran to an 8.9 m plate displacement and "completed".
+(:mod:`ngwear.numerics.strain`); on the flat pad pressed by its back plate, ℓ_i = 12 + 5.5 mm and r = δ.  A
+unit slip (the steel backing's E = 210, GPa meant) ran to an 8.9 m plate displacement and "completed".
 """
 import re
 import subprocess
@@ -215,7 +215,7 @@ def test_a_resumed_run_says_the_worn_layer_once_from_its_first_time(paper_scene,
 
 
 def test_the_cli_exits_1_with_one_line_naming_the_key(tmp_path):
-    """The issue's command (a coarser mesh, one step): exit 1, the status as the last line, the step kept."""
+    """That slip's command (a coarser mesh, one step): exit 1, the status as the last line, the step kept."""
     proc = subprocess.run([*COMMAND, "run", "brake_pad", "--set", "material.regions.backing.young=210", "--set",
                            "mesh.maxh=0.012", "--set", "time.T=1", "--set", "time.steps=1", "--set",
                            "output.every=1", "--out", str(tmp_path), "--no-pictures", "-q"],

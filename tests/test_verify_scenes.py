@@ -5,10 +5,10 @@ observed on the paper's scene), the wear error about h^1.7; in k, the explicit a
 the trapezoidal rule second order; the implicit update never wears past the largest penetration reached.  The 3D
 parts' shipped meshes are coarse (a few thousand DOFs), and their quick h-studies pre-asymptotic: the CAD pad has
 chamfer and slot edges; the pin's spherical end presses on a patch of radius ≈ 1 mm, which its quick study (at
-twice the shipped sizes, to stay within CI's time: at the shipped ones it takes minutes) covers with 7–11 contact
+twice the shipped sizes, to stay within CI's time) covers with 7–11 contact
 points, so its displacement error does not converge there yet (order 0.42 at the shipped sizes): only its wear
 and time orders are asserted.  The compaction pad, nonlinear (Newton–Krylov steps on the reference mesh), is
-verified at twice its sizes too.  Measured orders are in the reports of issues 18 and 19.
+verified at twice its sizes too.  Observed orders are in ``docs/guide/accuracy.md``.
 """
 import json
 import math
@@ -32,8 +32,8 @@ SCENES = {
     "cad_pad_backed": (0.35, 1.3, (SLOW,)),
     "pin_on_disc": (None, 1.0, (SLOW,)),
 }
-#: scenes verified at twice their shipped sizes (at the shipped ones: the pin 8 minutes, the nonlinear pad 3, the CAD
-#: pad 80 s; the backed CAD pad keeps its sizes: at twice them its V order is 0.32)
+#: scenes verified at twice their shipped sizes (at the shipped ones too slow for CI; the backed CAD pad keeps its
+#: sizes: at twice them its V order is 0.32)
 COARSER = {"pin_on_disc", "brake_pad_compaction", "cad_pad"}
 #: shipped scenes verified elsewhere, and where
 ELSEWHERE = {"brake_pad_heat": "the heat coupling's closed forms, energy and order: tests/test_heat_coupled.py; "

@@ -6,7 +6,7 @@ pressure value (2/3) μ F (r_o³ − r_i³)/(r_o² − r_i²).  Once worn in, ev
 the plate's speed δ', κ ω r p = δ': p·r is constant over the face and the torque is
 μ F Σm / Σ(m/r) exactly (nodal quadrature of ∫dA / ∫dA/r), which tends to the uniform-wear value
 μ F (r_i + r_o)/2 as O(h²): the vertex rule integrates 1/r with a relative error ≲ h²/(6 r_i²).
-The transient decays like exp(−κ ω r L t) (DESIGN.md §4).
+The transient decays like exp(−κ ω r L t) (the layer's wear law linearised about the worn-in state).
 
 Pin: the worn volume grows at Σ m κ ω r p; in the steady state p·r = const, so the rate is
 κ ω F R_eff with R_eff = Σm / Σ(m/r) = R (1 − a²/(8R²) + …) for a pin of radius a at radius R:

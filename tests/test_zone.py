@@ -1,4 +1,4 @@
-"""Local refinement of Γ_C (issue 29 §5): ``mesh.contact_maxh`` within ``mesh.contact_zone`` of ``mesh.zone_center``.
+"""Local refinement of Γ_C: ``mesh.contact_maxh`` within ``mesh.contact_zone`` of ``mesh.zone_center``.
 
 For every kind: the contact points within the zone are as dense as h asks (a triangulation of edge h has
 2/(√3 h²) vertices per unit area), those outside thin out smoothly, and the zone sits where its centre says: the

@@ -15,8 +15,8 @@ Where (:func:`generate`).  A mesh estimated above :data:`IN_PROCESS` elements is
 (:func:`ngwear.child.run`) that builds the part from the same keys (the same mesh as in this process) and writes the
 mesh file: a set ``stop`` kills it at once (:class:`Stopped`), the end of this process within a second; it ignores
 SIGINT (this process decides), and Netgen crashing there is an error here.  Netgen does not stop in this process:
-its volume mesher ignores its own terminate flag for tens of seconds.  Smaller meshes, a few seconds of Netgen, are
-made here.
+its volume mesher ignores its own terminate flag for long stretches.  Smaller meshes, quick for Netgen, are made
+here.
 
 With a refined zone (:mod:`ngwear.model.zone`) Γ_C's faces carry no size of their own (:func:`part`): Netgen's
 local size is held in the zone instead.  The estimate is made on the faces refined all over, an upper bound.
@@ -37,7 +37,8 @@ from .kinds import KINDS
 DENSITY = {2: 2.3, 3: 5.5}
 """c_d: Netgen's elements per h^d of area (2D) or volume (3D) at mesh size h."""
 IN_PROCESS = 10_000
-"""Largest estimated mesh made in this process (~2 s of Netgen here); larger ones in a child that a stop kills."""
+"""Largest estimated mesh made in this process (soon done: a stop may wait for it); larger ones in a child that a stop
+kills."""
 
 
 class Stopped(RuntimeError):

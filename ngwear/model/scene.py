@@ -242,7 +242,7 @@ def json_schema() -> dict[str, Any]:
 MAX_NESTING = 10
 """Deepest nesting of tables and lists a scene may have (its deepest key, ``material.regions.NAME.axis``, has 5)."""
 MAX_FILE = 2**20
-"""Largest scene file read (bytes): TOML takes 20 s per million numbers, before any key is checked."""
+"""Largest scene file read (bytes): parsing TOML takes time in proportion to the numbers, before any key is checked."""
 
 
 def _check_nesting(data: dict[str, Any]) -> None:

@@ -1,4 +1,4 @@
-"""Nonlinear elasticity around few factorisations: F(u) = K u + n(u) (DESIGN §5).
+"""Nonlinear elasticity around few factorisations: F(u) = K u + n(u).
 
 F(u) = Σ_r ∫_r σ_r(ε(u)) : ε(v) dx are the body's internal forces (:meth:`~ngwear.numerics.pieces.Elastic.forces`:
 NGSolve's ``Apply``, or for the compaction law sparse algebra, :mod:`~ngwear.numerics.kink`), K a

@@ -18,11 +18,11 @@ from __future__ import annotations
 import numpy as np
 
 BLOCK = 64
-"""Right-hand sides per back-substitution: at the pin's 46k DOFs one costs 24 ms of CPU alone, 6.0 ms in a block of 64
-(6.6 in one of 128; measured)."""
+"""Right-hand sides per back-substitution: a block reads the factor once for all its columns (a back-substitution is
+memory-bound), so a column costs a fraction of a single one's; larger blocks gain little more."""
 AHEAD = 16
 """Fewest columns a back-substitution computes: a smaller request is filled with the points next to come into
-contact (a block of 8 costs about 4 single ones, of 32 about 9)."""
+contact (a block costs much less than its columns one by one, see :data:`BLOCK`)."""
 
 
 class _Store:

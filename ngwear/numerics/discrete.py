@@ -130,7 +130,8 @@ class Discretization:
 
         Everything is built anew on the moved mesh (the contact points, K and its factorisation, d₀, the loads, the
         plate) but what the move leaves: the space (on the same mesh object), the gradient blocks of the other regions
-        (those of a pad's backing plate) and K's ordering (the same elements: METIS is skipped).
+        (those of a pad's backing plate: a large part of K's assembly) and K's ordering (the same elements: METIS is
+        skipped).
         """
         built = self.body.kept("gradient_blocks")
         body = Body(self.scene, mesh, {region: blocks for region, blocks in built.built.items() if region not in regions}

@@ -1,4 +1,4 @@
-"""Transient heat conduction in the body, heated by friction on Γ_C (DESIGN §6; issue 31).
+"""Transient heat conduction in the body, heated by friction on Γ_C (``docs/guide/heat.md``).
 
     ρc ∂T/∂t = ∇·(k ∇T) in Ω,   k ∂T/∂n = η q on Γ_C,   −k ∂T/∂n = h_b (T − T_∞) on the convected boundaries b,
     ∂T/∂n = 0 on every other boundary,   T(0) = T₀,
@@ -191,10 +191,9 @@ class Heat:
                 "counterface": np.array(self.counterface.state, dtype=float)}
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
-        """Go on from a :attr:`state` (of a heat on the same mesh; an older one without ``removed``: 0)."""
+        """Go on from a :attr:`state` (of a heat on the same mesh)."""
         self.temperature = np.array(state["temperature"], dtype=float)
-        values = [float(v) for v in state["heat"]] + [0.0]         # an older state has no ``removed``
-        self.time, self.power, self.supplied, self.convected, self.removed = values[:5]
+        self.time, self.power, self.supplied, self.convected, self.removed = (float(v) for v in state["heat"])
         self.counterface.state = state["counterface"]
 
 

@@ -10,7 +10,7 @@ wrapper, does not pass the Schur complement through.
 
 Without Schur rows the factorisation hands back its fill-in reducing ordering (:attr:`Pardiso.ordering`, METIS's,
 ``iparm[4] = 2``); a matrix of the same graph (a geometry update's K) factorises with it given (``iparm[4] = 1``)
-and skips METIS, about a tenth of a factorisation (``benchmarks/update_factor.py``); a factorisation given METIS's
+and skips METIS, a part of every factorisation (``benchmarks/update_factor.py`` measures it); a factorisation given METIS's
 ordering is METIS's to the bit.
 """
 from __future__ import annotations
@@ -33,7 +33,7 @@ def _library() -> ctypes.CDLL:
 
     Its OpenMP threads go to sleep at once after a call (``KMP_BLOCKTIME=0`` unless set): by default
     they spin for 200 ms, which starves the NumPy work between the many back-substitutions of the
-    matrix-free contact solve (3–6× slower on 2 cores, measured).
+    matrix-free contact solve.
     """
     os.environ.setdefault("KMP_BLOCKTIME", "0")
     candidates = sorted(glob.glob(str(Path(sys.prefix) / "lib" / "libmkl_rt.so*")), key=len)
@@ -109,7 +109,7 @@ class Pardiso:
         """K⁻¹ rhs (1D or columns); with Schur rows, ``schur_solve`` applies S⁻¹ between the substitutions.
 
         The substitutions run on one thread: they are memory-bound, and a team of OpenMP threads that
-        must meet at every supernode only waits for a busy core (1 thread measured 1.1–2× faster on 2 cores).
+        must meet at every supernode only waits for a busy core.
         """
         b = np.asfortranarray(rhs, dtype=np.float64)
         x = np.zeros_like(b)

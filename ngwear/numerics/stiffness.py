@@ -7,13 +7,13 @@ i-th block), so for laws C^r constant on the regions r
 
 with φ, ψ the scalar basis functions.  The d(d+1)/2 scalar matrices S^r_jl (S_lj = S_jlᵀ) are the only assembly:
 any law's K is a sparse sum of them, so a material change assembles nothing.  NGSolve's symbolic form of a general
-C_ijkl costs 1.7× its isotropic form; the blocks cost about the isotropic form, whatever C (``tests/test_stiffness.py``
+C_ijkl costs more than its isotropic form; the blocks cost about the isotropic form, whatever C (``tests/test_stiffness.py``
 checks them against the symbolic forms).  For P1 on straight simplices the gradients are constant on each element,
 
     S^r_jl = Σ_{e ⊂ r} |e| ∂_j λ_a ∂_l λ_b   at the entry (vertex a, vertex b) of e,
 
-summed in NumPy from the element arrays (:func:`simplex_blocks`): a geometry update's K of the 202k-DOF pad in
-1.7 s instead of 4.1 s (``benchmarks/stiffness_blocks.py``).
+summed in NumPy from the element arrays (:func:`simplex_blocks`), which is faster than NGSolve's assembly for a
+geometry update's K (``benchmarks/stiffness_blocks.py`` measures both).
 """
 from __future__ import annotations
 
@@ -119,10 +119,9 @@ def assembled(form: ngs.BilinearForm) -> sp.csr_matrix:
     """The form's matrix as a scipy CSR matrix (of a symmetric form: both triangles, whichever NGSolve kept).
 
     A form on :data:`PARALLEL` DOFs or more is assembled by NGSolve's TaskManager, its threads on element colours:
-    the same matrix to the bit as one thread's (``tests/test_stiffness.py``), in half the time on two quiet cores
-    (the pad's 81k-DOF gradient blocks: 4.9 → 2.4 s).  Smaller ones on one thread: the TaskManager's threads wait
-    actively, and on cores another process keeps busy (a test worker, a sweep's) they cost more than they save
-    (the shipped life pad's run, all its forms small: 33 s on one thread, 56 s with the TaskManager, under load).
+    the same matrix to the bit as one thread's (``tests/test_stiffness.py``), faster on quiet cores.  Smaller ones on
+    one thread: the TaskManager's threads wait actively, and on cores another process keeps busy (a test worker, a
+    sweep's) they cost more than they save on a small form.
     """
     if form.space.ndof >= PARALLEL:
         with ngs.TaskManager():

@@ -25,7 +25,8 @@ from .wear import WearStep
 
 PATCH_SHARE = 0.9
 """Largest share of the contact points in the rigid body's patch for which ``auto`` solves on the patch: the patch
-is the faster matrix-free solve while it is a part of Γ_C, GCR on pads pressed flat (``benchmarks/contact_zone.py``)."""
+computes a compliance column for each of its points and factorises their matrix, which pays while the patch is a part
+of Γ_C; on a pad pressed flat (share 1) GCR's products cost less (``benchmarks/contact_scaling.py --crossover``)."""
 KEPT = 2
 """Matrix-free: the remembered products (or columns) of this many μ n* kept, the last used: a programme's stops go
 from sliding to rest (μ n* = 0) and back, and each stop would otherwise start from no product."""

@@ -27,12 +27,12 @@ from .folder import FolderError, no_space, replacing
 from .history import PREFIX, History, remove_others
 from .mesh_file import checked_mesh, keep_mesh
 from .recording import Recording
-from .result import Result, from_arrays, recorded, row_shapes
+from .result import HEADER, Result, from_arrays, row_shapes
 
 CHECKPOINT = "checkpoint.npz"
 FREE = ("time.T", "time.steps")
-KEYS = ("scene", "x", "lam", "step", "contact_points", "weights", "newton_iterations", "status")
-"""What every checkpoint holds (older ones have no ``rows``, ``history``, ``checksums``, ``mesh_sha256``)."""
+KEYS = ("scene", "x", "lam", "step", "rows", "history", "checksums", "mesh_sha256", *HEADER)
+"""What every checkpoint holds (:func:`write_checkpoint`); a run's scene adds its heat's (:func:`_heat_keys`)."""
 
 
 def write_checkpoint(folder, result: Result, recording: Recording | None = None,
@@ -126,28 +126,24 @@ class Checkpoint:
         folder = Path(folder)
         data = _read(folder)
         saved = _scene(data, folder / CHECKPOINT)
+        missing = [key for key in _heat_keys(saved, int(data["rows"])) if key not in data]
+        if missing:
+            raise FolderError("resume", f"{folder / CHECKPOINT} is damaged or not a checkpoint of ngwear (no "
+                                        f"{', '.join(missing)})")
         self.scene = saved if scene is None else _continuing(saved, scene)
         mesh = checked_mesh(folder, data, self.scene.dim, "resume")
         self.surface = _surface(folder / CHECKPOINT, data, mesh)
         disc = Discretization(self.scene, mesh)
         disc.elastic.ordering = _ordering(folder / CHECKPOINT, data.get("surface_ordering"), disc)
         _check_counts(folder / CHECKPOINT, data, disc, moved=bool(self.surface))
-        if "history" in data:
-            if not re.fullmatch(rf"{PREFIX}[0-9a-f]{{12}}", str(data["history"])):    # a folder of its own, here
-                raise FolderError("resume", f"{folder / CHECKPOINT} names no history folder of its own "
-                                            f"({str(data['history'])[:80]!r})")
-            sums = json.loads(str(data["checksums"])) if "checksums" in data else None
-            rows = int(data["rows"])
-            history = History.reopen(folder / str(data["history"]), row_shapes(self.scene, disc), rows, sums)
-        else:                                       # written before the rows had their own files: they are here
-            history = History({name: np.array(data[name]) for name in recorded(self.scene)})
-            rows = len(history.buffers["times"])
-        self.result = from_arrays(self.scene, data, disc, {name: history.buffers[name][:rows]
-                                                           for name in recorded(self.scene)})
+        if not re.fullmatch(rf"{PREFIX}[0-9a-f]{{12}}", str(data["history"])):    # a folder of its own, here
+            raise FolderError("resume", f"{folder / CHECKPOINT} names no history folder of its own "
+                                        f"({str(data['history'])[:80]!r})")
+        rows, shapes = int(data["rows"]), row_shapes(self.scene, disc)
+        history = History.reopen(folder / str(data["history"]), shapes, rows, json.loads(str(data["checksums"])))
+        self.result = from_arrays(self.scene, data, disc, {name: history.buffers[name][:rows] for name in shapes})
         self.recording = Recording(self.result, history)
-        if "history" not in data:
-            self.recording.keep_in(folder)
-        self.result.mesh_digest = str(data["mesh_sha256"]) if "mesh_sha256" in data else None
+        self.result.mesh_digest = str(data["mesh_sha256"])
         self.x, self.lam, self.step = np.array(data["x"]), np.array(data["lam"]), float(data["step"])
         self.heat = {key: np.array(value) for key, value in data.items() if key.startswith("heat_")}
         if "temperature_steps" in data:
@@ -159,16 +155,32 @@ class Checkpoint:
         self.result.status = "completed"
 
 
+def _heat_keys(scene: Scene, rows: int) -> tuple[str, ...]:
+    """The keys of the heat's state (:func:`_heat`) that a checkpoint of ``scene`` with ``rows`` rows holds.
+
+    With a temperature: its state and the kept nodal temperatures; in a programme also its state at the last simulated
+    stop's start, which step 0 is (:meth:`~ngwear.runs.heating.Heating.advance`).
+    """
+    if scene.heat.model != "conduction":
+        return ()
+    parts = ("temperature", "heat", "counterface")
+    started = parts if scene.programme is not None and rows else ()
+    return (*(f"heat_{p}" for p in parts), "temperature_steps", "temperature_fields",
+            *(f"heat_started_{p}" for p in started))
+
+
 def _surface(path: Path, data: dict, mesh) -> dict[str, np.ndarray]:
     """A moved body's state (see :func:`_moved`), its mesh put where the run left it; {} before the first update."""
     from ..numerics.topology import place
 
-    updates = len(data.get("removed_rows", ()))
+    updates = len(data["removed_rows"])
     if not updates:
         return {}
-    if "surface_coordinates" not in data:
-        raise FolderError("resume", f"{path} moved its worn surface {updates} times but keeps no moved mesh (written "
-                                    "by an ngwear that could not resume across geometry updates): run it again")
+    missing = [key for key in ("surface_coordinates", "surface_reference", "surface_wear", "body_meshes",
+                               "body_coordinates", "moved_steps", "moved_fields") if key not in data]
+    if missing:
+        raise FolderError("resume", f"{path} is damaged (it moved its worn surface {updates} times but holds no "
+                                    f"{', '.join(missing)})")
     coords = np.array(data["surface_coordinates"])
     if coords.shape != (mesh.nv, mesh.dim):
         raise FolderError("resume", f"{path.parent / 'mesh.vol'} is not the mesh of {path.name} ({mesh.nv} vertices, "
@@ -192,7 +204,7 @@ def _check_counts(path: Path, data: dict, disc, moved: bool = False) -> None:
     if not built:
         raise FolderError("resume", f"{path.parent / 'mesh.vol'} is not the mesh of {path.name} (its contact "
                                     "points differ)")
-    rows = int(data["rows"]) if "rows" in data else len(data["times"])
+    rows = int(data["rows"])
     records = len(data["newton_iterations"])
     if records - rows not in (0, 1) or len(data["lam"]) != disc.points.n:
         raise FolderError("resume", f"{path} is damaged ({records} Newton records for {rows} steps, {len(data['lam'])} "

@@ -1,7 +1,7 @@
 """The run's mesh beside its results: ``mesh.vol``, written atomically, trusted only once it is seen to be theirs.
 
 A result file keeps the SHA-256 of the mesh it was computed on (``mesh_sha256``); :func:`checked_mesh` compares
-it before NGSolve reads the file (older files without one are read in a child process first).
+it before NGSolve reads the file.
 """
 from __future__ import annotations
 
@@ -13,26 +13,16 @@ from .folder import FolderError, digest, replacing
 def checked_mesh(folder: Path, data, dim: int, key: str):
     """The folder's ``mesh.vol`` once it is seen to be the mesh ``data`` was computed on (else a FolderError).
 
-    Its SHA-256 must be ``data``'s ``mesh_sha256``; older files without one are read in a child process first
-    (:func:`ngwear.model.cad.describe`) and must be of dimension ``dim``.
+    Its SHA-256 must be ``data``'s ``mesh_sha256`` (which its reader checked is there).
     """
-    from ..model.cad import PartError, describe
     from ..model.geometry import load_mesh
 
     path = Path(folder) / "mesh.vol"
     if not path.is_file():
         raise FolderError(key, f"{folder} holds no mesh.vol (the mesh its results were computed on)")
-    if "mesh_sha256" in data:
-        if digest(path) != str(data["mesh_sha256"]):
-            raise FolderError(key, f"{path} is not the mesh its results were computed on (its SHA-256 differs: "
-                                   "replaced or damaged)")
-        return load_mesh(path, dim)
-    try:
-        part = describe(str(path), "mesh")
-    except PartError as err:
-        raise FolderError(key, f"{path}: {err}") from None
-    if part.dim != dim:
-        raise FolderError(key, f"{path} is a {part.dim}D mesh, its results are of a {dim}D scene")
+    if digest(path) != str(data["mesh_sha256"]):
+        raise FolderError(key, f"{path} is not the mesh its results were computed on (its SHA-256 differs: "
+                               "replaced or damaged)")
     return load_mesh(path, dim)
 
 

@@ -20,12 +20,10 @@ def records_to_arrays(newton: list[NewtonRecord]) -> dict[str, np.ndarray]:
 
 
 def records_from_arrays(data) -> list[NewtonRecord]:
-    """The Newton records that :func:`records_to_arrays` flattened (files without cut-backs: 0)."""
+    """The Newton records that :func:`records_to_arrays` flattened."""
     bounds = np.concatenate([[0], np.cumsum(data["newton_lengths"])])
     residuals = data["newton_residuals"]
-    zero = np.zeros(len(data["newton_iterations"]), dtype=int)
-    cutbacks, bulk, tangents = (data[name] if name in data else zero
-                                for name in ("newton_cutbacks", "newton_bulk", "newton_tangents"))
+    cutbacks, bulk, tangents = (data[name] for name in ("newton_cutbacks", "newton_bulk", "newton_tangents"))
     return [NewtonRecord(bool(c), int(i), [float(v) for v in residuals[a:b]], int(act), int(dmp), bulk=int(blk),
                          tangents=int(tan), cutbacks=int(cut))
             for i, c, act, dmp, blk, tan, cut, a, b in zip(data["newton_iterations"], data["newton_converged"],

@@ -38,7 +38,7 @@ from ..numerics.expansion import ThermalLoad
 from ..numerics.points import initial_distance
 from ..numerics.solver import NewtonRecord
 from .derived import QUANTITIES
-from .folder import replacing
+from .folder import FolderError, replacing
 from .mesh_file import keep_mesh, saved_discretization
 from .provenance import canonical
 from .records import records_from_arrays, records_to_arrays
@@ -50,9 +50,12 @@ from .table import headed, to_dataframe, write_history
 from .units import units
 
 ARRAYS = tuple(f.name for f in RECORDED if f.when is None)
-_DOCS = {f.name: f"{f.doc}, shape {f.shown}." for f in DERIVED}
 """The rows every run records (:data:`~ngwear.results.step_fields.RECORDED`; :func:`recorded`: those of a scene)."""
+_DOCS = {f.name: f"{f.doc}, shape {f.shown}." for f in DERIVED}
 COEFFICIENTS = ("friction_coefficient", "wear_coefficient", "contact_stiffness")
+HEADER = ("contact_points", "weights", *COEFFICIENTS, *records_to_arrays([]), "status", "wall_time", "solve_time",
+          "rejected", "warnings", "jumped", "thickness", "removed_rows", "removed", "moved_weights", "provenance")
+"""The keys :meth:`Result.header` writes, of every run."""
 
 
 @dataclass
@@ -96,7 +99,7 @@ class Result:
         the frames show (:meth:`body_coordinates`); ``recession`` the map that moves the mesh by a wear (the others').
     provenance : dict
         ``ngwear``, ``ngsolve``, ``python``: the versions that computed it; ``scene_sha256``: the SHA-256 of its
-        scene's canonical JSON (:mod:`ngwear.results.provenance`).
+        scene's canonical JSON (:mod:`ngwear.results.provenance`).  Every run records it; None for a Result made by hand.
     continuation : dict or None
         What a checkpoint needs besides the rows to go on from the last step (the solver's warm start, the adaptive
         clock's next step, the heat's and a moved surface's state): a finished run's, for
@@ -121,7 +124,7 @@ class Result:
     discretization: object = field(default=None, repr=False)
     recession: object = field(default=None, repr=False)           # "surface": the map moving the mesh by a wear
     mesh_digest: str | None = field(default=None, repr=False)     # SHA-256 of the mesh.vol written for it
-    provenance: dict | None = field(default=None, repr=False)
+    provenance: dict | None = field(default=None, repr=False)     # versions and scene hash (None: not made by a run)
     jumped: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
     measured: np.ndarray | None = field(default=None, repr=False)   # the worn region's thickness (see thickness)
     removed_rows: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
@@ -295,7 +298,7 @@ class Result:
                 "jumped": self.jumped, "thickness": self.thickness, "removed_rows": self.removed_rows,
                 **{name: getattr(self, name) if len(self.removed_rows) else np.zeros((0, len(self.weights)))
                    for name in ("removed", "moved_weights")},
-                **({"provenance": np.array(canonical(self.provenance))} if self.provenance else {})}
+                "provenance": np.array(canonical(self.provenance))}
 
     def save(self, directory) -> Path:
         """Write result.npz, scene.json, mesh.vol, history.csv, summary.json and a VTU/PVD series of the frames."""
@@ -312,7 +315,7 @@ class Result:
         if self.scene.units:
             arrays["units"] = np.array(json.dumps(units(self.scene, arrays), ensure_ascii=False))
         with replacing(out / "result.npz") as tmp:
-            np.savez(tmp, **arrays)                 # not compressed: zlib takes 10x longer for 20 % less
+            np.savez(tmp, **arrays)                 # not compressed: zlib costs far more time than it saves space
 
         with replacing(out / "scene.json") as tmp:
             tmp.write_text(json.dumps(self.scene.to_dict(), indent=2))
@@ -366,16 +369,22 @@ def load_result(directory) -> Result:
     FileNotFoundError
         ``directory`` holds no ``result.npz``.
     FolderError
-        ``mesh.vol`` is not the mesh the result was computed on.
+        ``result.npz`` lacks a key that :meth:`Result.save` writes, or ``mesh.vol`` is not the mesh the result was
+        computed on.
     """
     src = Path(directory)
     if not (src / "result.npz").is_file():
         raise FileNotFoundError(f"{src}: no result.npz (not a saved ngwear result)")
     data = np.load(src / "result.npz")
     scene = Scene.from_dict(json.loads((src / "scene.json").read_text()))
+    meshed = ("mesh_sha256", "frame_coordinates") if (src / "mesh.vol").is_file() else ()   # saved with its mesh
+    missing = [key for key in (*HEADER, *recorded(scene), "field_steps", "fields", *meshed) if key not in data.files]
+    if missing:
+        raise FolderError("directory", f"{src / 'result.npz'} is damaged or not a result of ngwear (no "
+                                       f"{', '.join(missing)})")
     result = from_arrays(scene, data, saved_discretization(scene, src, data))
     result.fields = {int(s): f for s, f in zip(data["field_steps"], data["fields"])}
-    if "frame_coordinates" in data and len(data["frame_coordinates"]):
+    if meshed and len(data["frame_coordinates"]):
         result.meshes = {result.updates_by(int(s)): x for s, x in zip(data["field_steps"], data["frame_coordinates"])}
     if "temperature_fields" in data:
         result.temperatures = {int(s): f for s, f in zip(data["field_steps"], data["temperature_fields"])}
@@ -396,19 +405,14 @@ def row_shapes(scene: Scene, disc) -> dict[str, tuple]:
 def from_arrays(scene: Scene, data, disc, rows: dict[str, np.ndarray] | None = None) -> Result:
     """The result that :meth:`Result.arrays` wrote (or :meth:`Result.header` and the ``rows``), on ``disc``."""
     rows = {name: np.array(data[name]) for name in recorded(scene)} if rows is None else rows
-    n = len(data["weights"])
-    coefficients = (np.array(data[name]) if name in data else np.full(n, float(getattr(scene.contact, key)))
-                    for name, key in zip(COEFFICIENTS, ("friction", "wear", "stiffness")))   # before fields: numbers
+    coefficients = (np.array(data[name]) for name in COEFFICIENTS)
     return Result(scene, data["contact_points"], data["weights"], rows, *coefficients, newton=records_from_arrays(data),
-                  status=str(data["status"]), wall_time=float(data["wall_time"]),
-                  solve_time=float(data["solve_time"]) if "solve_time" in data else 0.0,
+                  status=str(data["status"]), wall_time=float(data["wall_time"]), solve_time=float(data["solve_time"]),
                   warnings=[str(w) for w in data["warnings"]], rejected=int(data["rejected"]),
-                  discretization=disc, provenance=json.loads(str(data["provenance"])) if "provenance" in data else None,
-                  jumped=np.array(data["jumped"], dtype=int) if "jumped" in data else
-                  np.zeros(0, dtype=int), measured=np.array(data["thickness"]) if "thickness" in data else None,
-                  removed_rows=np.array(data["removed_rows"], dtype=int) if "removed_rows" in data else
-                  np.zeros(0, dtype=int), removed=np.array(data["removed"]) if "removed" in data else None,
-                  moved_weights=np.array(data["moved_weights"]) if "moved_weights" in data else None)
+                  discretization=disc, provenance=json.loads(str(data["provenance"])),
+                  jumped=np.array(data["jumped"], dtype=int), measured=np.array(data["thickness"]),
+                  removed_rows=np.array(data["removed_rows"], dtype=int), removed=np.array(data["removed"]),
+                  moved_weights=np.array(data["moved_weights"]))
 
 
 def _row(name: str):

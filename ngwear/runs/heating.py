@@ -158,12 +158,6 @@ class Heating:
         change["heat"][1] = 0.0                                         # the power is the crossing's own (0)
         self.heat.restore({key: now[key] + stops * change[key] for key in now})
 
-    def displacement(self, temperature: np.ndarray) -> np.ndarray | None:
-        """K⁻¹ f_th of a nodal temperature: what thermal expansion adds to a linear body's recovered displacement."""
-        if self.load is None:
-            return None
-        return self.disc.elastic.operator.solve(self.load(temperature))
-
     def state(self, reference) -> dict[str, np.ndarray]:
         """What a checkpoint keeps to go on bit for bit.
 

@@ -8,7 +8,7 @@ than the tolerance,
     max_i |Δw_k,i − Δw_k−1,i| < τ max_i |Δw_k,i|        (τ = ``programme.jump_tolerance``),
 
 the next N stops are applied at once, w += N Δw_k, and stops are simulated again: a jump is one explicit Euler
-step of size N in "stop time" for dw/dk = Δw(w) (DESIGN.md §6).
+step of size N in "stop time" for dw/dk = Δw(w) (``docs/guide/life.md``).
 
 **The accuracy bound.**  Its error is that of the Euler step: the increments change along the jump by
 Δw(w_k+m) − Δw(w_k) ≈ m J Δw_k, J = ∂Δw/∂w, so the jump misses

@@ -248,7 +248,7 @@ def _sample(spec: dict) -> tuple[str, int, int, dict[str, list]]:
 
 def _draw(method: str, count: int, seed: int, ranges: dict[str, list]) -> list[dict]:
     """Parameter sets of a Latin-hypercube (scipy.stats.qmc) or uniformly random sample of the ranges."""
-    from scipy.stats import qmc  # scipy.stats takes 0.7 s to import: only when sampling
+    from scipy.stats import qmc  # scipy.stats is slow to import: only when sampling
 
     rng = np.random.default_rng(seed)
     unit = (qmc.LatinHypercube(d=len(ranges), rng=rng).random(count) if method == "latin_hypercube"

@@ -16,8 +16,8 @@ app.  ngwear serves a one-cell notebook calling :func:`page` with the scene, and
   ``kernel_timeout`` seconds (Voilà would keep them, ~500 MB each, until the server stops), only
   the v1 kernel websocket protocol, SIGINT and SIGTERM always answered;
 * one kernel preheated: Voilà runs the page's notebook before a page asks for it (import, solve,
-  first render with its shader compilation), so that a page shows its first picture in about two
-  seconds; the URL is printed once the first one is ready;
+  first render with its shader compilation), so that a page shows its first picture without waiting
+  for them (``benchmarks/explore_browser.py``); the URL is printed once the first one is ready;
 * the page's *save into* confined to ``folder``.
 """
 from __future__ import annotations

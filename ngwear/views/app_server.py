@@ -13,7 +13,7 @@ three of its handlers for guarded ones and :class:`AppKernelManager` bounds the 
   state, ~0.3 MB, which jupyter_server keeps for a client that has gone until it reconnects).
   Voilà reads the header of every binary frame it sends as a v1 frame: a legacy-protocol frame
   (one with buffers, as the widgets' state with its pictures) has 2⁶⁰ as its offset count there,
-  and building that list blocked the server and grew it by ~70 MB/s; jupyter_server parses the
+  and building that list blocked the server and grew it without bound; jupyter_server parses the
   frames it receives the same way, and takes a closing connection for a legacy one;
 * :class:`RequestInfo`: Voilà's request-info socket (it sends a page's query string, token
   included, to whoever names the kernel's id, which ``ps`` shows) needs the token like the rest;

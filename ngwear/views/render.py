@@ -88,7 +88,7 @@ class Canvas:
 
     The plotter, its meshes, scalar bars and texts are made once per mesh; later frames (other steps,
     or other results on the same mesh, as in the explorer) only move points and recolour, which
-    renders about four times faster than a new plotter (whose first render compiles its shaders).
+    renders much faster than a new plotter (whose first render compiles its shaders).
     Colour ranges and view are fixed per result over its stored steps and the ``steps`` given with
     its first frame, so that the frames of a run compare.
 

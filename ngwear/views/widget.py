@@ -4,7 +4,7 @@ The widgets are a view of an :class:`~ngwear.views.explore.Explorer`: they redra
 change of it, whoever made it (a slider, a button, ``explorer.set`` in a cell), and their values
 are set from its state, so they always show the state that produced the picture.  A slider move
 that fails shows the one-line error, puts the slider back and keeps the last good picture.
-Sliders act when released (a solve and both pictures take ~0.2 s; dragging would queue them).
+Sliders act when released (each value takes a solve and both pictures; dragging would queue them).
 Every widget carries a CSS class ``ngwear-<name>`` (``ngwear-slider-<slider>`` for sliders) by
 which pages and tests find it.  The widgets know the explorer by its methods only; this module
 does not import :mod:`ngwear.views.explore` (which imports it for :meth:`Explorer.widget`).

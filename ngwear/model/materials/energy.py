@@ -26,7 +26,7 @@ class Energy(Law):
     σ = sym ∂ψ/∂ε and D = ∂σ/∂ε come from NGSolve's symbolic differentiation (``MakeVariable``, ``Diff``); the
     entries ε_ij and ε_ji are independent variables there, and the symmetric part of ∂ψ/∂ε is the stress of ψ on
     symmetric tensors.  Both are compiled (``Compile``): the differentiated expression trees, evaluated as they are,
-    made assembling D 12–23 times slower on the 3D test parts, with the same numbers.  m_F and L_F have no closed
+    made assembling D many times slower, with the same numbers.  m_F and L_F have no closed
     form (``estimated``): :func:`~ngwear.model.moduli.estimate_moduli` samples them.
     """
 

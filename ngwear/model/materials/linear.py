@@ -60,7 +60,7 @@ class _Linear(Law):
     dim: int
 
     def stress(self, eps: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
-        """σ_ij = C_ijkl ε_kl: one product of a constant d² × d² matrix (ten times faster to evaluate than Mandel's)."""
+        """σ_ij = C_ijkl ε_kl: one product of a constant d² × d² matrix (no conversion to and from Mandel vectors)."""
         flat = self.dim ** 2
         tensor = mandel.fourth_order(self.matrix).reshape(flat, flat)
         return (mandel.matrix_cf(tensor) * eps.Reshape((flat,))).Reshape((self.dim, self.dim))
@@ -77,7 +77,7 @@ class _Linear(Law):
         return ngs.InnerProduct(ngs.CF(tuple(mandel.out_of_plane_row(self.stiffness_3d))), mandel.vector_cf(eps))
 
     def elastic_integrand(self, u, v) -> ngs.CoefficientFunction:
-        """C_ijkl ∂_l u_k ∂_j v_i (= C ε(u) : ε(v)): on the gradients, twice as fast to assemble as in Mandel form."""
+        """C_ijkl ∂_l u_k ∂_j v_i (= C ε(u) : ε(v)): on the gradients, cheaper to assemble than in Mandel form."""
         flat = self.dim ** 2
         tensor = mandel.fourth_order(self.matrix).reshape(flat, flat)
         return ngs.InnerProduct(mandel.matrix_cf(tensor) * ngs.Grad(u).Reshape((flat,)), ngs.Grad(v).Reshape((flat,)))
