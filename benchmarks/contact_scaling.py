@@ -68,9 +68,10 @@ def scene_of(case: str):
 def run_ngwear(case: str, mode: str, out: str) -> dict:
     import time
 
+    from ngwear.numerics.problem import Problem, patch_share
+
     import ngwear
     from ngwear.numerics.discrete import Discretization
-    from ngwear.numerics.problem import Problem, patch_share
     from ngwear.runs import stepper
 
     scene = scene_of(case)

@@ -66,10 +66,11 @@ def scene_of(kind: str, maxh: float, order: int = 1):
 def run_ngwear(kind: str, maxh: float, mode: str, remesh: bool, order: int = 1) -> dict:
     import resource
 
+    from ngwear.numerics.problem import Problem
+
     import ngwear
     from ngwear.model.geometry import build_mesh, cache_dir, mesh_key
     from ngwear.numerics.discrete import Discretization
-    from ngwear.numerics.problem import Problem
 
     scene = scene_of(kind, maxh, order)
     cached = (cache_dir() / "meshes" / f"{mesh_key(scene)}.vol").is_file()

@@ -48,45 +48,55 @@ def friction(r) -> np.ndarray:
 
 
 def normal_force(r) -> np.ndarray:
+    """Σ m_i (p_i + λ_i) per step: the force the foundation carries."""
     return weighted(r.pressure + r.reaction, row_weights(r))
 
 
 def torque(r) -> np.ndarray:
+    """The friction moment about the counterface's axis per step (negative when it brakes a rotation)."""
     return np.sign(r.speed_factor) * weighted(r.pressure, friction(r) * r.motion.moment_arms() * row_weights(r))
 
 
 def tangential_force(r) -> np.ndarray:
+    """F_t = Σ m_i μ_i p_i n*_i per step, shape (N, d): the friction force on the foundation."""
     return np.sign(r.speed_factor)[:, None] * ((r.pressure * friction(r) * row_weights(r)) @ r.motion.direction)
 
 
 def friction_force(r) -> np.ndarray:
+    """‖F_t‖ per step."""
     return np.linalg.norm(tangential_force(r), axis=1)
 
 
 def apparent_friction(r) -> np.ndarray:
+    """‖F_t‖ / Σ m_i (p_i + λ_i) per step; 0 where the normal force is 0."""
     normal = normal_force(r)
     return np.divide(friction_force(r), normal, out=np.zeros_like(normal), where=normal > 0)
 
 
 def friction_power(r) -> np.ndarray:
+    """P = Σ m_i μ_i p_i ‖v*_i‖ per step (‖v*_i‖ of the step's speed factor)."""
     return np.abs(r.speed_factor) * weighted(r.pressure, friction(r) * r.motion.speed * row_weights(r))
 
 
 def dissipated_energy(r) -> np.ndarray:
+    """∫₀^{t_j} P dt per step, by the trapezoidal rule over the steps."""
     power = friction_power(r)
     return cumulative_trapezoid(power, r.times, initial=0.0) if len(power) else power
 
 
 def contact_area(r) -> np.ndarray:
+    """Σ m_i over the points in contact (p_i + λ_i > 0) per step."""
     return weighted(r.pressure + r.reaction > 0, row_weights(r))
 
 
 def mean_pressure(r) -> np.ndarray:
+    """Normal force / contact area per step (0 where nothing touches)."""
     area = contact_area(r)
     return np.divide(normal_force(r), area, out=np.zeros_like(area), where=area > 0)
 
 
 def max_pressure(r) -> np.ndarray:
+    """max_i p_i per step."""
     return r.pressure.max(axis=1, initial=0.0)
 
 
@@ -100,14 +110,17 @@ def total_wear(r) -> np.ndarray:
 
 
 def max_wear(r) -> np.ndarray:
+    """max_i of the total wear per step (w while the geometry never moved)."""
     return total_wear(r).max(axis=1, initial=0.0)
 
 
 def wear_volume(r) -> np.ndarray:
+    """Σ m_i (total wear)_i per step: the worn volume (an area in 2D)."""
     return weighted(total_wear(r), row_weights(r))
 
 
 def remaining_thickness(r) -> np.ndarray:
+    """The worn region's thickness along ν under each contact point, less the total wear, per step."""
     return r.thickness - total_wear(r)
 
 
