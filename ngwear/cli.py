@@ -116,8 +116,7 @@ def _scene(args, required: bool = True):
         if required:
             raise SceneError("scene file: missing (give SCENE: a scene file, or a shipped scene such as paper_strip)")
         return None, settings
-    scene = load_scene(args.scene)
-    return (scene.replace(**dict(parse_override(item) for item in settings)) if settings else scene), settings
+    return load_scene(args.scene, dict(parse_override(item) for item in settings)), settings
 
 
 def verify(args) -> int:

@@ -403,3 +403,41 @@ def test_published_json_schema_is_current():
     assert published["properties"]["contact"]["$ref"].endswith("/Contact")
     gap = published["$defs"]["Contact"]["properties"]["gap"]
     assert gap["exclusiveMinimum"] == 0 and gap["type"] == "number"
+
+
+# ---------------------------------------------------------------- defaults after the overrides
+
+
+def test_a_turning_disc_does_not_translate_unless_told():
+    """``foundation.velocity`` defaults to (1, 0, …) without ``angular_velocity`` and to 0 with it (3D and 2D)."""
+    pin = load_scene("pin_on_disc").to_dict()
+    del pin["foundation"]["velocity"]
+    disc = Scene.from_dict(pin)
+    assert disc.foundation.velocity == (0.0, 0.0, 0.0) and disc.foundation.angular_velocity == (0.0, 0.0, 10.0)
+    strip = load_scene(PAPER).to_dict()
+    del strip["foundation"]["velocity"]
+    assert Scene.from_dict(strip).foundation.velocity == (1.0, 0.0)
+    turned = Scene.from_dict(strip).replace(**{"foundation.angular_velocity": 2.0, "foundation.center": [1.5, -3.0]})
+    assert turned.foundation.velocity == (0.0, 0.0)                 # the default escaped: filled after the override
+    told = Scene.from_dict({**strip, "foundation": {"velocity": [0.5, 0.0], "angular_velocity": 2.0}})
+    assert told.foundation.velocity == (0.5, 0.0)
+
+
+def test_an_override_repairs_a_bad_value_of_the_file(tmp_path):
+    """``--set`` (``load_scene``'s overrides) applies to the file's keys before they are checked."""
+    path = tmp_path / "bad.toml"
+    path.write_text(BASE.replace("gap = 0.2", "gap = -1.0"))
+    with pytest.raises(SceneError, match=r"^contact\.gap: must be > 0 \(got -1\.0\)$"):
+        load_scene(path)
+    assert load_scene(path, {"contact.gap": 0.001}).contact.gap == 0.001
+    with pytest.raises(SceneError, match=r"^contact\.gap: must be > 0 \(got -2\)$"):
+        load_scene(path, {"contact.gap": -2})
+
+
+def test_replace_starts_from_the_keys_as_given_and_compares_by_value():
+    """A scene is equal to its round trip through ``to_dict`` (every default named) and to one naming a default."""
+    scene = Scene.from_dict({"geometry": {"kind": "strip", "size": [3.0, 1.0]}, "contact": {"wear": 0.5}})
+    named = Scene.from_dict(scene.to_dict())
+    assert named == scene
+    assert scene.replace(**{"foundation.angular_velocity": 1.0}).foundation.velocity == (0.0, 0.0)
+    assert named.replace(**{"foundation.angular_velocity": 1.0}).foundation.velocity == (1.0, 0.0)   # named: kept

@@ -56,10 +56,18 @@ def raw(data: Any, dotted: str) -> Any:
 
 
 def json_schema(scene_model: type[BaseModel]) -> dict[str, Any]:
-    """The scene schema as JSON Schema (for editors that complete and check scene files)."""
+    """The scene schema as JSON Schema (for editors that complete and check scene files).
+
+    A key whose default depends on other keys (declared with ``shown`` and no default of its own) has no ``default``
+    in the schema, which would say none: its ``shown`` says what it is.
+    """
     schema = scene_model.model_json_schema()
     schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
     schema["title"] = "ngwear scene"
+    for table in schema.get("$defs", {}).values():
+        for entry in table.get("properties", {}).values():
+            if "shown" in entry and entry.get("default", 0) is None:
+                del entry["default"]
     return schema
 
 

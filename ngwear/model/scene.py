@@ -3,21 +3,25 @@
 A scene is read from TOML with nested tables (``[geometry]``, ``[mesh]``, ``[material]``, ``[contact]``,
 ``[foundation]``, ``[loads]``, ``[time]``, ``[wear]``, ``[heat]``, ``[solver]``, ``[output]``, ``[programme]``) and
 two top-level keys (``name``, ``units``), each key declared once in :mod:`ngwear.model.sections`.
-:meth:`Scene.from_dict` first prepares the raw tables (a part given in Python becomes a cached file, a part file is
-read, the defaults that depend on the kind and on other keys are filled; a programme sets ``time.T`` and
+:meth:`Scene.from_dict` first keeps the tables as given (a part given in Python becomes a cached file, the files are
+resolved), then fills the defaults that depend on the kind and on other keys (a programme sets ``time.T`` and
 ``time.steps``), then pydantic validates every key against its declaration and :mod:`ngwear.model.rules` checks the
 rules across keys; the first violation is one :class:`SceneError` line naming the dotted key.
-``Scene.replace(**{"time.steps": 10})`` overrides fields with the dotted keys that ``ngwear run --set time.steps=10``
-accepts. :meth:`Scene.changed_from` tells what a change of scene invalidates, from the levels the keys declare.
+``Scene.replace(**{"time.steps": 10})`` overrides keys with the dotted keys that ``ngwear run --set time.steps=10``
+accepts, and ``load_scene(path, overrides)`` a file's: both apply the overrides to the keys as given and fill the
+defaults after them, so an override both escapes a default that depends on other keys (``foundation.velocity`` once
+``foundation.angular_velocity`` is given) and repairs a bad value of the file.  :meth:`Scene.changed_from` tells what
+a change of scene invalidates, from the levels the keys declare.
 """
 from __future__ import annotations
 
+import copy
 import json
 import tomllib
 from pathlib import Path
 from typing import Any
 
-from pydantic import ConfigDict, ValidationError, model_validator
+from pydantic import ConfigDict, PrivateAttr, ValidationError, model_validator
 
 from . import cad, examples, functions, messages, rules
 from .keys import MAX_ROWS, Level, SceneError, level_of
@@ -67,6 +71,7 @@ class Scene(TopLevel):
     """
 
     model_config = ConfigDict(frozen=True, extra="forbid")
+    _given: dict | None = PrivateAttr(default=None)     # the tables as given, before the defaults (replace's base)
 
     geometry: Geometry = Geometry()
     mesh: MeshSpec = MeshSpec()
@@ -91,18 +96,25 @@ class Scene(TopLevel):
             return max(b.duration for b in self.programme.blocks) / self.programme.steps_per_stop
         return self.time.T / self.time.steps
 
+    def __eq__(self, other) -> bool:
+        """The same keys' values (however they were given: a default filled or the same value named)."""
+        return isinstance(other, Scene) and self.__dict__ == other.__dict__
+
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> Scene:
-        """Validate a nested dict (as read from TOML) into a Scene."""
+        """Validate a nested dict (as read from TOML) into a Scene: the keys as given, then the defaults."""
         if not isinstance(data, dict):
             raise SceneError("scene: must be a table")
         _check_nesting(data)
-        data = _prepared(data)
+        given = _given(data)
+        data = _prepared(copy.deepcopy(given))
         try:
-            return cls.model_validate(data)
+            scene = cls.model_validate(data)
         except ValidationError as err:
             errors = sorted(err.errors(), key=lambda e: e["type"] != "extra_forbidden")  # a typo first
             raise SceneError(messages.message(errors[0], data, cls)) from None
+        scene._given = given
+        return scene
 
     def to_dict(self) -> dict[str, Any]:
         """The nested-dict form that :meth:`from_dict` and TOML use (``wear.integrator`` only where it was named)."""
@@ -114,11 +126,13 @@ class Scene(TopLevel):
         return data
 
     def replace(self, **dotted: Any) -> Scene:
-        """A new scene with fields overridden by dotted keys, e.g. ``replace(**{"time.steps": 10})``.
+        """A new scene with keys overridden by dotted keys, e.g. ``replace(**{"time.steps": 10})``.
 
-        A programme given here sets ``time.T`` and ``time.steps`` (unless they are given too: that is refused).
+        The overrides apply to the keys as given (a scene made from a complete table, as ``scene.json`` holds it: all
+        of them), and the defaults are filled after them.  A programme given here sets ``time.T`` and ``time.steps``
+        (unless they are given too: that is refused).
         """
-        data = self.to_dict()
+        data = copy.deepcopy(self._given) if self._given is not None else self.to_dict()
         if any(name.split(".")[0] == "programme" for name in dotted):
             _follow_programme(data)
         for name, value in dotted.items():
@@ -161,13 +175,16 @@ class Scene(TopLevel):
         return self
 
 
-def load_scene(path: str | Path) -> Scene:
+def load_scene(path: str | Path, overrides: dict[str, Any] | None = None) -> Scene:
     """Read and validate a scene TOML file, or a shipped scene by name.
 
     Parameters
     ----------
     path : str or Path
         A scene file, or the name of a shipped scene (``"paper_strip"``, see ``ngwear examples``).
+    overrides : dict, optional
+        Dotted keys and values (``{"contact.gap": 0.001}``, what ``--set`` gives) applied to the file's keys before
+        its defaults are filled and before it is validated: they may repair a value of the file.
 
     Returns
     -------
@@ -202,6 +219,10 @@ def load_scene(path: str | Path) -> Scene:
     programme = data.get("programme")
     if isinstance(programme, dict) and isinstance(programme.get("file"), str):
         programme["file"] = str(path.parent / Path(programme["file"]).expanduser())
+    if overrides and any(name.split(".")[0] == "programme" for name in overrides):
+        _follow_programme(data)
+    for name, value in (overrides or {}).items():
+        set_dotted(data, name, value)
     return Scene.from_dict(data)
 
 
@@ -259,16 +280,26 @@ def _check_nesting(data: dict[str, Any]) -> None:
             stack.extend((value, name, depth + 1) for value in node if isinstance(value, (dict, list, tuple)))
 
 
-def _prepared(data: dict[str, Any]) -> dict[str, Any]:
-    """The raw tables with a Python part stored, the part file read and the defaults that depend on other keys."""
+def _given(data: dict[str, Any]) -> dict[str, Any]:
+    """The raw tables as given, each a copy: a Python part stored, a function kept by its token, the files resolved."""
     data = {name: dict(v) if isinstance(v, dict) else v for name, v in data.items()}
-    if isinstance(data.get("material", {}).get("regions"), dict):
-        data["material"]["regions"] = {k: dict(v) if isinstance(v, dict) else v
-                                       for k, v in data["material"]["regions"].items()}
-    functions.tokenised(data)
     g = data.get("geometry", {})
     if isinstance(g, dict) and "shape" in g:
-        _store_shape(g)
+        _store_shape(g)                         # a netgen shape is no data to copy: its cached file is
+    data = copy.deepcopy(data)
+    functions.tokenised(data)
+    g = data.get("geometry", {})
+    if isinstance(g, dict) and isinstance(g.get("file"), str) and g["file"]:
+        g["file"] = str(Path(g["file"]).expanduser().resolve())
+    table = data.get("programme")
+    if isinstance(table, dict) and isinstance(table.get("file"), str):
+        table["file"] = str(Path(table["file"]).expanduser().resolve())
+    return data
+
+
+def _prepared(data: dict[str, Any]) -> dict[str, Any]:
+    """The given tables (:func:`_given`, changed here) with the defaults that depend on the kind and on other keys."""
+    g = data.get("geometry", {})
     kind = KINDS.get(g.get("kind", "strip")) if isinstance(g, dict) else None
     if kind is None:
         return data
@@ -282,7 +313,9 @@ def _prepared(data: dict[str, Any]) -> dict[str, Any]:
         _default(data, "mesh", "maxh", 0.1 if part is None else float(f"{part.extent / 10:.2g}"))
     _default(data, "geometry", "dirichlet", list(kind.dirichlet))
     _default(data, "contact", "direction", [0.0] * (dim - 1) + [-1.0])
-    _default(data, "foundation", "velocity", [1.0] + [0.0] * (dim - 1))
+    foundation = data.get("foundation", {}) if isinstance(data.get("foundation", {}), dict) else {}
+    turning = foundation.get("angular_velocity") is not None      # a disc: no translation unless it is given
+    _default(data, "foundation", "velocity", [0.0] * dim if turning else [1.0] + [0.0] * (dim - 1))
     material = data.get("material", {})
     if isinstance(material, dict) and not material.get("regions"):
         for name, value in default_constants(material).items():     # the paper's dimensionless λ = η = 1
@@ -313,8 +346,6 @@ def _time_of_programme(data: dict[str, Any]) -> None:
     table = data.get("programme")
     if not isinstance(table, dict):
         return
-    if isinstance(table.get("file"), str):
-        table["file"] = str(Path(table["file"]).expanduser().resolve())
     time = data.setdefault("time", {})
     if not isinstance(time, dict):
         return
@@ -352,7 +383,6 @@ def _part(g: dict) -> cad.Part:
     file = g.get("file")
     if not isinstance(file, str) or not file:
         raise SceneError(f"geometry.file: must name a file for geometry.kind = {g['kind']!r} (got {file!r})")
-    g["file"] = str(Path(file).expanduser().resolve())
     try:
         return cad.describe(g["file"], g["kind"])
     except cad.PartError as err:

@@ -248,8 +248,10 @@ class Contact(WearLawKeys):
 class Foundation(Section):
     """Foundation velocity v*(x, t) = s(t) (ω × (x − c) + velocity), s piecewise linear through ``speed_table``."""
 
-    velocity: Vector | None = key(None, "v₀, the foundation's translation velocity", reuse=Level.NOTHING,
-                                  shown="(1, 0) / (1, 0, 0)", allowed="d numbers")
+    velocity: Vector | None = key(None, "v₀, the foundation's translation velocity (a disc, "
+                                  "`foundation.angular_velocity` given, does not translate unless this is given)",
+                                  reuse=Level.NOTHING, shown="(1, 0) / (1, 0, 0); 0 with `angular_velocity`",
+                                  allowed="d numbers")
     angular_velocity: Vector | Number | None = key(
         None, "ω, the counterface's rotation (a disc): v* = s(t)(ω × (x − c) + v₀); a number in 2D",
         reuse=Level.NOTHING, shown="0", allowed="3 numbers (3D), a number (2D)")

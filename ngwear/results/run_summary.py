@@ -5,7 +5,8 @@ sign kept; the pressure's: max p over the points and the steps) and the ``_mean`
 (1/(t_N − t_0) ∫ f dt by the trapezoidal rule over the steps; the pressure's: of the mean contact pressure, normal
 force / contact area); the ``dissipated_energy`` ∫ P dt, P = Σ m_i μ_i p_i ‖v*_i‖ (∫ |T ω| dt on a turning
 counterface, ∫ F_t·v dt on a translating one); the worn volume and, where ``material.density`` ρ is given for the
-regions that carry Γ_C (one value), its mass ρ V; ``gap_reached_at``, the first step time at which max w reached g
+regions that carry Γ_C (one value), its mass ρ V; ``gap_reached_at``, the first step time at which the layer's max w
+reached g
 to within :data:`WORN_THROUGH` (None: never; w approaches g only asymptotically, as the layer's pressure that drives
 it vanishes there).  A signed zero is written as 0 (a stop at rest: T = 0, not −0).
 """
@@ -38,7 +39,7 @@ def whole_run(result) -> dict:
     density = layer_density(result)
     if density is not None:
         out["wear_mass"] = density * out["wear_volume"]
-    reached = np.flatnonzero(result.max_wear >= (1 - WORN_THROUGH) * result.scene.contact.gap)
+    reached = np.flatnonzero(result.wear.max(axis=1, initial=0.0) >= (1 - WORN_THROUGH) * result.scene.contact.gap)
     out["gap_reached_at"] = float(times[reached[0]]) if len(reached) else None
     return {name: value if value is None else value + 0.0 for name, value in out.items()}    # −0 → 0
 

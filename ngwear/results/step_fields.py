@@ -96,13 +96,13 @@ DERIVED = (
                                              "the bound)"),
     StepField("contact_area", (), "area", "Σ m_i over the points with p_i + λ_i > 0"),
     StepField("wear_volume", (), "volume", "Σ m_i w_i: the worn volume (an area in 2D)"),
-    StepField("total_wear", ("n",), "length", "all material removed at the contact points: w (`wear.geometry = "
-                                              "\"layer\"`)"),
+    StepField("total_wear", ("n",), "length", "all material removed at the contact points: w and what the geometry "
+                                              "updates moved into the body (`wear.geometry = \"surface\"`)"),
     StepField("remaining_thickness", ("n",), "length", "the worn region's thickness along ν under each contact point "
                                                        "(measured once from the mesh) minus `total_wear`"),
     StepField("tangential_force", ("d",), "force", "F_t = Σ m_i μ p_i n*_i: the friction force on the foundation "
                                                    "(against its slip)"),
-    StepField("max_wear", (), "length", "max_i w_i, the deepest wear"),
+    StepField("max_wear", (), "length", "the deepest wear: max_i of `total_wear` (w in `wear.geometry = \"layer\"`)"),
     StepField("max_pressure", (), "pressure", "max_i p_i, the peak of the compliance's pressure"),
     StepField("mean_pressure", (), "pressure", "normal force / contact area: the mean traction where in contact (0 "
                                                "without contact)"),

@@ -44,7 +44,7 @@ def summary(result) -> dict:
         "steps": result.steps,
         "contact_points": len(result.weights),
         **whole_run(result),
-        "max_wear": float(result.wear.max(initial=0.0)),
+        "max_wear": float(result.max_wear.max(initial=0.0)),
         "max_penetration": float(pen.max(initial=0.0)),
         "gap": result.scene.contact.gap,
         **last,

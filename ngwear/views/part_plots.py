@@ -28,10 +28,13 @@ from ..results.stops import TAPERS
 from ..results.units import label, unit
 from .plots import _along, _sampled, _save, plain
 
-FIELDS = {"pressure": ("pressure p", "plasma", "pressure"), "wear": ("wear depth w", "YlOrRd", "length"),
-          "surface_temperature": ("surface temperature T", "inferno", "temperature")}
-"""The fields a contact map draws: title, colour map, quantity (pressure and wear from 0, the temperature from its
-lowest)."""
+FIELDS = {"pressure": ("pressure p", "plasma", "pressure", "pressure"),
+          "wear": ("wear depth (all material removed)", "YlOrRd", "length", "total_wear"),
+          "remaining_thickness": ("remaining thickness", "viridis", "length", "remaining_thickness"),
+          "surface_temperature": ("surface temperature T", "inferno", "temperature", "surface_temperature")}
+"""The fields a contact map draws: title, colour map, quantity and the result's array (pressure and wear from 0, the
+temperature and the thickness from their lowest).  The wear is the total wear: w, and in ``"surface"`` runs what the
+geometry updates moved into the body."""
 COEFFICIENTS = {"friction_coefficient": ("friction", "friction μ", "viridis", None),
                 "wear_coefficient": ("wear", "wear coefficient κ", "cividis", "wear coefficient"),
                 "contact_stiffness": ("stiffness", "compliance stiffness L", "magma", "compliance stiffness")}
@@ -114,10 +117,10 @@ def contact_figure(result, steps=None, fields=("pressure", "wear")) -> Figure:
     seconds = f" {unit(result.scene, 'time')}" if result.scene.units else ""
     axes = np.atleast_2d(fig.subplots(len(fields), len(steps), squeeze=False))
     for row, name in zip(axes, fields):
-        title, cmap, quantity = FIELDS[name]
-        values = getattr(result, name)
+        title, cmap, quantity, array = FIELDS[name]
+        values = getattr(result, array)
         top = max(float(values[steps].max()), 1e-300)
-        bottom = float(values[steps].min()) if quantity == "temperature" else 0.0
+        bottom = float(values[steps].min()) if name in ("surface_temperature", "remaining_thickness") else 0.0
         for ax, step in zip(row, steps):
             shaded = ax.tripcolor(tri, at_nodes @ values[step], shading="gouraud", cmap=cmap, vmin=bottom,
                                   vmax=max(top, bottom * (1 + 1e-12) + 1e-300))

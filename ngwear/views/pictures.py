@@ -22,7 +22,9 @@ def write_pictures(result, out_dir) -> list[Path]:
         paths += [plots.wear_profiles(result, out / "wear.png"), plots.pressure_history(result, out / "pressure.png")]
     else:
         heated = ("surface_temperature",) if result.scene.heat.model != "none" else ()
-        paths.append(part_plots.contact_maps(result, out / "contact_maps.png", fields=("pressure", "wear", *heated)))
+        moved = ("remaining_thickness",) if result.scene.wear.geometry == "surface" else ()
+        paths.append(part_plots.contact_maps(result, out / "contact_maps.png",
+                                             fields=("pressure", "wear", *moved, *heated)))
     paths.append(part_plots.history(result, out / "history.png"))
     if len(result.discretization.mesh.GetMaterials()) > 1:
         paths.append(render.save_frame(result, -1, out / "regions.png", field="region"))

@@ -20,11 +20,11 @@ from ..results.units import label as unit_label
 
 
 def wear_profiles(result, path, count: int = 5) -> Path:
-    """w(x, t) along Γ_C at ``count`` evenly spaced steps, with g dashed; writes a PNG."""
+    """The wear along Γ_C (all material removed: w, and what geometry updates moved) at ``count`` steps, g dashed."""
     fig = Figure(figsize=(7, 4), layout="constrained")
     ax = fig.add_subplot()
     for step, colour in _sampled(result, count):
-        _along(ax, result, result.wear[step], color=colour, label=f"t = {result.times[step]:.2f}")
+        _along(ax, result, result.total_wear[step], color=colour, label=f"t = {result.times[step]:.2f}")
     ax.axhline(result.scene.contact.gap, color="black", ls="--", lw=1, label="layer thickness g")
     scene = result.scene
     ax.set(xlabel=unit_label(scene, "x on Γ_C", "length"), ylabel=unit_label(scene, "wear w", "length"),
@@ -46,7 +46,7 @@ def pressure_history(result, path, count: int = 4) -> Path:
              title="pressure p (solid), reaction λ (dotted)")
     left.legend(fontsize=7, ncols=2)
     t = result.times
-    right.plot(t, result.wear.max(axis=1, initial=0.0), label="max wear w")
+    right.plot(t, result.max_wear, label="max wear (all removed)")
     right.plot(t, (result.normal_displacement - result.d0).max(axis=1, initial=0.0), label="max u_ν − d₀")
     right.axhline(result.scene.contact.gap, color="black", ls="--", lw=1, label="layer thickness g")
     right.set(xlabel=unit_label(scene, "time t", "time"), ylabel=unit_label(scene, "length", "length"),
