@@ -172,7 +172,8 @@ def test_effusivity_partition():
     assert heat.partition == pytest.approx(e_b / (e_b + e_f), rel=1e-14)
     heat.advance(1.0, np.full(len(heat.weights), 2.0))
     assert heat.heat_flux == pytest.approx(heat.partition * 2.0 * heat.weights.sum(), rel=1e-14)
-    backed = scene.replace(**{"geometry.backing": 0.05, "material.regions": {"backing": {"conductivity": 40.0}}})
+    backed = scene.replace(**{"geometry.backing": 0.05, "material.lame_lambda": 1.0, "material.lame_mu": 1.0,
+                              "material.regions": {"backing": {"conductivity": 40.0}}})
     with pytest.raises(SceneError, match=r"^heat.partition: 'effusivity' needs one effusivity .* regions body, "
                                           r"backing carrying it differ"):
         partition(backed, ["body", "backing"])

@@ -17,6 +17,10 @@ def strip():
     return Scene.from_dict({"geometry": {"kind": "strip", "size": [3.0, 1.0]}})
 
 
+LAME = {"material.lame_lambda": 1.0, "material.lame_mu": 1.0}
+"""[material]'s constants named: with regions a scene gets no default ones (the regions' tables are checked)."""
+
+
 def refusal(scene, **dotted) -> str:
     with pytest.raises(SceneError) as err:
         scene.replace(**dotted)
@@ -82,17 +86,17 @@ def test_refusals_name_the_key(strip, dotted, message):
 
 def test_thermal_keys_per_region(strip):
     """A region takes [material]'s thermal keys, its own override them, also where it replaces the law."""
-    backed = strip.replace(**HEATED, **{"geometry.backing": 0.2, "material.regions": {"backing": {
+    backed = strip.replace(**HEATED, **{"geometry.backing": 0.2, **LAME, "material.regions": {"backing": {
         "young": 210e3, "poisson": 0.3, "conductivity": 50.0, "expansion": 1.2e-5}}})
     tables = backed.material.by_region(("body", "backing"))
     assert tables["backing"].conductivity == 50.0 and tables["backing"].density == 2.0
     assert tables["backing"].young == 210e3 and tables["backing"].lame_mu is None   # its own law, [material]'s heat
     assert tables["body"].conductivity == 1.0 and tables["body"].expansion is None
     heated = {"heat.model": "conduction", "heat.partition": 1.0, "geometry.backing": 0.2}
-    assert refusal(strip, **heated, **{"material.regions": {"body": THERMAL}}).startswith(
+    assert refusal(strip, **heated, **LAME, **{"material.regions": {"body": THERMAL}}).startswith(
         "material.conductivity: missing")                          # the backing takes [material]'s: none
-    assert refusal(strip, **heated, **{"material.regions": {"body": THERMAL, "backing": {"density": 1.0}}}).startswith(
-        "material.regions.backing.conductivity: missing")
+    backing = {"material.regions": {"body": THERMAL, "backing": {"density": 1.0}}}
+    assert refusal(strip, **heated, **LAME, **backing).startswith("material.regions.backing.conductivity: missing")
 
 
 POINTS = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])

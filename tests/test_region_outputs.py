@@ -183,7 +183,7 @@ def test_maps_label_their_axes_and_bars_with_units():
     assert [ax.get_xlabel() for ax in maps] == ["", "", "x (m)", "x (m)"]
     assert [ax.get_ylabel() for ax in maps] == ["y (m)", "", "y (m)", ""]
     assert [ax.get_ylabel() for ax in fig.axes if ax.get_label() == "<colorbar>"] == ["pressure p (Pa)",
-                                                                                      "wear depth w (m)"]
+                                                                                      "wear depth (m)"]
     power = si.scene.replace(**{"contact.law": "power", "contact.exponent": 1.5})
     assert unit(power, "compliance stiffness") == "Pa/m^1.5" and unit(si.scene, "compliance stiffness") == "Pa/m"
     assert part_plots._axis_name(np.array([0.0, 0.0, -1.0])) == "−z"

@@ -317,8 +317,8 @@ def _prepared(data: dict[str, Any]) -> dict[str, Any]:
     turning = foundation.get("angular_velocity") is not None      # a disc: no translation unless it is given
     _default(data, "foundation", "velocity", [0.0] * dim if turning else [1.0] + [0.0] * (dim - 1))
     material = data.get("material", {})
-    if isinstance(material, dict) and not material.get("regions"):
-        for name, value in default_constants(material).items():     # the paper's dimensionless λ = η = 1
+    if isinstance(material, dict) and not material.get("regions"):     # the paper's dimensionless λ = η = 1
+        for name, value in default_constants(material).items():
             _default(data, "material", name, value)
     _time_of_programme(data)
     time = data.get("time", {}) if isinstance(data.get("time", {}), dict) else {}

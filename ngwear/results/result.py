@@ -251,7 +251,12 @@ class Result:
         return self.fields[step]
 
     def _thermal_load(self, disc):
-        """f_th's G on ``disc`` (None: no temperature, or no region expands), kept for the discretization."""
+        """f_th's G on ``disc`` (None: no temperature, or no region expands).
+
+        A run keeps the G of the discretization in force (:attr:`thermal`, assembled on its mesh as it was when it
+        came into force: a geometry update moves the vertices of the mesh it shares with the next); a result read
+        from its files assembles G on its saved mesh.
+        """
         if self.scene.heat.model == "none":
             return None
         if self.thermal is None or self.thermal[0] is not disc:

@@ -10,8 +10,8 @@ are integrals over them by the trapezoidal rule on the stop's grid:
   counterface, the friction force its energy over its sliding distance on a translating one, and the instant at rest
   (s_v = 0) weighs nothing; ``apparent_friction`` is ‖F_t‖ / normal force per step
   (:mod:`ngwear.results.derived`);
-* ``worn_volume``  Σ m_i Δw_i, Δw the stop's wear increment (end minus start), and ``worn_mass`` ρ times it
-  (with ``material.density``);
+* ``worn_volume``  Σ m_i Δw_i, Δw the stop's increment of the total wear (end minus start), m_i the weights at its
+  end, and ``worn_mass`` ρ times it (with ``material.density``);
 * ``max_total_wear``, ``min_remaining_thickness``  at its end, and the taper of the remaining thickness there
   (:func:`tapers`): ``taper_radial`` and ``taper_circumferential`` on a turning counterface, ``taper_along`` on a
   translating one, and ``taper_slope`` of any part;
@@ -95,7 +95,7 @@ def stop_table(result, taper: bool = True):
     stop_of = schedule.rows(result.jumped)[0][:rows]
     power = result.friction_power                     # μ of each step (a coefficient of state: the one it used)
     torque, force, apparent = result.torque, result.friction_force, result.apparent_friction
-    total, remaining = result.total_wear, result.remaining_thickness
+    total, remaining, weights = result.total_wear, result.remaining_thickness, result.row_weights
     density = scene.value("material.density")
     heated = {name: getattr(result, field) for name, field in TEMPERATURES.items() if field in result.rows}
     records, jumped = {}, set(result.jumped.tolist())
@@ -106,7 +106,7 @@ def stop_table(result, taper: bool = True):
         row = {"energy": _integral(power[span], times), "torque": _sliding_mean(torque[span], speed, times),
                "friction_force": _sliding_mean(force[span], speed, times),
                "apparent_friction": _sliding_mean(apparent[span], speed, times),
-               "worn_volume": float(increment @ result.weights)}
+               "worn_volume": float(increment @ (weights if weights.ndim == 1 else weights[end]))}
         heat = {f"{name}_{when}": float(value) for name, values in heated.items()
                 for when, value in (("start", values[span][0]), ("peak", values[span].max()), ("end", values[end]))}
         k = stop
@@ -120,7 +120,7 @@ def stop_table(result, taper: bool = True):
     table = pd.DataFrame([records[i] for i in order], index=pd.Index(order, name="stop"))
     if not len(order):
         shown = tapers(result, result.thickness) if taper else {}
-        table = pd.DataFrame(columns=[c for c in COLUMNS if c not in ("stop", "worn_mass") and
+        table = pd.DataFrame(columns=[c for c in COLUMNS if c not in ("stop", "block", "start", "worn_mass") and
                                       (heated or "temperature" not in c) and (c not in TAPERS or c in shown)])
     table.insert(0, "block", schedule.block[order])
     table.insert(1, "start", schedule.start[order])

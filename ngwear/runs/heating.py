@@ -19,9 +19,10 @@ heat's state as they change the wear: N cycles of the last simulated stop (:meth
 """
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
-from ..model.scene import SceneError
 from ..numerics.expansion import ThermalLoad
 from ..numerics.heat import Heat, frictional_power
 
@@ -96,29 +97,27 @@ class Heating:
             if self.load is not None:
                 self.load = ThermalLoad(self.scene, disc.fes, self.heat.space)
 
-    def before(self, state, caches) -> str | None:
+    def before(self, state, caches):
         """Before the step after the state's: its coefficients at the state (T, p, ‖v*‖), the thermal load of T.
 
-        The coefficients and the reference μ go into ``state``, f_th into ``caches``; returns the refusal of a
-        coefficient out of range (one line), else None.
+        Returns the state with the coefficients and the reference μ the step is solved with (f_th goes into
+        ``caches``); a coefficient out of range raises its SceneError (one line naming the key, the point, the state
+        there and t).
         """
         contact = self.contact
         if contact.stateful:
             values = {"p": state.pressure, "v": contact.motion.speeds(state.instant.speed)}
             if self.heat is not None:
                 values["T"] = self.heat.surface_temperature()
-            try:
-                coefficients = state.coefficients.updated(self.scene.contact, contact.coords, values, state.instant.t)
-            except SceneError as err:
-                return str(err)
+            coefficients = state.coefficients.updated(self.scene.contact, contact.coords, values, state.instant.t)
             friction, reference = coefficients.friction, state.reference
             if reference is not None and \
                     np.abs(friction - reference).max() > DRIFT * np.abs(reference).max(initial=0.0):
                 reference = friction
-            state.coefficients, state.reference = coefficients, reference
+            state = replace(state, coefficients=coefficients, reference=reference)
         if self.load is not None:
             caches.expand(self.load(self.heat.temperature))
-        return None
+        return state
 
     def after(self, state, target) -> dict[str, np.ndarray]:
         """Heat the body over the step just solved (``state``'s): backward-Euler steps of ``target.heat_steps``.

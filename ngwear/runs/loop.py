@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model.coefficients import bound, describe
+from ..model.keys import SceneError
 from ..numerics.solver import ConvergenceError
 from .checks import StepCheck, worn_out
 from .clock import Clock
@@ -62,6 +63,7 @@ class Run:
                                          zip(result.speed_factor, result.pressure)])
         self.heating = Heating.of(scene, disc, saved.get("heat"))
         state.heat = None if self.heating is None else self.heating.heat
+        self._thermal()
         self.check, self.validity = StepCheck(result, disc), Validity(result, disc)
         self.proposed = self.clock.next_step        # the clock's next step after the last recorded one
 
@@ -83,12 +85,14 @@ class Run:
 
     def next(self) -> bool:
         """The step after the last recorded one, redone smaller while the clock rejects it; whether the run goes on."""
-        result, state, contact = self.result, self.state, self.disc.contact
-        j = state.steps
-        refusal = None if self.heating is None else self.heating.before(state, self.caches)
-        if refusal is not None:
-            result.status = f"step {j + 1}: {refusal}"
-            return False
+        result, contact, j = self.result, self.disc.contact, self.state.steps
+        if self.heating is not None:
+            try:
+                self.state = self.heating.before(self.state, self.caches)
+            except SceneError as err:                   # a coefficient of the state out of its range
+                result.status = f"step {j + 1}: {err}"
+                return False
+        state = self.state
         rows = slice(max(j - 1, 0), j + 1)
         times = list(result.times[rows])
         rates = [contact.rate(state.coefficients, v, p) for v, p in zip(result.speed_factor[rows], result.pressure[rows])]
@@ -159,6 +163,12 @@ class Run:
         self.check, self.validity = StepCheck(self.result, disc), Validity(self.result, disc)
         if self.heating is not None:
             self.heating.moved(disc)
+        self._thermal()
+
+    def _thermal(self) -> None:
+        """The record recovers its steps' thermal displacement with the G of the discretization in force."""
+        if self.heating is not None and self.heating.heat is not None:
+            self.result.thermal = (self.disc, self.heating.load)
 
     def continuation(self) -> dict[str, np.ndarray]:
         """What a checkpoint needs besides the record to go on from the last step, bit for bit."""

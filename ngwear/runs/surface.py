@@ -74,6 +74,7 @@ class Surface:
         result = recording.result
         disc = self.disc
         if self.recession is None:
+            result.thickness                                   # measured on the mesh as built, before it moves
             mesh = ngs.Mesh(disc.mesh.ngmesh.Copy())          # the mesh as built may serve other runs
             self.recession = Recession(mesh, disc.points, disc.condensation.nu, self._held())
         result.recession = self.recession                  # the record makes its other bodies' meshes with it

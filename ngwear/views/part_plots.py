@@ -29,7 +29,7 @@ from ..results.units import label, unit
 from .plots import _along, _sampled, _save, plain
 
 FIELDS = {"pressure": ("pressure p", "plasma", "pressure", "pressure"),
-          "wear": ("wear depth (all material removed)", "YlOrRd", "length", "total_wear"),
+          "wear": ("wear depth", "YlOrRd", "length", "total_wear"),
           "remaining_thickness": ("remaining thickness", "viridis", "length", "remaining_thickness"),
           "surface_temperature": ("surface temperature T", "inferno", "temperature", "surface_temperature")}
 """The fields a contact map draws: title, colour map, quantity and the result's array (pressure and wear from 0, the
