@@ -48,7 +48,7 @@ def test_exponents_one_and_one_are_archards_law_to_the_bit():
 
 
 def test_the_stability_slope_is_the_rates_largest_derivative_over_the_layer():
-    """k α g'(p(g)) L with α = κ v^a, g' = b p^(b−1), p(g) = L g: the explicit update is refused beyond 2."""
+    """K α g'(p(g)) L with α = κ v^a, g' = b p^(b−1), p(g) = L g: the explicit update is refused beyond 2."""
     scene = column(**{"wear.integrator": "explicit", "wear.allow_unstable": True})
     rate = Discretization(scene).contact.largest_rate()
     L, g = 100.0, 0.5
