@@ -41,7 +41,7 @@ def main():
     from ngwear.model import part_files
     from ngwear.model.geometry import build_mesh
     from ngwear.results.folder import _digest
-    from ngwear.results.history import History
+    from ngwear.results.recording import History
 
     rows = []
     cad_scene = ngwear.load_scene(C.ROOT / "geometries" / "cad_pad.toml")

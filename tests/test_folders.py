@@ -20,8 +20,7 @@ from test_cli import ngwear
 
 import ngwear as ng
 from ngwear.results.folder import LOCK, FolderError, NoSpace, hold
-from ngwear.results.history import History
-from ngwear.results.recording import Recording
+from ngwear.results.recording import History, Recording
 
 
 def small(**changes):

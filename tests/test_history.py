@@ -13,8 +13,8 @@ from conftest import PAPER
 import ngwear
 from ngwear.results.checkpoint import CHECKPOINT
 from ngwear.results.folder import FolderError
-from ngwear.results.history import History
 from ngwear.results.mesh_file import save_mesh
+from ngwear.results.recording import History
 from ngwear.results.result import ARRAYS
 
 

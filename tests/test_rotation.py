@@ -10,7 +10,7 @@ import pytest
 from conftest import ROOT
 
 import ngwear
-from ngwear.model.motion import Motion
+from ngwear.numerics.contact import Motion
 
 BOX = ROOT / "geometries" / "box3d.toml"
 

@@ -13,11 +13,10 @@ import pytest
 from conftest import PAPER
 
 import ngwear
-from ngwear.model.motion import Instant
+from ngwear.numerics.contact import Instant
 from ngwear.numerics.wear import WearStep
-from ngwear.results.invariants import Checker, allowances, invariants
-from ngwear.runs.checks import StepCheck
-from ngwear.runs.state import State
+from ngwear.runs.checks import Checker, StepCheck, allowances, invariants
+from ngwear.runs.step import State
 
 BREAK = """
 import sys

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from ngwear import SceneError
-from ngwear.results.invariants import TOL, allowances, invariants, k_alpha_slope
+from ngwear.runs.checks import TOL, allowances, invariants, k_alpha_slope
 from ngwear.studies import stress
 from ngwear.studies.stress import CATALOGUE
 

@@ -8,7 +8,7 @@ import ngwear as ng
 from ngwear.model.compliance import largest_slope
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.wear import diverging, explicit_stability, steps_cap
-from ngwear.results.invariants import k_alpha_slope
+from ngwear.runs.checks import k_alpha_slope
 
 PAD = ROOT / "geometries" / "brake_pad.toml"
 

@@ -3,7 +3,7 @@
     v*_i = s_v v*(x_i),   n*_i,   α_i = α(κ_i, μ_i, ‖v*_i‖),   w' = α g(p),   μ_i n*_i,
     f_i = m_i (p_i (ν + μ_i n*_i) + λ_i ν)   (the contact forces),
 
-at a step's speed factor s_v (:class:`~ngwear.model.motion.Instant`, made by the time loop through
+at a step's speed factor s_v (:class:`Instant`, made by the time loop through
 :attr:`Contact.motion`), with the coefficients μ_i, κ_i and the compliance's L_i at the contact points
 (:class:`~ngwear.model.coefficients.Coefficients`), the compliance p and the wear law (:mod:`ngwear.model.wear_laws`).
 Every key it reads invalidates nothing (:class:`~ngwear.model.keys.Level` ``NOTHING``): a :class:`Contact` is made
@@ -14,17 +14,160 @@ them).  A coefficient of state (one that names the temperature T, the pressure p
 :mod:`ngwear.model.coefficients`) is evaluated from the last step's state, explicitly, before each step
 (:mod:`ngwear.runs.heating`), from the initial state (T₀, p = 0, ‖v*(x_i)‖ at the first step's s_v) before the first;
 the others are fields of x, evaluated once (:attr:`Contact.coefficients`).
+
+The foundation's motion at the contact points (:class:`Motion`), and the factors that drive each step of a run:
+
+    v*(x, t) = s_v (ω × (x − c) + v₀),      n*(x, t) = −v*_τ / ‖v*_τ‖,      ‖v*(x, t)‖ = |s_v| ‖ω × (x − c) + v₀‖,
+
+with v₀ = ``foundation.velocity``, ω = ``foundation.angular_velocity`` (a number in 2D: ω × r = ω (−r_y, r_x)) and
+c = ``foundation.center``; v*_τ = v* − (v*·ν) ν.  Points where v*_τ = 0 (on the axis, or a foundation at rest) get
+n* = 0 and ‖v*‖ = 0: no friction, no wear.  The friction force on the foundation is μ p n* per unit area; its
+moment about the axis, T = Σ m_i μ p_i ((x_i − c) × n*_i)·e, is negative when it opposes the rotation
+(e = ω/‖ω‖; without rotation e = −ν, in 2D e = e_z).
+
+A step's factors, :class:`Instant`: the speed factor s_v and the loads' factor s_F.  Without a programme they are
+``foundation.speed_table`` and ``loads.time_table`` at the step's time t (piecewise linear; an empty table is 1);
+with one (:mod:`ngwear.model.programme`) they are those of the step's place (stop i, step j) on the stop's grid,
+s = s₀ + (s₁ − s₀) j/m, the same bits for every stop of a block whatever its time.  The time loop makes each step's
+instant here (:meth:`Motion.at`), solves with it and records s_v and s_F (``speed_factor``, ``load_factor``), so that
+every output reads the factors the step used.
 """
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..model.coefficients import Coefficients, stateful
 from ..model.compliance import compliance_from
 from ..model.keys import SceneError
-from ..model.motion import Motion
+from ..model.programme import Schedule
 from ..model.rules import BIG
 from ..model.wear_laws import wear_law
+
+RELATIVE_ZERO = 1e-12
+"""A tangential speed at most this fraction of the largest one counts as zero (points on the axis)."""
+
+
+def cross(a, b: np.ndarray) -> np.ndarray:
+    """Row-wise a × b; in 2D a is the scalar ω (out of plane) and the result lies in the plane."""
+    b = np.atleast_2d(b)
+    if b.shape[1] == 2:
+        if np.ndim(a) == 0:
+            return float(a) * np.column_stack([-b[:, 1], b[:, 0]])
+        return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]          # (n, 2) × (n, 2): the z component
+    return np.cross(np.broadcast_to(a, b.shape), b)
+
+
+def _nodes(table) -> tuple[np.ndarray, np.ndarray] | None:
+    """The times and values of a piecewise-linear table [[t, s], …] (None: empty, the factor 1)."""
+    return tuple(np.array(column, dtype=float) for column in zip(*table)) if table else None
+
+
+@dataclass(frozen=True)
+class Instant:
+    """The end of a step: its time ``t``, the speed factor ``speed`` = s_v and the loads' factor ``load`` = s_F there.
+
+    ``place``: a programme's (stop, step) on the stop's grid; None without a programme.
+    """
+
+    t: float
+    speed: float
+    load: float
+    place: tuple[int, int] | None = None
+
+
+class Motion:
+    """The foundation's velocity field at fixed points x_i of Γ_C (reference configuration) and a run's factors.
+
+    Attributes
+    ----------
+    rigid : ndarray
+        v*(x_i) at s_v = 1, shape (n, d).
+    direction, speed : ndarray
+        n*_i at s_v > 0 (n, d) and ‖v*(x_i)‖ at s_v = 1 (n,), 0 where the foundation does not slide.
+    schedule : Schedule or None
+        The programme's stops (None: the tables drive the run, ``tables`` their nodes: s_v's, then s_F's).
+    """
+
+    def __init__(self, scene, points: np.ndarray, nu):
+        foundation = scene.foundation
+        self.points, self.nu = np.asarray(points, dtype=float), np.asarray(nu, dtype=float)
+        dim = self.points.shape[1]
+        self.omega = foundation.angular_velocity if foundation.angular_velocity is not None else (
+            0.0 if dim == 2 else (0.0, 0.0, 0.0))
+        self.center = np.zeros(dim) if foundation.center is None else np.asarray(foundation.center, dtype=float)
+        self.schedule = None if scene.programme is None else Schedule.of(scene.programme)
+        self.tables = tuple(_nodes(table) for table in (foundation.speed_table, scene.loads.time_table))
+        self.arms = self.points - self.center
+        rigid = cross(np.asarray(self.omega, dtype=float), self.arms) + np.asarray(foundation.velocity, dtype=float)
+        tangential = rigid - (rigid @ self.nu)[:, None] * self.nu
+        norm = np.linalg.norm(tangential, axis=1)
+        sliding = norm > RELATIVE_ZERO * max(np.linalg.norm(rigid, axis=1).max(initial=0.0), 1e-300)
+        self.rigid = rigid
+        self.direction = np.where(sliding[:, None], -tangential / np.where(sliding, norm, 1.0)[:, None], 0.0)
+        self.speed = np.where(sliding, np.linalg.norm(rigid, axis=1), 0.0)
+
+    # ---- the factors of a step ---------------------------------------------------------------
+    def at(self, t: float, place: tuple[int, int] | None = None) -> Instant:
+        """The instant t: the tables' factors there, or (a programme) those of ``place`` = (stop, step)."""
+        if self.schedule is None:
+            speed, load = (1.0 if nodes is None else float(np.interp(t, *nodes)) for nodes in self.tables)
+            return Instant(t, speed, load)
+        stop, step = place
+        phase = step / self.schedule.steps
+        speed, load = (float(ends[stop, 0] + (ends[stop, 1] - ends[stop, 0]) * phase)
+                       for ends in (self.schedule.speed, self.schedule.load))
+        return Instant(t, speed, load, (int(stop), int(step)))
+
+    @property
+    def largest_speed(self) -> float:
+        """Max |s_v| over the run (the tables and a programme's ramps are piecewise linear: their nodes)."""
+        if self.schedule is not None:
+            return float(np.abs(self.schedule.speed).max())
+        return 1.0 if self.tables[0] is None else float(np.abs(self.tables[0][1]).max())
+
+    @property
+    def largest_load(self) -> float:
+        """Max |s_F| over the run."""
+        if self.schedule is not None:
+            return float(np.abs(self.schedule.load).max())
+        return 1.0 if self.tables[1] is None else float(np.abs(self.tables[1][1]).max())
+
+    # ---- the velocity at a speed factor ------------------------------------------------------
+    def velocity(self, speed: float) -> np.ndarray:
+        """v*(x_i) at the speed factor s_v, shape (n, d)."""
+        return speed * self.rigid
+
+    def n_star(self, speed: float) -> np.ndarray:
+        """n*(x_i) at s_v, shape (n, d): the unit tangential direction opposite to the slip, 0 where none."""
+        return np.sign(speed) * self.direction
+
+    def speeds(self, speed) -> np.ndarray:
+        """‖v*(x_i)‖ at s_v (a number, or one per step: shape (N, n)), 0 where the foundation does not slide."""
+        return np.multiply.outer(np.abs(speed), self.speed)
+
+    @property
+    def sliding(self) -> bool:
+        """Whether the foundation slides anywhere along Γ_C (at s_v ≠ 0)."""
+        return bool(self.speed.any())
+
+    @property
+    def rotating(self) -> bool:
+        return bool(np.any(np.asarray(self.omega) != 0))
+
+    @property
+    def axis(self) -> np.ndarray | float:
+        """e: ω/‖ω‖ (3D), sign ω (2D); without rotation −ν (3D), +1 (2D)."""
+        if self.points.shape[1] == 2:
+            return float(np.sign(self.omega)) if self.omega else 1.0
+        omega = np.asarray(self.omega, dtype=float)
+        return omega / np.linalg.norm(omega) if omega.any() else -self.nu
+
+    def moment_arms(self) -> np.ndarray:
+        """((x_i − c) × n*_i)·e while s_v > 0, shape (n,): torque per unit tangential force (times sign s_v)."""
+        moment = cross(self.arms, self.direction)
+        return moment * self.axis if moment.ndim == 1 else moment @ self.axis
 
 
 class Contact:
@@ -46,7 +189,7 @@ class Contact:
     Attributes
     ----------
     coefficients : Coefficients
-        μ_i, κ_i and L_i at the initial state (a run's state holds those of its steps, :mod:`ngwear.runs.state`).
+        μ_i, κ_i and L_i at the initial state (a run's state holds those of its steps, :class:`~ngwear.runs.step.State`).
     law : Compliance
         The compliance p with L = L_i.
     motion : Motion
@@ -111,7 +254,7 @@ class Contact:
     def largest_rate(self) -> float:
         """Largest α_i g'(p(g)) L_p,i over the contact points and the run: the wear update's stiffness (its stability).
 
-        α at the largest speed factor of the run (:attr:`~ngwear.model.motion.Motion.largest_speed`; s_v is piecewise
+        α at the largest speed factor of the run (:attr:`Motion.largest_speed`; s_v is piecewise
         linear), the coefficients of the initial state.
         """
         law, c = self.wear_law, self.coefficients

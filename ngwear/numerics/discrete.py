@@ -80,7 +80,9 @@ class Discretization:
     ----------
     scene : Scene
     body : Body
-        Mesh, space and contact points (``mesh``, ``fes`` and ``points`` are shortcuts to them).
+        Mesh, space and contact points (``mesh``, ``fes`` and ``points`` are the body's).
+    matrix_free : bool
+        Whether the contact problem is solved matrix-free (see above).
     elastic : Elastic
         The stiffness and its factorisation.
     condensation : Condensation
@@ -102,6 +104,8 @@ class Discretization:
         self.condensation = condensation or Condensation(scene, self.body, self.elastic)
         self.loads = loads or Loads(scene, self.body, self.elastic, self.condensation)
         self.contact = Contact(scene, self.body.points, self.condensation.nu)
+        self.mesh, self.fes, self.points = self.body.mesh, self.body.fes, self.body.points
+        self.matrix_free = not self.elastic.schur
 
     def reuse(self, scene: Scene) -> Reuse:
         """What a discretization of ``scene`` keeps of this one (see :class:`Reuse`; ``str()`` for a status line).
@@ -159,19 +163,6 @@ class Discretization:
         return [(label, lambda piece=piece, name=name: getattr(piece, name))
                 for piece, name, label in todo if not piece.built(name)]
 
-    # ---- shortcuts to the body ----------------------------------------------------------
-    @property
-    def mesh(self) -> ngs.Mesh:
-        return self.body.mesh
-
-    @property
-    def fes(self) -> ngs.FESpace:
-        return self.body.fes
-
-    @property
-    def points(self):
-        return self.body.points
-
     def gridfunction(self, u: np.ndarray) -> ngs.GridFunction:
         """The displacement with DOF vector ``u``."""
         return self.body.gridfunction(u)
@@ -185,11 +176,6 @@ class Discretization:
         return self.body.locate(points, -self.condensation.nu, self.scene.mesh.maxh or 1.0)
 
     # ---- how the contact problem is solved ----------------------------------------------
-    @property
-    def matrix_free(self) -> bool:
-        """Whether the contact problem is solved matrix-free (see the class docstring)."""
-        return not self.elastic.schur
-
     @property
     def layer_ratio(self) -> float:
         """ρ of :func:`layer_ratio` for this scene and body."""

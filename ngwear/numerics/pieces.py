@@ -130,6 +130,7 @@ class Elastic(Lazy):
                  base: Elastic | None = None, columns: dict | None = None, ordering: np.ndarray | None = None):
         self.scene, self.body, self.schur, self.state, self.ordering = scene, body, schur, state, ordering
         self.laws = region_laws(scene)
+        self.linear = all(law.is_linear for law in self.laws.values())   # K₀ is the stiffness: a step, one solve
         self.root, self.columns = self, {}  # the Elastic whose factorisation K's operator is; its K⁻¹Dᵀ by point
         self.changed = np.zeros(0, dtype=int)   # the kink points whose branch differs from the root's
         if base is not None:                # a tangent shares K_lin and the kink of the operator it follows
@@ -140,11 +141,6 @@ class Elastic(Lazy):
             if changed is not None and len(changed) <= LOW_RANK:
                 self.root, self.columns = base.root, base.columns if columns is None else columns
                 self.changed = changed
-
-    @property
-    def linear(self) -> bool:
-        """Whether every region's law is linear (then K₀ is the stiffness and a step is one contact solve)."""
-        return all(law.is_linear for law in self.laws.values())
 
     @cached_property
     def kink(self) -> Kink | None:

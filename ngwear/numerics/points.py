@@ -8,7 +8,7 @@ in 3D (:data:`NODAL_WEIGHTS`).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import ngsolve as ngs
 import numpy as np
@@ -57,10 +57,10 @@ class ContactPoints:
     at_vertices: sp.csr_matrix
     vertices: np.ndarray
     edges: np.ndarray
+    n: int = field(init=False)          # the number of points
 
-    @property
-    def n(self) -> int:
-        return len(self.weights)
+    def __post_init__(self):
+        object.__setattr__(self, "n", len(self.weights))
 
 
 def contact_points(fes: ngs.FESpace, dim: int, order: int) -> ContactPoints:

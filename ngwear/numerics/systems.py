@@ -87,8 +87,8 @@ def normal(disc, x: np.ndarray) -> np.ndarray:
 
 
 def plate(disc, x: np.ndarray) -> np.ndarray:
-    """δ, the plate's displacement (and tilts)."""
-    return x[len(x) - disc.condensation.plate_modes_count:]
+    """δ, the plate's displacement (and tilts): the unknowns after the contact points' s (after the free DOFs: full)."""
+    return x[len(x) - disc.condensation.plate_modes_count:] if full(disc) else x[disc.points.n:]
 
 
 def displacement(disc, x: np.ndarray) -> np.ndarray:

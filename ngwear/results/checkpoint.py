@@ -1,21 +1,20 @@
 """Checkpoints: everything a run needs to go on, written atomically into its output folder.
 
-``checkpoint.npz`` holds the result so far but its per-step rows (:meth:`Result.header`: Newton records,
-status), how many rows count and the folder of the files that hold them (``steps-<id>``, see
-:mod:`ngwear.results.history`), the solver's warm start (x, λ), the adaptive clock's next step and the
-scene (as JSON), the CRC-32 of the counted rows and the SHA-256 of the mesh, which is the folder's
-``mesh.vol``, so a resumed run needs no meshing.  A checkpoint
-costs what the rows since the last one cost to write, not the whole run.  Resumed, a run computes the same numbers,
-to the last bit, as if it had never stopped: every step starts from values that the checkpoint holds
-exactly.  A resumed scene may differ from the checkpoint's only in ``time.T`` (growing, to extend a
-run; with uniform steps ``time.steps`` grows with it, k = T/N kept) and in ``output.*``.  Each file of the
-folder is checked before a resume uses it (:class:`Checkpoint`); :class:`Saver` writes a run's checkpoints.
+``checkpoint.npz`` holds the result so far but its per-step rows (:meth:`Result.header`: Newton records, status), how
+many rows count and the folder of the files that hold them (``steps-<id>``, see
+:class:`~ngwear.results.recording.History`), the solver's warm start (x, λ), the adaptive clock's next step, the heat's
+and a moved surface's state and the scene (as JSON), the CRC-32 of the counted rows and the SHA-256 of the mesh, which
+is the folder's ``mesh.vol``, so a resumed run needs no meshing.  A checkpoint costs what the rows since the last one
+cost to write, not the whole run.  Resumed, a run computes the same numbers, to the last bit, as if it had never
+stopped: every step starts from values that the checkpoint holds exactly.  A resumed scene may differ from the
+checkpoint's only in ``time.T`` (growing, to extend a run; with uniform steps ``time.steps`` grows with it, k = T/N
+kept) and in ``output.*``.  Each file of the folder is checked before a resume uses it (:class:`Checkpoint`); the time
+loop decides when to write one (:class:`~ngwear.runs.loop.Saver`).
 """
 from __future__ import annotations
 
 import json
 import re
-import time
 import zipfile
 import zlib
 from pathlib import Path
@@ -23,10 +22,9 @@ from pathlib import Path
 import numpy as np
 
 from ..model.scene import Scene, SceneError
-from .folder import FolderError, no_space, replacing
-from .history import PREFIX, History, remove_others
+from .folder import FolderError, replacing
 from .mesh_file import checked_mesh, keep_mesh
-from .recording import Recording
+from .recording import PREFIX, History, Recording, remove_others
 from .result import HEADER, Result, from_arrays, row_shapes
 
 CHECKPOINT = "checkpoint.npz"
@@ -240,42 +238,3 @@ def _value(scene: Scene, key: str):
     for part in key.split("."):
         node = node.get(part) if isinstance(node, dict) else None
     return node
-
-
-class Saver:
-    """A run's checkpoints into ``folder`` (None: none): every ``seconds`` of wall time (0: never) and at its end.
-
-    A checkpoint that finds the disk full is not written (the last one stays) and ends the run (``full``).
-    """
-
-    def __init__(self, folder, seconds: float, rows: int = 0):
-        self.folder, self.seconds, self.last = folder, seconds, time.perf_counter()
-        self.full: OSError | None = None
-        self.rows = rows                    # the steps the last checkpoint written (or read, resuming) keeps
-
-    def maybe(self, recording: Recording, continuation) -> bool:
-        """Checkpoint if it is time (``continuation()``: what it needs besides the record); whether the run may go on."""
-        if self.folder is not None and self.seconds > 0 and time.perf_counter() - self.last >= self.seconds:
-            self.write(recording, continuation)
-        return self.full is None
-
-    def write(self, recording: Recording, continuation) -> None:
-        """Write the checkpoint now (not before step 0: nothing to go on from)."""
-        if self.folder is not None and len(recording.result.times):
-            try:
-                write_checkpoint(self.folder, recording.result, recording, continuation())
-            except OSError as err:
-                if not no_space(err):
-                    raise
-                self.full = err
-                return
-            self.last, self.rows = time.perf_counter(), len(recording.result.times)
-
-    def kept(self, result: Result) -> str:
-        """What a run stopped by a full disk keeps, in one line."""
-        t = result.times[-1] if len(result.times) else 0.0
-        stopped = f"no space left on device in {self.folder}: the run stopped after step {result.steps} (t = {t:.4g})"
-        if not self.rows:
-            return f"{stopped}; no checkpoint fitted: free space and run again"
-        return (f"{stopped}; its checkpoint keeps steps 0-{self.rows - 1} (t <= {result.times[self.rows - 1]:.4g}): "
-                "free space, then resume from it")

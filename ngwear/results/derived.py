@@ -2,7 +2,7 @@
 
 With m_i the weights of the contact points (moved by the geometry updates: :func:`row_weights`), s_v the step's
 recorded speed factor, μ_i the step's friction (:func:`friction`) and the foundation's motion at the points
-(:class:`~ngwear.model.motion.Motion`: ‖v*_i‖ and n*_i at s_v = 1, the moment arms):
+(:class:`~ngwear.numerics.contact.Motion`: ‖v*_i‖ and n*_i at s_v = 1, the moment arms):
 
 * ``normal_force``  Σ m_i (p_i + λ_i), the force the foundation carries;
 * ``torque``  T = sign(s_v) Σ m_i μ_i p_i ((x_i − c) × n*_i)·e, the friction moment about the counterface's axis

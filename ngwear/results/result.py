@@ -32,8 +32,8 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 
-from ..model.motion import Motion
 from ..model.scene import Scene
+from ..numerics.contact import Motion
 from ..numerics.expansion import ThermalLoad
 from ..numerics.points import initial_distance
 from ..numerics.solver import NewtonRecord

@@ -1,7 +1,7 @@
 """The per-step result fields, each declared once: its name, its shape per step, its quantity and its meaning.
 
 A run records the rows of :data:`RECORDED` at every step (:mod:`ngwear.results.recording`; in mapped files with an
-output folder, :mod:`ngwear.results.history`) and computes the fields :data:`DERIVED` from them (a
+output folder, :class:`~ngwear.results.recording.History`) and computes the fields :data:`DERIVED` from them (a
 :class:`~ngwear.results.result.Result` property of the same name).  ``result.npz`` holds both, a checkpoint the
 recorded rows; the units of a scene in SI (:mod:`ngwear.results.units`) and the reference of the result files
 (``docs/reference/files.md``) read this table, and so does the table of every per-step number of a run: the fields

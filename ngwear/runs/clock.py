@@ -27,7 +27,7 @@ import numpy as np
 
 from ..model.scene import SceneError
 from ..numerics.wear import stable_step
-from .state import Target
+from .step import Target
 
 GROWTH, SHRINK, SAFETY = 4.0, 0.2, 0.9
 

@@ -30,7 +30,7 @@ REFERENCE = "heat_friction_reference"
 """A checkpoint's key of the reference μ."""
 DRIFT = 0.1
 """Largest change of a μ of the state, relative to its largest value, within which the dense Newton matrices of the
-reference μ are kept (:attr:`~ngwear.runs.state.State.reference`)."""
+reference μ are kept (:attr:`~ngwear.runs.step.State.reference`)."""
 STARTED = "heat_started_"
 """The prefix of a checkpoint's keys of the heat's state at the last simulated stop's start (a programme's)."""
 

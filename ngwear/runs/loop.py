@@ -13,16 +13,19 @@ ends the run says why in ``Result.status``; every step before it is kept.
 """
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from ..model.coefficients import bound, describe
 from ..model.keys import SceneError
 from ..numerics.solver import ConvergenceError
+from ..results.checkpoint import write_checkpoint
+from ..results.folder import no_space
 from .checks import StepCheck, worn_out
 from .clock import Clock
 from .heating import Heating
-from .state import State, Target
-from .step import StepCaches, advance
+from .step import State, StepCaches, Target, advance
 from .stop_clock import StopClock
 from .surface import Surface
 from .validity import Validity
@@ -44,7 +47,7 @@ class Run:
     saved : dict
         A resumed run's heat and surface state and the adaptive clock's next step (empty for a new run).
     saver, progress, stop
-        The checkpoints (:class:`~ngwear.results.checkpoint.Saver`), the progress bar (None: none) and a stop event.
+        The checkpoints (:class:`Saver`), the progress bar (None: none) and a stop event.
     """
 
     def __init__(self, scene, disc, recording, state: State, integrator, saved: dict, saver, progress=None,
@@ -92,10 +95,11 @@ class Run:
             except SceneError as err:                   # a coefficient of the state out of its range
                 result.status = f"step {j + 1}: {err}"
                 return False
-        state = self.state
-        rows = slice(max(j - 1, 0), j + 1)
-        times = list(result.times[rows])
-        rates = [contact.rate(state.coefficients, v, p) for v, p in zip(result.speed_factor[rows], result.pressure[rows])]
+        state, adaptive = self.state, self.clock.adaptive
+        rows = slice(max(j - 1, 0), j + 1)          # an adaptive step's error from the rates of the last two and its own
+        times = list(result.times[rows]) if adaptive else []
+        rates = [contact.rate(state.coefficients, v, p) for v, p in zip(result.speed_factor[rows],
+                                                                         result.pressure[rows])] if adaptive else []
         while True:
             target = self.clock.target(state, contact, self.integrator)
             if target.still:
@@ -107,7 +111,7 @@ class Run:
                     continue
                 self._failed(j + 1, target.instant.t, err)
                 return False
-            rate = contact.rate(new.coefficients, new.instant.speed, new.pressure)
+            rate = contact.rate(new.coefficients, new.instant.speed, new.pressure) if adaptive else None
             if self.clock.judge([*times, target.instant.t], [*rates, rate]):
                 return self._keep(new, target) and self._watched()
 
@@ -126,7 +130,7 @@ class Run:
                       "programme.jump = false" if target.jumped else
                       "try wear.integrator = 'implicit' or more time.steps")
             self.recording.fail(f"step {state.steps} (t = {state.instant.t:.4g}): invariant {name} broken by "
-                                f"{value:.3g} (allowed {self.check.allowed(name):.0e}; see ngwear.results.invariants); "
+                                f"{value:.3g} (allowed {self.check.allowed(name):.0e}; see ngwear.runs.checks); "
                                 f"{remedy}", state.record)
             return False
         self.recording.reserve()
@@ -208,3 +212,42 @@ def remedy(scene, record) -> str:
         tips.append(f"a smaller contact.friction (μ = {describe(scene.contact.friction)} may exceed the smallness "
                     f"bound (H_S): see `ngwear verify`)")
     return "try " + ", ".join(tips)
+
+
+class Saver:
+    """A run's checkpoints into ``folder`` (None: none): every ``seconds`` of wall time (0: never) and at its end.
+
+    A checkpoint that finds the disk full is not written (the last one stays) and ends the run (``full``).
+    """
+
+    def __init__(self, folder, seconds: float, rows: int = 0):
+        self.folder, self.seconds, self.last = folder, seconds, time.perf_counter()
+        self.full: OSError | None = None
+        self.rows = rows                    # the steps the last checkpoint written (or read, resuming) keeps
+
+    def maybe(self, recording, continuation) -> bool:
+        """Checkpoint if it is time (``continuation()``: what it needs besides the record); whether the run may go on."""
+        if self.folder is not None and self.seconds > 0 and time.perf_counter() - self.last >= self.seconds:
+            self.write(recording, continuation)
+        return self.full is None
+
+    def write(self, recording, continuation) -> None:
+        """Write the checkpoint now (not before step 0: nothing to go on from)."""
+        if self.folder is not None and len(recording.result.times):
+            try:
+                write_checkpoint(self.folder, recording.result, recording, continuation())
+            except OSError as err:
+                if not no_space(err):
+                    raise
+                self.full = err
+                return
+            self.last, self.rows = time.perf_counter(), len(recording.result.times)
+
+    def kept(self, result) -> str:
+        """What a run stopped by a full disk keeps, in one line."""
+        t = result.times[-1] if len(result.times) else 0.0
+        stopped = f"no space left on device in {self.folder}: the run stopped after step {result.steps} (t = {t:.4g})"
+        if not self.rows:
+            return f"{stopped}; no checkpoint fitted: free space and run again"
+        return (f"{stopped}; its checkpoint keeps steps 0-{self.rows - 1} (t <= {result.times[self.rows - 1]:.4g}): "
+                "free space, then resume from it")

@@ -26,20 +26,20 @@ import numpy as np
 from ..model import plausibility
 from ..model.geometry import build_mesh
 from ..model.meshing import Stopped
-from ..model.motion import Instant
 from ..model.scene import Scene, SceneError
+from ..numerics.contact import Instant
 from ..numerics.discrete import Discretization
 from ..numerics.systems import unknowns
 from ..numerics.wear import WearIntegrator, diverging, explicit_stability
-from ..results.checkpoint import Checkpoint, Saver
+from ..results.checkpoint import Checkpoint
 from ..results.folder import NoSpace, clear, hold, no_space
 from ..results.recording import Recording
 from ..results.result import Result
 from .checks import WORN_OUT
 from .heating import Heating
-from .loop import Run, run
+from .loop import Run, Saver, run
 from .progress import RunProgress, bar
-from .state import State
+from .step import State
 
 log = logging.getLogger(__name__)
 

@@ -1,9 +1,16 @@
-"""One time step: (discretization, caches, state, target) → (new state, Newton record).
+"""One time step: (discretization, caches, state, target) → (new state, Newton record), and the state it reads.
+
+A run's changing state is one :class:`State`: what its next step reads and what its last step wrote.  The time loop
+(:mod:`ngwear.runs.loop`) holds it; :func:`advance` makes the next one from it and a :class:`Target` (where the step
+ends and its wear law, from the clock), and the loop's observers read it: the recording and the checks, the heat
+(which sets the temperatures and the coefficients of the next step), the geometry updates (which move the layer's wear
+into the body: the record keeps the total) and the checkpoints.  Everything else a run uses is either fixed for the
+run (the scene, the :class:`~ngwear.numerics.discrete.Discretization`) or a cache (:class:`StepCaches`).
 
 :func:`advance` solves the contact problem of the step that ends at ``target.instant`` with its wear law folded into
 the compliance (:class:`~ngwear.numerics.wear.WearStep`), on the Newton system of :mod:`ngwear.numerics.systems`
-(dense, matrix-free or the full-system reference), from the last step's unknowns, and returns the new
-:class:`~ngwear.runs.state.State`: s = ν·u, p, λ, w, δ and the contact forces at the contact points.  A Newton failure
+(dense, matrix-free or the full-system reference), from the last step's unknowns, and returns the new state: s = ν·u,
+p, λ, w, δ and the contact forces at the contact points.  A Newton failure
 is retried from a load continuation (cut-back).  For a body with a nonlinear law (:mod:`ngwear.numerics.bulk`) each
 step iterates u = G(u): the contact problem with the load f − n(u), the bulk recovered with one back-substitution,
 Anderson-mixed (:func:`~ngwear.numerics.bulk.fixed_point`), warm-started from the last two steps' u.
@@ -19,11 +26,13 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..model.coefficients import Coefficients
 from ..numerics import systems
 from ..numerics.bulk import Remainder, fixed_point
+from ..numerics.contact import Instant
 from ..numerics.solver import ConvergenceError, NewtonRecord, semismooth_newton
 from ..numerics.systems import Caches, Drive
-from .state import State, Target
+from ..numerics.wear import WearStep
 
 log = logging.getLogger(__name__)
 
@@ -35,6 +44,65 @@ NEWTON = 12
 """Most Newton iterations (a factorised tangent each) before the step falls back on K₀ alone."""
 CUTBACKS = (2, 4, 8)
 """The load continuations a failed step tries, each cutting its load change into m parts."""
+
+
+@dataclass(frozen=True)
+class Target:
+    """Where the next step ends and what it solves: its instant and its wear law, from the clock.
+
+    ``still``: the step slides nothing (a programme's crossing of a dwell: no wear, no frictional heat); ``jumped``:
+    the stops a cycle jump applies on it; ``heat_steps``: the heat's backward-Euler steps over it.
+    """
+
+    instant: Instant
+    wear: WearStep
+    still: bool = False
+    jumped: int = 0
+    heat_steps: tuple[float, ...] = ()
+
+
+@dataclass
+class State:
+    """The state after a run's last recorded step (before step 0: the unloaded body).
+
+    Attributes
+    ----------
+    instant : Instant or None
+        t, s_v and s_F of the last step (None before step 0).
+    x, lam : ndarray
+        The solver's unknowns (s and δ, or the free DOFs) and multipliers λ: the next step's warm start.
+    normal, pressure, wear, plate, forces : ndarray
+        s = ν·u, p, w (the layer's), δ and the contact forces of the last step.
+    coefficients : Coefficients
+        μ, κ, L at the points for the next step: fields of x, or of the last step's state (:mod:`ngwear.runs.heating`).
+    reference : ndarray or None
+        With μ of the state, the reference μ whose dense factors precondition the steps'.
+    heat : Heat or None
+        The body's and the counterface's temperatures (:class:`~ngwear.numerics.heat.Heat`).
+    displacements : tuple
+        (t, u) of a nonlinear body's last two steps (the bulk's warm start); ``displacement`` the last step's u where
+        it is not recovered from the contact forces (a nonlinear body), else None.
+    record : NewtonRecord or None
+        The last step's.
+    steps : int
+        The index of the last recorded step (−1: none).
+    """
+
+    x: np.ndarray
+    lam: np.ndarray
+    coefficients: Coefficients
+    wear: np.ndarray
+    instant: Instant | None = None
+    normal: np.ndarray | None = None
+    pressure: np.ndarray | None = None
+    plate: np.ndarray | None = None
+    forces: np.ndarray | None = None
+    reference: np.ndarray | None = None
+    heat: object = None
+    displacements: tuple = ()
+    displacement: np.ndarray | None = None
+    record: NewtonRecord | None = None
+    steps: int = -1
 
 
 @dataclass

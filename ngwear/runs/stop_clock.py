@@ -3,7 +3,7 @@
 :class:`StopClock` stands where :class:`~ngwear.runs.clock.Clock` does when the scene has a ``[programme]``
 (:mod:`ngwear.model.programme`).  Stop i records m + 1 rows: its start t_i, a solve with no wear step (as step 0 of
 a run), then its m steps t_i + d j/m, each with the factors s_v, s_F of its place on the stop's grid
-(:meth:`~ngwear.model.motion.Motion.at`), k the differences of the stop's own grid: the stops of a block are one
+(:meth:`~ngwear.numerics.contact.Motion.at`), k the differences of the stop's own grid: the stops of a block are one
 problem.  Between two simulated stops one step crosses the dwell (and the jumped stops): no load and no sliding, so
 no wear but what a jump adds; it ends at the next simulated stop's start, solved there with its factors.
 
@@ -21,7 +21,7 @@ import numpy as np
 
 from ..model.programme import Schedule
 from .jumps import CycleJumps, rigid_modes
-from .state import Target
+from .step import Target
 
 DWELL_STEPS = 64
 """Most backward-Euler steps of the heat over a dwell (steps of the stop's d/m; longer ones over a longer dwell)."""
@@ -33,6 +33,9 @@ class StopClock:
     The clock interface of :class:`~ngwear.runs.clock.Clock` (uniform steps: ``judge`` accepts every step).
     ``surface``: a run's geometry updates (:class:`~ngwear.runs.surface.Surface`), whose next update bounds a jump.
     """
+
+    adaptive = False
+    """A programme's steps are its stops' grids (``time.adaptive`` is refused with a programme)."""
 
     def __init__(self, scene, result, surface=None):
         self.schedule, self.result, self.surface = Schedule.of(scene.programme), result, surface

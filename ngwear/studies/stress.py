@@ -8,7 +8,7 @@ compliance slope L from 1e-2 to 1e8 (the Signorini limit), power-law compliance,
 reversal, foundation-speed reversal, badly shaped meshes, P2, 3D, plates and turning discs.  A run must end in one of
 
 * ``converged``: every step done and every invariant held at every step
-  (:mod:`ngwear.results.invariants`, which the time loop itself checks);
+  (:mod:`ngwear.runs.checks`, which the time loop itself checks);
 * ``stopped``: ``result.completed`` is False and ``result.status`` names the step, the cause and a
   remedy — the completed steps kept must still satisfy the invariants;
 * ``rejected``: the scene is refused up front with a :class:`~ngwear.scene.SceneError` naming the
@@ -37,7 +37,7 @@ from typing import Any
 
 from ..model.examples import FOLDER as GEOMETRIES
 from ..model.scene import Scene, SceneError, load_scene
-from ..results.invariants import allowances, invariants, k_alpha_slope, worst
+from ..runs.checks import allowances, invariants, k_alpha_slope, worst
 from .stress_checks import CHECKS, ROW_CHECKS
 from .stress_report import REPORT, write_report
 

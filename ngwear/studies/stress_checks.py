@@ -11,7 +11,7 @@ from typing import Callable
 import numpy as np
 
 from ..model.keys import piecewise_linear
-from ..results.invariants import TOL
+from ..runs.checks import TOL
 from ..runs.validity import WORN
 
 

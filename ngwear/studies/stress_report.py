@@ -4,7 +4,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from ..results.invariants import TOL
+from ..runs.checks import TOL
 
 REPORT = Path("docs") / "stress_report.md"
 
@@ -56,7 +56,7 @@ HEADER = [
     "the kept steps satisfying the invariants; **rejected** = refused up front with a "
     "`SceneError` naming the field. Anything else (crashed, violated, unclear stop) is a bug.",
     "",
-    "Invariants (`ngwear/results/invariants.py`, checked by the time loop at every step): the contact "
+    "Invariants (`ngwear/runs/checks.py`, checked by the time loop at every step): the contact "
     "conditions u_ν − d₀ ≤ g, λ ≥ 0, λ(u_ν − d₀ − g) = 0 to the solver's tolerance (in the form Newton's merit "
     f"measures them); to round-off (≤ {TOL:g}): w ≥ 0 and non-decreasing, p = p(u_ν − d₀ − w), the nodal "
     "Archard update of the integrator, and, where the update is monotone (implicit; explicit with k·α·L ≤ 1; "

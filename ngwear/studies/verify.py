@@ -24,8 +24,8 @@ import numpy as np
 from ..model.scene import Scene, SceneError
 from ..numerics.discrete import Discretization
 from ..numerics.transfer import ContactTrace, Locator, StrainQuadrature
-from ..results.invariants import overshoot
 from ..results.result import Result
+from ..runs.checks import overshoot
 from ..runs.simulate import simulate
 
 SIZES = ("mesh.maxh", "mesh.contact_maxh")
@@ -203,7 +203,7 @@ def stability_steps(scene: Scene, targets=(0.5, 1.0, 1.5, 2.5, 5.0)) -> list[int
 
 
 def stability_study(scene: Scene, steps, ref_steps: int = 640) -> list[dict]:
-    """Final-time wear error and overshoot (:func:`ngwear.results.invariants.overshoot`) of each integrator.
+    """Final-time wear error and overshoot (:func:`ngwear.runs.checks.overshoot`) of each integrator.
 
     k α L = T α L / steps with the scene's real α (the largest κ‖v*‖ over the contact points and the speed
     table) and L (the largest slope of p on [0, g]); the explicit update is run where it diverges too

@@ -10,10 +10,10 @@ update's stiffness, ∂w'/∂r = α g'(p) p'(r) ≤ α g'(p(g)) L_p on [0, g] (L
 *stability slope* k α g'(p(g)) L_p that bounds the explicit scheme (:meth:`WearLaw.slope`).
 
 A law is a :class:`WearLaw` in a module of this package, registered with :func:`register` (every module here is
-imported, in the order of :data:`ORDER` and then by name): it declares its ``contact.wear_law`` name, its line of
+imported, by name, after :class:`Archard`, the default, here): it declares its ``contact.wear_law`` name, its line of
 documentation, its keys of ``[contact]`` besides κ (:class:`~ngwear.model.keys.Constant`: the scene's table, its
 schema and reference, and the rule that other laws' keys keep their defaults follow from them), the unit of κ in an
-SI scene, and :meth:`WearLaw.of`.  Laws: :mod:`.archard` (the paper's, the default), :mod:`.power` and
+SI scene, and :meth:`WearLaw.of`.  Laws: :class:`Archard` (the paper's, the default), :mod:`.power` and
 :mod:`.energy`.
 """
 from __future__ import annotations
@@ -28,8 +28,6 @@ from ..keys import Constant
 
 WEAR_LAWS: dict[str, type[WearLaw]] = {}
 """The laws a scene names (``contact.wear_law``), in the order of the documentation; the first is the default."""
-ORDER = ("archard",)
-"""The modules imported first (the default law first); the others follow by name."""
 
 
 class WearLaw:
@@ -104,6 +102,17 @@ def register(law: type[WearLaw]) -> type[WearLaw]:
     return law
 
 
+@register
+class Archard(WearLaw):
+    """Archard's law (the paper's, the default): w' = κ ‖v*‖ p, α = κ ‖v*‖, g(p) = p; the worn volume κ F s."""
+
+    name: ClassVar[str] = "archard"
+    doc: ClassVar[str] = "w' = κ ‖v*‖ p (the paper's)"
+
+    def alpha(self, kappa, friction, speed):
+        return kappa * speed
+
+
 def wear_law(contact) -> WearLaw:
     """The wear law of a scene's ``[contact]`` table."""
     return WEAR_LAWS[contact.wear_law].of(contact)
@@ -114,6 +123,5 @@ def constants() -> tuple[Constant, ...]:
     return tuple(dict.fromkeys(c for law in WEAR_LAWS.values() for c in law.constants))
 
 
-_modules = sorted((m.name for m in pkgutil.iter_modules(__path__)), key=lambda n: (n not in ORDER, n))
-for _module in _modules:
+for _module in sorted(m.name for m in pkgutil.iter_modules(__path__)):     # the other laws, each in its module
     importlib.import_module(f"{__name__}.{_module}")
