@@ -11,10 +11,10 @@ from .results.result import Result, load_result
 from .runs.simulate import simulate
 from .studies.study import Study, StudyError, load_study
 from .studies.sweep import sweep
+from .version import __version__ as __version__
 
 __all__ = ["Discretization", "Explorer", "Result", "Scene", "SceneError", "Study", "StudyError", "load_result",
            "load_scene", "load_study", "simulate", "sweep"]
-__version__ = "0.1.0"      # the one place of the version: pyproject.toml reads it (dynamic), `ngwear --version` prints it
 
 
 def __getattr__(name: str):

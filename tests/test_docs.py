@@ -27,7 +27,7 @@ DOCS = ROOT / "docs"
 sys.path.insert(0, str(DOCS / "_ext"))
 import ngwear_reference  # noqa: E402
 
-from ngwear.model.messages import reference_table  # noqa: E402
+from ngwear.model.reference import reference_table  # noqa: E402
 from ngwear.model.sections import SECTIONS  # noqa: E402
 
 

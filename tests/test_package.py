@@ -35,10 +35,10 @@ def run(*args, cwd, env=None, timeout=300) -> subprocess.CompletedProcess:
 
 
 def test_version_is_single_sourced():
-    """The pyproject takes the version from ngwear.__version__; --version and python -m ngwear print it."""
+    """The pyproject takes the version from ngwear.version (ngwear.__version__); --version and python -m ngwear print it."""
     project = tomllib.loads((ROOT / "pyproject.toml").read_text())
     assert "version" not in project["project"] and "version" in project["project"]["dynamic"]
-    assert project["tool"]["setuptools"]["dynamic"]["version"] == {"attr": "ngwear.__version__"}
+    assert project["tool"]["setuptools"]["dynamic"]["version"] == {"attr": "ngwear.version.__version__"}
     assert re.fullmatch(r"\d+\.\d+\.\d+([ab]|rc|\.dev)?\d*", ngwear.__version__)
     assert project["project"]["license"] == "MIT" and project["project"]["license-files"] == ["LICENSE"]
     assert "MIT License" in (ROOT / "LICENSE").read_text() and "ngwear developers" in (ROOT / "LICENSE").read_text()

@@ -1,7 +1,7 @@
 """Reference tables generated from the code while the site builds, so that they cannot drift from it.
 
 * ``{scene-keys} SECTION`` — the keys of one table of a scene file: the rows of
-  :func:`ngwear.model.messages.reference_table` (the declarations) whose key is in SECTION (``name`` for the
+  :func:`ngwear.model.reference.reference_table` (the declarations) whose key is in SECTION (``name`` for the
   top-level keys ``name`` and ``units``), with the level a change of the key invalidates (its declared ``invalidates``).
 * ``{result-keys} FILE`` — the keys of ``result.npz``, ``summary.json`` or ``checkpoint.npz`` with their
   meaning (the per-step fields': their declarations, :mod:`ngwear.results.step_fields`).  The keys are those of
@@ -10,7 +10,7 @@
 * :func:`cli_parser` — ``ngwear``'s argument parser for sphinx-argparse, its plain help texts (read in a terminal)
   turned into reST.
 
-A table cell's ``|`` is escaped (:func:`ngwear.model.messages.markdown_row`): unescaped, Markdown splits the row there.
+A table cell's ``|`` is escaped (:func:`ngwear.model.reference.markdown_row`): unescaped, Markdown splits the row there.
 """
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ from docutils.statemachine import StringList
 from sphinx.errors import ExtensionError
 from sphinx.util.docutils import SphinxDirective
 
-from ngwear.model.messages import markdown_row
+from ngwear.model.reference import markdown_row
 from ngwear.results.step_fields import STEP_FIELDS
 
 MEANING = {
@@ -160,7 +160,7 @@ MEANING["checkpoint.npz"] = {**{k: MEANING["result.npz"][k] for k in HEADER}, **
 
 def scene_key_rows(section: str) -> list[str]:
     """The rows of the declared reference table whose key is in ``section`` (``name``: the top-level keys)."""
-    from ngwear.model.messages import reference_table
+    from ngwear.model.reference import reference_table
 
     rows = reference_table().splitlines()[2:]
     if section == "name":                       # the top-level keys: name, units

@@ -1,8 +1,8 @@
-"""What the declarations say to people: one-line errors, the scene reference table and the JSON Schema.
+"""What the declarations say to people: one-line errors and the JSON Schema (the reference table: :mod:`.reference`).
 
-:func:`message` turns the first pydantic error into one line naming the dotted key, what it must be
-(from its declaration) and what it got; :func:`reference_table` is the README's/documentation's table of
-keys; :func:`json_schema` the schema editors use to complete and check scene files.
+:func:`message` turns the first pydantic error into one line naming the dotted key, what it must be (from its
+declaration) and what it got; :func:`json_schema` is the schema editors use to complete and check scene files; the
+helpers that read a declaration (:func:`plain`, :func:`allowed`, :func:`base_type`) serve the reference too.
 """
 from __future__ import annotations
 
@@ -13,7 +13,6 @@ from pydantic.fields import FieldInfo
 
 from .keys import Rows, SceneError, Vector, range_text
 from .kinds import KINDS
-from .sections import declared_keys
 
 NAME_RULE = "a plain name of at most 100 letters, digits, '.', '_', '-' or spaces, not a path"
 
@@ -71,32 +70,10 @@ def json_schema(scene_model: type[BaseModel]) -> dict[str, Any]:
     return schema
 
 
-def reference_table() -> str:
-    """The scene reference: one Markdown row per key, from the declarations; a list of tables, then its entries' keys."""
-    rows = ["| key | meaning | default | allowed |", "|---|---|---|---|"]
-    for name, info in declared_keys():
-        rows.append(_reference_row(name, info))
-        entry = get_args(_base_type(info.annotation))[:1]
-        if entry and isinstance(entry[0], type) and issubclass(entry[0], BaseModel):
-            rows += [_reference_row(f"{name}[].{key}", field) for key, field in entry[0].model_fields.items()]
-    return "\n".join(rows)
-
-
-def _reference_row(name: str, info: FieldInfo) -> str:
-    extra = info.json_schema_extra or {}
-    return markdown_row((f"`{name}`", info.description, extra.get("shown", _plain(info.default)),
-                         extra.get("allowed") or _allowed(info)))
-
-
-def markdown_row(cells) -> str:
-    """A Markdown table row; a ``|`` in a cell (``|φ|``, ``|F_t|``) escaped, else the row splits there."""
-    return "| " + " | ".join(str(cell).replace("|", "\\|") for cell in cells) + " |"
-
-
 # ---------------------------------------------------------------- reading declarations
 
 
-def _plain(value: Any) -> str:
+def plain(value: Any) -> str:
     if value is None or value == () or value == {}:
         return "—"
     if isinstance(value, bool):
@@ -122,9 +99,9 @@ def limits(info: FieldInfo) -> tuple:
     return lo, hi, lo_open, hi_open
 
 
-def _allowed(info: FieldInfo) -> str:
+def allowed(info: FieldInfo) -> str:
     """The allowed values of a declared field, as the reference table states them."""
-    base = _base_type(info.annotation)
+    base = base_type(info.annotation)
     if get_origin(base) is Literal:
         return ", ".join(get_args(base))
     if base is bool:
@@ -132,7 +109,7 @@ def _allowed(info: FieldInfo) -> str:
     return range_text(*limits(info)) or "—"
 
 
-def _base_type(annotation):
+def base_type(annotation):
     """The annotation without ``| None`` and without ``Annotated`` metadata."""
     args = [a for a in get_args(annotation) if a is not type(None)]
     if args and get_origin(annotation) is not Literal and get_origin(annotation) not in (tuple, dict):
@@ -160,7 +137,7 @@ def _field(loc: tuple, scene_model) -> tuple[str, FieldInfo | None, type[BaseMod
         info = model.model_fields.get(part)
         if info is None:
             break
-        base = _base_type(info.annotation)
+        base = base_type(info.annotation)
         if isinstance(base, type) and issubclass(base, BaseModel):
             model, info = base, None
         elif get_origin(base) is dict:
@@ -181,7 +158,7 @@ class _DictOf:
 
 def _what(info: FieldInfo, name: str, data: Any) -> tuple[str, str]:
     """(What the value must be, its range), e.g. ("a number", "> 0") or ("a list of 2 numbers", "")."""
-    base = _base_type(info.annotation)
+    base = base_type(info.annotation)
     rng = _maxh_range(data) if name == "mesh.maxh" else range_text(*limits(info))
     if name.startswith("loads.traction."):
         base = Vector

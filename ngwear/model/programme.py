@@ -38,6 +38,7 @@ import numpy as np
 from pydantic import ValidationError, field_validator, model_validator
 
 from .keys import Flag, Level, Number, SceneError, Section, Whole, key
+from .messages import message
 
 MAX_STEPS = 1_000_000
 """Most time steps of a programme's stops, one after the other (as ``time.steps``): the bound of its grid."""
@@ -250,7 +251,6 @@ def block(entry, where: str) -> Stop:
     try:
         return Stop.model_validate(entry)
     except ValidationError as err:
-        from .messages import message  # messages reads the declarations of this module
         first = sorted(err.errors(), key=lambda e: e["type"] != "extra_forbidden")[0]
         name = first["loc"][0] if first["loc"] else "block"
         if first["type"] == "extra_forbidden":

@@ -11,12 +11,13 @@ import hashlib
 import json
 import platform
 
+import ngsolve
+
+from ..version import __version__
+
 
 def provenance(scene) -> dict[str, str]:
     """The ngwear, NGSolve and Python versions of this process and the hash of ``scene``."""
-    import ngsolve
-
-    from .. import __version__
     return {"ngwear": __version__, "ngsolve": ngsolve.__version__, "python": platform.python_version(),
             "scene_sha256": scene_hash(scene)}
 

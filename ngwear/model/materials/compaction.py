@@ -13,7 +13,7 @@ import ngsolve as ngs
 
 from .. import mandel
 from ..keys import Constant, Number, SceneError
-from . import Law, register, strain
+from .law import Law, register, strain
 from .linear import HOOKE, Isotropic, check_lame, iso_stiffness, lame
 
 COMPACTION_MODULUS = Constant("compaction_modulus", Number, "`compaction`: β, the extra bulk stiffness in compression "

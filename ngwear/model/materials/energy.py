@@ -11,7 +11,7 @@ import numpy as np
 from .. import mandel
 from ..keys import Constant
 from ..moduli import tangent_at
-from . import Law, register, strain
+from .law import Law, register, strain
 from .linear import Anisotropic
 
 ENERGY = Constant("energy", str, "`energy` (Python only): a function ψ(ε) of the strain tensor returning an NGSolve "

@@ -14,7 +14,7 @@ import numpy as np
 
 from .. import mandel
 from ..keys import Constant, Number, SceneError, Vector
-from . import Law, register, strain
+from .law import Law, register, strain
 
 LAME_LAMBDA = Constant("lame_lambda", Number, "Lamé λ (Hooke: σ = 2η ε + λ tr ε I)", symbol="λ", modulus=True,
                        shown="1", limits={"ge": 0})

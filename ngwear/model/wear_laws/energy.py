@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from typing import ClassVar
 
-from . import WearLaw, register
+from .law import WearLaw, register
 
 
 @register

@@ -11,7 +11,7 @@ from typing import ClassVar
 import numpy as np
 
 from ..keys import Constant, Level, SceneError, Vector
-from . import WEAR_LAWS, WearLaw, register
+from .law import WEAR_LAWS, WearLaw, register
 
 EXPONENTS = Constant("wear_exponents", Vector, "`wear_law = \"power\"`: [a, b] of w' = κ ‖v*‖^a p^b",
                      default=(1.0, 1.0), reuse=Level.NOTHING, shown="[1, 1]", allowed="a in [0, 4], b in [1, 4]")
