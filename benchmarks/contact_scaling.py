@@ -8,7 +8,7 @@ brake pad ``geometries/brake_pad.toml`` (100 steps, k = 1 s) at ``mesh.maxh`` = 
 * ``before``: today's (main's) choice: dense with the Schur complement up to its limits, else matrix-free GCR with
   recycling (``contact_solve="krylov"``: the same result arrays as main's matrix-free path to the bit, compared on
   the pin and the pad at 0.004 when the patch was added);
-* ``after``: ``auto``, which now solves a matrix-free problem on its contact patch (``numerics/patch.py``) when the
+* ``after``: ``auto``, which now solves a matrix-free problem on its contact patch (``numerics/systems/patch.py``) when the
   rigid body's patch is at most 90 % of Γ_C, and by GCR otherwise.
 
 Every measurement runs in a fresh process: ``elastic`` is one NGSolve linear-elastic solve on the same mesh and
@@ -285,7 +285,7 @@ def main():
         f"{STEPS} steps per case from the cached mesh, every measurement in a fresh process; elastic = NGSolve "
         "assemble + sparsecholesky + 1 solve; ratio = (set-up + steps) / elastic (wall; cpu: process time)",
         "before = main's path (dense, or GCR with recycling: contact_solve='krylov'); after = auto "
-        f"(the patch, numerics/patch.py, or GCR); target: pin after <= {TARGET:g}x elastic at 3.5k and 6.8k points"]
+        f"(the patch, numerics/systems/patch.py, or GCR); target: pin after <= {TARGET:g}x elastic at 3.5k and 6.8k points"]
     rows = []
     with tempfile.TemporaryDirectory() as folder:
         for case in cases:

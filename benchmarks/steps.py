@@ -27,7 +27,7 @@ import numpy as np
 
 import ngwear
 from ngwear.numerics.discrete import Discretization
-from ngwear.numerics.solver import NewtonRecord
+from ngwear.numerics.systems.newton import NewtonRecord
 from ngwear.results.recording import Recording, StepRecord
 
 STEP_COUNTS = (10, 100, 1000)

@@ -15,8 +15,8 @@ import pytest
 import ngwear
 from ngwear.model.examples import scene_file
 from ngwear.model.scene import Scene
-from ngwear.numerics import solver
 from ngwear.numerics.heat import Heat
+from ngwear.numerics.systems import condensed
 from ngwear.results.recording import Recording
 from ngwear.results.result import ARRAYS
 from ngwear.runs import heating
@@ -127,16 +127,16 @@ def test_fading_friction_through_a_stop_is_the_hand_computed_recursion():
 def test_a_friction_of_temperature_keeps_newtons_factorisations_and_agrees_with_refactorising(monkeypatch):
     """μ(T) changes at every step: the Newton matrices of a reference μ are factorised once.
 
-    They refine each step's (numerics.solver.Factors); the run agrees with one that factorises them for every μ to
+    They refine each step's (numerics.systems.condensed.Factors); the run agrees with one that factorises them for every μ to
     Newton's tolerance (1e-10 of its scale g).  Here μ falls by 11 %: with the reference kept within 50 % of it, one
     factorisation, and one at the last step, where the disc stops (n* = 0).
     """
-    factorised, lu = [], solver.sla.lu_factor
-    monkeypatch.setattr(solver.sla, "lu_factor", lambda *a, **k: factorised.append(1) or lu(*a, **k))
+    factorised, lu = [], condensed.sla.lu_factor
+    monkeypatch.setattr(condensed.sla, "lu_factor", lambda *a, **k: factorised.append(1) or lu(*a, **k))
     monkeypatch.setattr(heating, "DRIFT", 0.5)
     kept = ngwear.simulate(lumped_stop(), progress=False)
     once = len(factorised)
-    monkeypatch.setattr(solver, "SWEEPS", 0)                      # no refinement: each μ's own factorisation
+    monkeypatch.setattr(condensed, "SWEEPS", 0)                      # no refinement: each μ's own factorisation
     fresh = ngwear.simulate(lumped_stop(), progress=False)
     assert kept.completed and fresh.completed and once == 2 and len(factorised) - once >= 20
     assert kept.step_friction[-1].max() < 0.9 * kept.step_friction[0].min()

@@ -1,4 +1,4 @@
-"""The contact solve on the patch (numerics/patch.py, numerics/columns.py): exact algebra, the dense path's numbers."""
+"""The contact solve on the patch (numerics/systems/patch.py, columns.py): exact algebra, the dense path's numbers."""
 from pathlib import Path
 
 import numpy as np
@@ -6,12 +6,14 @@ import pytest
 
 import ngwear
 from ngwear.numerics import columns as columns_module
-from ngwear.numerics import patch as patch_module
 from ngwear.numerics.columns import Columns
 from ngwear.numerics.discrete import Discretization
-from ngwear.numerics.patch import PatchSystem
-from ngwear.numerics.solver import CondensedSystem, PlateRows, PointLaw
 from ngwear.numerics.systems import PATCH_SHARE, normal_response, patch_share, plate_rows
+from ngwear.numerics.systems import patch as patch_module
+from ngwear.numerics.systems.condensed import DenseSystem
+from ngwear.numerics.systems.newton import PlateRows
+from ngwear.numerics.systems.patch import PatchSystem
+from ngwear.numerics.wear import PointLaw
 
 ROOT = Path(__file__).resolve().parents[1]
 FIELDS = ("normal_displacement", "wear", "pressure", "reaction", "plate_displacement")
@@ -33,7 +35,7 @@ class Compliance:
 
 
 def systems(n=40, plate=True, seed=0):
-    """The same step problem as a dense CondensedSystem and a PatchSystem (point compliances H_ii for both)."""
+    """The same step problem as a dense DenseSystem and a PatchSystem (point compliances H_ii for both)."""
     R = Compliance(n, seed)
     rng = np.random.default_rng(seed + 1)
     m = rng.uniform(0.5, 1.5, n)
@@ -43,7 +45,7 @@ def systems(n=40, plate=True, seed=0):
                          np.zeros((1, 1)), np.array([3.0]))
     law = PointLaw(lambda z: 2.0 * np.maximum(z, 0.0), lambda z: 2.0 * (z >= 0))
     args = (m, rng.standard_normal(n) * 0.1, rng.uniform(0.0, 0.2, n), 0.3, law)
-    dense = CondensedSystem(R.H, R.A, *args, plate=rows)
+    dense = DenseSystem(R.H, R.A, *args, plate=rows)
     patch = PatchSystem(Columns(R, n), np.diag(R.H), *args, store={}, plate=rows)
     return dense, patch, R
 

@@ -1,6 +1,6 @@
 """The semismooth Newton solver on a hand-made complementarity problem: a few contact points, no mesh.
 
-The condensed step problem (:class:`ngwear.numerics.solver.CondensedSystem`) is, for the normal displacements s and
+The condensed step problem (:class:`ngwear.numerics.systems.condensed.DenseSystem`) is, for the normal displacements s and
 reactions λ at n points with weights m,
 
     R(s, λ) = s − s_F + A (m ∘ p(s − d₀)) + H (m ∘ λ) = 0,   s − d₀ − g ≤ 0,   λ ≥ 0,   λ · (s − d₀ − g) = 0,
@@ -14,7 +14,9 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from ngwear.numerics.solver import CondensedSystem, Factors, PointLaw, semismooth_newton
+from ngwear.numerics.systems.condensed import DenseSystem, Factors
+from ngwear.numerics.systems.newton import semismooth_newton
+from ngwear.numerics.wear import PointLaw
 
 H = 0.01 * np.array([[2.0, 0.5, 0.2, 0.1], [0.5, 2.0, 0.5, 0.2], [0.2, 0.5, 2.0, 0.5], [0.1, 0.2, 0.5, 2.0]])
 F = 0.01 * np.array([[0.3, -0.2, 0.1, 0.0], [0.2, 0.3, -0.2, 0.1], [-0.1, 0.2, 0.3, -0.2], [0.0, -0.1, 0.2, 0.3]])
@@ -30,12 +32,12 @@ def linear_law(L: float) -> PointLaw:
     return PointLaw(lambda z: L * np.maximum(z, 0.0), lambda z: np.where(z >= 0, L, 0.0))
 
 
-def problem(L: float, mu: float) -> tuple[CondensedSystem, np.ndarray]:
+def problem(L: float, mu: float) -> tuple[DenseSystem, np.ndarray]:
     """The system whose solution is (s*, λ*), and s*."""
     A = H + mu * F
     s = D0 + PENETRATION
     s_load = s + A @ (M * L * np.maximum(PENETRATION, 0.0)) + H @ (M * REACTION)
-    return CondensedSystem(H, A, M, s_load, D0, GAP, linear_law(L)), s
+    return DenseSystem(H, A, M, s_load, D0, GAP, linear_law(L)), s
 
 
 @pytest.mark.parametrize("mu", [0.0, 0.8])
@@ -69,7 +71,7 @@ def test_a_smooth_law_converges_but_does_not_end():
     law = PointLaw(lambda z: L * np.maximum(z, 0.0) ** 2, lambda z: np.where(z > 0, 2 * L * np.maximum(z, 0.0), 0.0))
     s_star = D0 + PENETRATION
     s_load = s_star + H @ (M * law.pressure(PENETRATION)) + H @ (M * REACTION)
-    system = CondensedSystem(H, H, M, s_load, D0, GAP, law)
+    system = DenseSystem(H, H, M, s_load, D0, GAP, law)
     s, lam, record = semismooth_newton(system, np.zeros(4), np.zeros(4), tol=1e-13)
     merits = np.array(record.residuals)
     assert record.converged and np.abs(s - s_star).max() < 1e-12

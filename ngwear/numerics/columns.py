@@ -1,7 +1,7 @@
 """Columns of the point compliance, computed for the points that come into contact and remembered for the run.
 
 The condensed contact problem needs the compliance only where the foundation presses: a Newton matrix of
-:class:`~ngwear.numerics.solver.CondensedSystem` has the columns A_:j m_j p'_j of the points with p'_j > 0 and
+:class:`~ngwear.numerics.systems.condensed.CondensedSystem` has the columns A_:j m_j p'_j of the points with p'_j > 0 and
 H_:j m_j of the active ones (u_ν = g); every other column is the identity's.  The residual needs A (m∘p) and
 H (m∘λ), again columns on the support of p and λ only.  Where the contact patch is a part of Γ_C (a sphere, a
 worn flat growing, a pin on a disc) these few columns are the whole of what the compliance contributes, and each

@@ -57,7 +57,7 @@ class Discretization:
     ``contact_solve`` chooses how the contact problem is condensed: ``dense`` (the rows ν·G of the point
     compliance, then dense Newton algebra), ``krylov`` (matrix-free: every product with the compliance is
     one back-substitution, GCR with recycling), ``patch`` (matrix-free: dense algebra on the contact patch from the
-    compliance's columns of the points in contact, :mod:`~ngwear.numerics.patch`) or ``auto``: dense up to
+    compliance's columns of the points in contact, :mod:`~ngwear.numerics.systems.patch`) or ``auto``: dense up to
     ``operators.DENSE_LIMIT`` contact DOFs, or up to ``operators.SOFT_LIMIT`` when the layer is soft against the body
     (:meth:`layer_ratio` < 1); beyond, ``patch`` where the rigid body's patch is a part of Γ_C, else ``krylov``
     (``numerics.systems.PATCH_SHARE``).

@@ -6,8 +6,8 @@ S = K_cc − K_ci K_ii⁻¹ K_ic comes out of the one factorisation, and (K⁻¹
 through the Cholesky factor of S, never formed.  Beyond ``DENSE_LIMIT`` contact DOFs S does not
 pay (its n_c² memory and n_c³ factorisation outgrow the per-step work it saves) and the operator
 keeps the plain factorisation: the contact problem is then solved matrix-free
-(:class:`~ngwear.numerics.patch.PatchSystem` or :class:`~ngwear.numerics.solver.KrylovSystem`).  So it is from
-``SOFT_LIMIT`` contact DOFs when the layer is soft against the body (:attr:`Discretization.layer_ratio` < 1): its
+(:class:`~ngwear.numerics.systems.patch.PatchSystem` or :class:`~ngwear.numerics.systems.krylov.KrylovSystem`).  So
+it is from ``SOFT_LIMIT`` contact DOFs when the layer is soft against the body (:attr:`Discretization.layer_ratio` < 1): its
 Newton systems are then well conditioned, and with the products remembered (:mod:`~ngwear.numerics.recycle`) a
 run needs about one back-substitution per step.  :class:`UpdatedOperator` solves with K changed on a few rows of a low
 rank (a kinked law's tangent, :mod:`~ngwear.numerics.kink`) from K's factorisation.

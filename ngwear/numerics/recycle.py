@@ -11,7 +11,7 @@ differ by slowly varying data.  So a product is paid only for what is new:
   y = Y c + e costs a back-substitution only when ‖e‖ > η ‖y‖ (η = ``NEW``), and then only for e:
   R y = Z c + R e, exact to round-off.  When full, the oldest half is dropped.
 * :class:`Recycler` solves the Newton systems M z = b, M = M(pattern) the matrix of
-  :class:`~ngwear.numerics.solver.KrylovSystem` for one pattern (active set, support of p'), by GCR
+  :class:`~ngwear.numerics.systems.krylov.KrylovSystem` for one pattern (active set, support of p'), by GCR
   with recycling: every remembered input that the pattern can produce is a direction u with a known
   image M u (no product), so b is first solved by least squares in their span; then GCR directions
   u = S r (S the column scaling, r the residual, ⟂ the images so far) are added, one product each,

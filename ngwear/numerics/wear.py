@@ -19,7 +19,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.compliance import Compliance
-from .solver import PointLaw
+
+
+@dataclass
+class PointLaw:
+    """Nodal contact law at one step: pressure p(z) and dp/dz as functions of z = s − d₀."""
+
+    pressure: callable
+    derivative: callable
+
 
 INTEGRATORS = {
     # name: (weight of the previous rate in a_j, weight of the new rate in c_j)

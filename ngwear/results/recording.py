@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..numerics.solver import NewtonRecord
+from ..numerics.systems.newton import NewtonRecord
 from ..numerics.topology import coordinates
 from .folder import FolderError, NoSpace, no_space
 from .provenance import provenance

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..numerics.solver import NewtonRecord
+from ..numerics.systems.newton import NewtonRecord
 
 
 def records_to_arrays(newton: list[NewtonRecord]) -> dict[str, np.ndarray]:

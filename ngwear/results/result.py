@@ -36,7 +36,7 @@ from ..model.scene import Scene
 from ..numerics.contact import Motion
 from ..numerics.expansion import ThermalLoad
 from ..numerics.points import initial_distance
-from ..numerics.solver import NewtonRecord
+from ..numerics.systems.newton import NewtonRecord
 from .derived import QUANTITIES
 from .folder import FolderError, replacing
 from .mesh_file import keep_mesh, saved_discretization

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..model.coefficients import bound, describe
 from ..model.keys import SceneError
-from ..numerics.solver import ConvergenceError
+from ..numerics.systems.newton import ConvergenceError
 from ..results.checkpoint import write_checkpoint
 from ..results.folder import no_space
 from .checks import StepCheck, worn_out

@@ -30,8 +30,8 @@ from ..model.coefficients import Coefficients
 from ..numerics import systems
 from ..numerics.bulk import Remainder, fixed_point
 from ..numerics.contact import Instant
-from ..numerics.solver import ConvergenceError, NewtonRecord, semismooth_newton
 from ..numerics.systems import Caches, Drive
+from ..numerics.systems.newton import ConvergenceError, NewtonRecord, semismooth_newton
 from ..numerics.wear import WearStep
 
 log = logging.getLogger(__name__)

@@ -1,6 +1,6 @@
 """The condensed step problem on the contact patch: Newton matrices from the compliance columns the patch needs.
 
-The Newton matrix M of :class:`~ngwear.numerics.solver.CondensedSystem` is the identity's in the columns of the
+The Newton matrix M of :class:`~ngwear.numerics.systems.condensed.CondensedSystem` is the identity's in the columns of the
 points out of contact (O: p' = 0, not active).  With C the patch (p' > 0 or active) and the plate's rows,
 
     [M_CC  −Ψ_C] [z_C]   [b_C]
@@ -30,7 +30,10 @@ from typing import NamedTuple
 import numpy as np
 import scipy.linalg as sla
 
-from .solver import CondensedSystem, KrylovSystem, PlateRows, PointLaw
+from ..wear import PointLaw
+from .condensed import CondensedSystem
+from .krylov import KrylovSystem
+from .newton import PlateRows
 
 RANK = 32
 """Most columns a pattern's matrix may differ in from the base's before it is factorised itself."""
@@ -68,15 +71,15 @@ class PatchSystem(CondensedSystem):
     steps.  The columns of active points, H_:j m_j, are scaled by c_j = 1/(m_j h_j) to the order of the others: LU
     with pivoting does not mind a column's scale, Woodbury's k × k matrix does (unscaled, its error turned the pin's
     active set in circles at 1 000 N).  c and the plate's row scaling come from the estimate h_i ≤ H_ii
-    (``compliance``) as in :class:`~ngwear.numerics.solver.KrylovSystem`; the iterates are the dense system's up to
+    (``compliance``) as in :class:`~.krylov.KrylovSystem`; the iterates are the dense system's up to
     round-off.  A body held by the plate alone first moves rigidly to its force balance (:meth:`start`).
     """
 
     def __init__(self, columns, compliance, weights, s_load, d0, gap, law: PointLaw, store: dict,
                  plate: PlateRows | None = None, tolerance: float = 1e-10):
+        super().__init__(compliance, weights, s_load, d0, gap, law, plate, tolerance)
         self.columns, self.store = columns, store
         self.factors = store.setdefault("patterns", {})
-        self._setup(compliance, weights, s_load, d0, gap, law, plate, tolerance)
         self.modes = 0 if plate is None else len(self.rows)
 
     def response(self, directed, normal):

@@ -1,11 +1,11 @@
 """A step's Newton system on a discretization: its unknowns, and the system built from the pieces and a run's caches.
 
 The unknowns x are the normal displacements s_i at the contact points and the plate's δ (condensed), or the free
-DOFs and δ (the full-system reference).  :func:`system` builds a step's system from the discretization's pieces: dense
-(:class:`~ngwear.numerics.solver.CondensedSystem`, the Newton matrices kept while μ n* keeps its direction),
-matrix-free (:class:`~ngwear.numerics.patch.PatchSystem` on the contact patch with the compliance's columns kept for
-the run, or :class:`~ngwear.numerics.solver.KrylovSystem` with the products remembered for the run) or the full system
-(:class:`~ngwear.numerics.solver.FullSystem`).  What a run keeps between its steps on one operator K is one explicit
+DOFs and δ (the full-system reference).  :func:`system` builds a step's system from the discretization's pieces, one
+of the classes of this package, which semismooth Newton (:mod:`.newton`) solves: dense (:class:`.DenseSystem`, the
+Newton matrices kept while μ n* keeps its direction), matrix-free (:class:`.PatchSystem` on the contact patch with the
+compliance's columns kept for the run, or :class:`.KrylovSystem` with the products remembered for the run) or the full
+system (:class:`.FullSystem`).  What a run keeps between its steps on one operator K is one explicit
 :class:`Caches` object.  For a nonlinear body (:mod:`ngwear.numerics.bulk`) a step's contact problem is solved under
 the load f − n(u): :func:`shift` takes n(u) and moves the loads' normal displacements and the plate's load by
 N K⁻¹ n(u) and Dᵀ n(u).
@@ -16,12 +16,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..model.coefficients import Coefficients
-from .columns import Columns
+from ...model.coefficients import Coefficients
+from ..columns import Columns
+from ..recycle import ComplianceMemory, Recycler
+from ..wear import PointLaw, WearStep
+from .condensed import DenseSystem, Factors
+from .full import FullSystem
+from .krylov import KrylovSystem
+from .newton import PlateRows
 from .patch import PatchSystem
-from .recycle import ComplianceMemory, Recycler
-from .solver import CondensedSystem, Factors, FullSystem, KrylovSystem, PlateRows, PointLaw
-from .wear import WearStep
 
 PATCH_SHARE = 0.9
 """Largest share of the contact points in the rigid body's patch for which ``auto`` solves on the patch: the patch
@@ -166,7 +169,7 @@ def system(disc, caches: Caches, drive: Drive, load_factor: float | None = None)
         caches.matrices = {key: (A, directed)}
     A, directed = caches.matrices[key]
     s_load, rows = _loads(disc, caches, directed, load_factor)
-    return CondensedSystem(cond.normal_compliance, A, disc.points.weights, s_load, cond.d0, scene.contact.gap,
+    return DenseSystem(cond.normal_compliance, A, disc.points.weights, s_load, cond.d0, scene.contact.gap,
                            drive.law, caches.factors, rows, scene.solver.tolerance)
 
 
@@ -175,7 +178,7 @@ def _compliance(disc, caches: Caches, drive: Drive, friction: np.ndarray) -> np.
 
     With μ a coefficient of the state it changes at every step while n* keeps its direction: A = H + F(n*) diag(μ)
     with F(n*) kept for the direction, and the dense factors are those of the reference μ (``drive.reference``,
-    :class:`~ngwear.numerics.solver.Factors`), kept while it is.
+    :class:`~ngwear.numerics.systems.condensed.Factors`), kept while it is.
     """
     cond, reference = disc.condensation, drive.reference
     H = cond.normal_compliance
