@@ -26,6 +26,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import cumulative_trapezoid
 
+from ..numerics.points import initial_distance
+
 
 def weighted(values: np.ndarray, weights: np.ndarray) -> np.ndarray:
     """Σ_i values_ji m_i of each step j: one set of weights (n,) or (1, n), or a row per step (N, n)."""
@@ -130,6 +132,16 @@ def penetration(r) -> np.ndarray:
     return reached - (total_wear(r) - r.wear) if len(r.removed_rows) else reached
 
 
+def d0(r) -> np.ndarray:
+    """The initial distance d₀ to the foundation at the contact points (as built)."""
+    return initial_distance(r.contact_points, r.scene.contact.direction)
+
+
+def geometry_updates(r) -> int:
+    """The number of geometry updates (``wear.geometry = "surface"``)."""
+    return len(r.removed_rows)
+
+
 def compression(r) -> np.ndarray:
     """u_ν − d₀ − w: how far the remaining (unworn) layer is compressed (p acts where > 0)."""
     return penetration(r) - r.wear
@@ -137,6 +149,6 @@ def compression(r) -> np.ndarray:
 
 QUANTITIES = {f.__name__: f for f in (row_weights, friction, normal_force, torque, tangential_force, friction_force,
                                      apparent_friction, friction_power, dissipated_energy, contact_area, mean_pressure,
-                                     max_pressure, total_wear, max_wear, wear_volume, remaining_thickness,
-                                     penetration, compression)}
+                                     max_pressure, total_wear, max_wear, wear_volume, remaining_thickness, d0,
+                                     geometry_updates, penetration, compression)}
 """The derived quantities by name (a :class:`~ngwear.results.result.Result` property each)."""

@@ -35,23 +35,48 @@ import numpy as np
 from ..model.scene import Scene
 from ..numerics.contact import Motion
 from ..numerics.expansion import ThermalLoad
-from ..numerics.points import initial_distance
 from ..numerics.systems.newton import NewtonRecord
 from .derived import QUANTITIES
-from .folder import FolderError, replacing
-from .mesh_file import keep_mesh, saved_discretization
+from .files import save
+from .folder import FolderError
+from .mesh_file import saved_discretization
 from .provenance import canonical
 from .records import records_from_arrays, records_to_arrays
 from .step_fields import DERIVED, RECORDED
-from .stops import QUANTITIES as STOP_QUANTITIES
 from .stops import stop_table
 from .summary import summary
-from .table import headed, to_dataframe, write_history
-from .units import units
+from .table import to_dataframe
 
 ARRAYS = tuple(f.name for f in RECORDED if f.when is None)
 """The rows every run records (:data:`~ngwear.results.step_fields.RECORDED`; :func:`recorded`: those of a scene)."""
 _DOCS = {f.name: f"{f.doc}, shape {f.shown}." for f in DERIVED}
+
+
+def _stops(result):
+    """One row per stop of the programme (a pandas DataFrame; None without a programme).
+
+    See :func:`ngwear.results.stops.stop_table`.
+    """
+    return stop_table(result) if result.scene.programme is not None else None
+
+
+def _summary(result) -> dict:
+    """Key numbers of the run (what ``ngwear run`` prints): see :func:`ngwear.results.summary.summary`."""
+    return summary(result)
+
+
+def _to_dataframe(result):
+    """The run's per-step numbers, one row per step, as a pandas DataFrame: the table of ``history.csv``.
+
+    Its columns (:mod:`ngwear.results.table`): ``step``, ``times``, every per-step number (``torque``, …), the
+    components of the short vectors, ``newton_iterations``, by their bare names (``history.csv`` heads them with their
+    units in a scene in SI, ``torque [N m]``).
+    """
+    return to_dataframe(result)
+
+
+VIEWS = {"stops": property(_stops, doc=_stops.__doc__), "summary": _summary, "to_dataframe": _to_dataframe}
+"""The record's views, each computed by the module that knows it: the stop table, the summary, the per-step table."""
 COEFFICIENTS = ("friction_coefficient", "wear_coefficient", "contact_stiffness")
 HEADER = ("contact_points", "weights", *COEFFICIENTS, *records_to_arrays([]), "status", "wall_time", "solve_time",
           "rejected", "warnings", "jumped", "thickness", "removed_rows", "removed", "moved_weights", "provenance")
@@ -163,11 +188,6 @@ class Result:
         """``total_wear`` of the last step."""
         return self.total_wear_at(-1)
 
-    @property
-    def geometry_updates(self) -> int:
-        """The number of geometry updates (``wear.geometry = "surface"``)."""
-        return len(self.removed_rows)
-
     def updates_by(self, step: int) -> int:
         """The number of geometry updates at or before ``step``: the body's mesh there (0: as built)."""
         return int(np.searchsorted(self.removed_rows, self.step_index(step), side="right"))
@@ -205,19 +225,6 @@ class Result:
     def remaining_thickness_of(self, total_wear: np.ndarray) -> np.ndarray:
         """The thickness left under each point after the wear ``total_wear`` (any leading shape)."""
         return self.thickness - total_wear
-
-    @property
-    def stops(self):
-        """One row per stop of the programme (a pandas DataFrame; None without a programme).
-
-        See :func:`ngwear.results.stops.stop_table`.
-        """
-        return stop_table(self) if self.scene.programme is not None else None
-
-    @property
-    def d0(self) -> np.ndarray:
-        """Initial distance d₀ to the foundation at the contact points."""
-        return initial_distance(self.contact_points, self.scene.contact.direction)
 
     @property
     def stored_steps(self) -> list[int]:
@@ -276,19 +283,6 @@ class Result:
             raise RuntimeError("this result has no mesh attached")
         return self.discretization
 
-    def summary(self) -> dict:
-        """Key numbers of the run (what ``ngwear run`` prints): see :func:`ngwear.results.summary.summary`."""
-        return summary(self)
-
-    def to_dataframe(self):
-        """The run's per-step numbers, one row per step, as a pandas DataFrame: the table of ``history.csv``.
-
-        Its columns (:mod:`ngwear.results.table`): ``step``, ``times``, every per-step number (``torque``, …), the
-        components of the short vectors, ``newton_iterations``, by their bare names (``history.csv`` heads them with
-        their units in a scene in SI, ``torque [N m]``).
-        """
-        return to_dataframe(self)
-
     def arrays(self) -> dict[str, np.ndarray]:
         """Everything of the run as named arrays (``result.npz``): its steps and :meth:`header`."""
         return {**self.header(), **self.rows}
@@ -306,41 +300,11 @@ class Result:
                 "provenance": np.array(canonical(self.provenance))}
 
     def save(self, directory) -> Path:
-        """Write result.npz, scene.json, mesh.vol, history.csv, summary.json and a VTU/PVD series of the frames."""
-        out = Path(directory)
-        out.mkdir(parents=True, exist_ok=True)
-        steps = self.stored_steps
-        fields = np.array([self.displacement(s) for s in steps]) if self.discretization else np.zeros((0, 0))
-        mesh = {"mesh_sha256": np.array(keep_mesh(self, out))} if self.discretization is not None else {}
-        arrays = {**self.arrays(), **{f.name: getattr(self, f.name) for f in DERIVED},
-                  "field_steps": np.array(steps, dtype=int), "fields": fields, **mesh, **self._temperature_fields(steps)}
-        if self.discretization is not None:                 # the worn body of each frame ("surface")
-            arrays["frame_coordinates"] = (np.array([self.body_coordinates(s) for s in steps]) if self.geometry_updates
-                                           else np.zeros((0, 0, self.scene.dim)))
-        if self.scene.units:
-            arrays["units"] = np.array(json.dumps(units(self.scene, arrays), ensure_ascii=False))
-        with replacing(out / "result.npz") as tmp:
-            np.savez(tmp, **arrays)                 # not compressed: zlib costs far more time than it saves space
+        """Write result.npz, scene.json, mesh.vol, history.csv, summary.json, stops.csv and the VTU/PVD series.
 
-        with replacing(out / "scene.json") as tmp:
-            tmp.write_text(json.dumps(self.scene.to_dict(), indent=2))
-        write_history(self, out / "history.csv")
-        with replacing(out / "summary.json") as tmp:
-            tmp.write_text(json.dumps(self.summary(), indent=2, ensure_ascii=False), encoding="utf-8")
-        if self.scene.programme is not None:
-            with replacing(out / "stops.csv") as tmp:
-                headed(self.scene, self.stops, STOP_QUANTITIES).to_csv(tmp)
-        if self.discretization is not None:
-            from .vtk import write_series
-            write_series(self, out)
-        return out
-
-
-    def _temperature_fields(self, steps) -> dict[str, np.ndarray]:
-        """The nodal temperature (P1) of the frames, ``temperature_fields`` (with ``heat``; none else)."""
-        if self.scene.heat.model == "none" or not all(s in self.temperatures for s in steps):
-            return {}
-        return {"temperature_fields": np.array([self.temperatures[s] for s in steps])}
+        See :func:`ngwear.results.files.save`.
+        """
+        return save(self, directory)
 
 
 def output_times(out, times: np.ndarray, end: float) -> np.ndarray:
@@ -432,3 +396,5 @@ for _field in RECORDED:     # result.times, result.wear, …: the recorded rows,
     setattr(Result, _field.name, property(_row(_field.name), doc=f"{_field.doc}, shape {_field.shown}."))
 for _name, _quantity in QUANTITIES.items():     # result.torque, result.total_wear, …: derived from the rows
     setattr(Result, _name, property(_quantity, doc=_quantity.__doc__ or _DOCS.get(_name)))
+for _name, _view in VIEWS.items():              # result.summary(), result.to_dataframe(): the record's views
+    setattr(Result, _name, _view)
