@@ -16,7 +16,7 @@ from conftest import PAPER
 from test_cli import ngwear as run_cli
 
 import ngwear
-from ngwear import cli
+from ngwear.cli.run import uniqueness as run_check
 from ngwear.numerics.discrete import Discretization
 from ngwear.studies import theory
 from ngwear.studies.theory import energy_trace, uniqueness
@@ -71,14 +71,14 @@ def test_never_after_an_interrupt(strip):
     import threading
     stop = threading.Event()
     result = ngwear.simulate(strip, progress=False)
-    label, text = cli._uniqueness(result, stop, progress=False)       # (H_S) fails here: information all the same
+    label, text = run_check(result, stop, progress=False)       # (H_S) fails here: information all the same
     assert label == "uniqueness" and text.startswith("(H_S) c_K² L_p μ") and "≥ 1" in text
     assert text.endswith("does not cover this scene (a sufficient condition, not a necessary one); the run's own "
                          "checks hold")
     stop.set()
-    assert cli._uniqueness(result, stop, progress=False) is None
+    assert run_check(result, stop, progress=False) is None
     result.status = "interrupted"
-    assert cli._uniqueness(result, threading.Event(), progress=False) is None
+    assert run_check(result, threading.Event(), progress=False) is None
 
 
 def test_a_signal_during_the_check_aborts_it(strip):
@@ -97,7 +97,7 @@ def test_lanczos_failing_is_one_line(strip, monkeypatch):
                                        np.zeros((0, 0)))                 # as scipy raises it
     monkeypatch.setattr(theory.spla, "eigsh", fails)
     import threading
-    label, text = cli._uniqueness(ngwear.simulate(strip, progress=False), threading.Event(), progress=False)
+    label, text = run_check(ngwear.simulate(strip, progress=False), threading.Event(), progress=False)
     assert label == "uniqueness" and "\n" not in text
     assert text.startswith("(H_S) not evaluated: Lanczos did not converge (ARPACK error -1: No convergence")
 

@@ -15,22 +15,21 @@ status 1, as does a run stopped by a full disk (one line saying what its checkpo
 from __future__ import annotations
 
 import argparse
-import logging
 import secrets
+import signal
 import sys
-from contextlib import contextmanager
 from pathlib import Path
 
-from . import __version__
-from .model.scene import SceneError, load_scene, parse_override
-from .results.folder import FolderError
-from .studies.study import StudyError
-from .views.app import DEFAULT_PORT
+from ..model.scene import SceneError, parse_override
+from ..results.folder import FolderError
+from ..studies.study import StudyError
+from ..version import __version__
+from ..views.app import DEFAULT_PORT
+from .run import run, written
+from .shell import log_lines, on_signals, scene_of
 
 FLAGS = {"checkpoint": "--out", "resume": "--resume", "out": "--out"}
 """The flag of each Python argument a FolderError may name."""
-STAGES = logging.getLogger("ngwear.progress")
-"""Where the stages of a command are told (shown unless --quiet; see :mod:`ngwear.runs.progress`)."""
 
 
 SCENE_HELP = "scene TOML file, or the name of a shipped scene (see `ngwear examples`), e.g. paper_strip"
@@ -104,30 +103,15 @@ def _overrides(parser: argparse.ArgumentParser) -> None:
                         help="override scene fields, e.g. time.steps=10 mesh.maxh=0.05 (may be given several times)")
 
 
-def _scene(args, required: bool = True):
-    """The scene of SCENE and --set; a --set item without '=' stands for SCENE (options in any order)."""
-    settings = [item for item in args.set if "=" in item]
-    strays = [item for item in args.set if "=" not in item]
-    if strays and args.scene is None and len(strays) == 1:
-        args.scene = strays.pop()
-    if strays:
-        parse_override(strays[0])                    # the one-line message for an item without '='
-    if args.scene is None:
-        if required:
-            raise SceneError("scene file: missing (give SCENE: a scene file, or a shipped scene such as paper_strip)")
-        return None, settings
-    return load_scene(args.scene, dict(parse_override(item) for item in settings)), settings
-
-
 def verify(args) -> int:
     import json
 
-    from .results.folder import hold, replacing
-    from .studies import convergence
-    from .studies.verify import StoppedRun
-    from .views import plots
+    from ..results.folder import hold, replacing
+    from ..studies import convergence
+    from ..studies.verify import StoppedRun
+    from ..views import plots
 
-    scene, _ = _scene(args)
+    scene, _ = scene_of(args)
     out = Path(args.out or Path("out") / f"{scene.name}-verify")
     with hold(out, "--out"):                        # as a run's: one study at a time writes there
         try:
@@ -151,148 +135,8 @@ def verify(args) -> int:
     return 0
 
 
-def run(args) -> int:
-    from .results.folder import hold
-
-    scene, settings = _scene(args, required=args.resume is None)
-    out = Path(args.out or args.resume or Path("out") / scene.name)      # --out with --resume: go on there
-    with hold(out, _written(args), create=args.resume is None or args.out is not None):   # for the whole run
-        return _run(args, scene, settings, out)
-
-
-def _written(args) -> str:
-    """The flag of the folder a command writes into: --out, or --resume when it goes on in the resumed folder."""
-    return "--resume" if getattr(args, "resume", None) and not getattr(args, "out", None) else "--out"
-
-
-def _run(args, scene, settings, out: Path) -> int:
-    import signal
-    import threading
-
-    from .model.meshing import Stopped
-    from .results.folder import NoSpace, no_space
-    from .runs.checks import WORN_OUT
-    from .runs.simulate import simulate
-
-    if args.resume is not None and scene is None:
-        from .results.checkpoint import saved_scene
-        scene = saved_scene(args.resume)
-        scene = scene.replace(**dict(parse_override(item) for item in settings)) if settings else scene
-    stop, received = threading.Event(), []
-
-    def interrupt(number):      # stop at the next step boundary; a second signal changes nothing
-        received.append(number)
-        stop.set()
-
-    result = None
-    try:
-        with _on_signals(interrupt):
-            result = simulate(scene, progress=not args.quiet, checkpoint=out, resume=args.resume, stop=stop)
-            STAGES.info("%s: writing result.npz and %d VTU frames", result.scene.name, len(result.stored_steps))
-            result.save(out)
-            check = None if args.no_check else _uniqueness(result, stop, progress=not args.quiet)
-            _write(result, out, pictures=not args.no_pictures and not stop.is_set(), check=check)
-    except Stopped as err:
-        print(f"ngwear: interrupted during the set-up ({err}); nothing was computed", file=sys.stderr)
-        return 128 + received[0]
-    except NoSpace as err:
-        print(f"ngwear: {_written(args)}: {err}" + (f": ngwear run --resume {out}" if err.resumable else ""),
-              file=sys.stderr)
-        return 1
-    except OSError as err:
-        if result is None or not no_space(err):
-            raise
-        print(f"ngwear: {_written(args)}: no space left on device in {out} for the results; the checkpoint keeps all "
-              f"{result.steps + 1} steps: free space, then write them with: ngwear run --resume {out}",
-              file=sys.stderr)
-        return 1
-    if result.completed and received:
-        print("ngwear: interrupted after the run: it is complete and written" + ("" if args.no_pictures else
-              " (the pictures drawn before the signal)"), file=sys.stderr)
-        return 128 + received[0]
-    if result.status == "interrupted":
-        t = result.times[-1] if len(result.times) else 0.0
-        print(f"ngwear: interrupted after step {result.steps} (t = {t:.4g}); resume with: ngwear run --resume {out}",
-              file=sys.stderr)
-        return 128 + (received[0] if received else signal.SIGINT)
-    if result.status == WORN_OUT:
-        print(f"ngwear: worn out: {result.warnings[-1]}", file=sys.stderr)
-        return 0
-    if not result.completed:
-        print(f"ngwear: run stopped early: {result.status}", file=sys.stderr)
-        return 1
-    return 0
-
-
-def _uniqueness(result, stop, progress: bool) -> tuple[str, str] | None:
-    """(label, text) of the summary's (H_S) line for a completed run with friction; None when there is nothing to say.
-
-    Information, not a warning: (H_S) is sufficient for uniqueness, and a completed run has met the invariants at
-    every step whatever it says.  Never after an interrupt; a signal during the check aborts it.  It reuses the
-    run's factorisation (:func:`ngwear.studies.theory.uniqueness`), shown as a stage on the progress bar.
-    """
-    disc = result.discretization
-    if not result.completed or stop.is_set() or disc is None or not disc.contact.coefficients.friction.any():
-        return None
-    from scipy.sparse.linalg import ArpackNoConvergence
-
-    from .runs.simulate import Stages
-    from .studies.theory import uniqueness
-    stages = Stages(result.scene.name, progress)
-    try:
-        check = stages.run(f"uniqueness (H_S): Lanczos on the compliance of {disc.points.n} contact points",
-                           lambda: uniqueness(disc, stop.is_set))
-    except KeyboardInterrupt:
-        return "uniqueness", "(H_S) not evaluated: interrupted"
-    except ArpackNoConvergence as err:
-        return "uniqueness", f"(H_S) not evaluated: Lanczos did not converge ({str(err).splitlines()[0]})"
-    finally:
-        stages.close()
-    return "uniqueness", check.message() + ("" if check.holds else "; the run's own checks hold")
-
-
-def _write(result, out: Path, pictures: bool, check: tuple[str, str] | None = None) -> None:
-    """Write the result's pictures into ``out`` (saved there before) and print the summary."""
-    written = []
-    if pictures and result.steps >= 0:
-        from .views.pictures import write_pictures
-        STAGES.info("%s: drawing the pictures", result.scene.name)
-        written = write_pictures(result, out)
-    from .results.material_summary import describe
-    from .results.summary import LAST_STEP
-    from .results.units import unit as unit_of
-
-    summary = result.summary()
-    unit, materials = summary.pop("units", {}), summary.pop("materials")
-    provenance, blocks = summary.pop("provenance", None), summary.pop("blocks", [])
-    width = max(map(len, summary))
-    for key, value in summary.items():
-        if key == LAST_STEP[0] and "end_time" in summary:   # the whole run's numbers first, then the last step's
-            print(f"{'last step':<{width}}  t = {summary['end_time']:.4g}" + (f" {unit['end_time']}" if unit else ""))
-        text = "never" if key in ("gap_reached_at", "stops_to_limit") and value is None else (
-            f"{value + 0.0:.4g}" if isinstance(value, float) else f"{value}")       # + 0.0: never −0
-        print(f"{key:<{width}}  {text} {unit[key]}" if key in unit and value is not None else f"{key:<{width}}  {text}")
-    volume = f" {unit_of(result.scene, 'volume')}" if unit else ""
-    for b in blocks:                                # a programme's wear per block
-        per_mj = "" if b["volume_per_megajoule"] is None else f", {b['volume_per_megajoule']:.4g}{volume} per MJ"
-        print(f"{'block ' + str(b['block']):<{width}}  {b['stops']} stops, {b['volume_per_stop']:.4g}{volume} worn "
-              f"per stop{per_mj}")
-    for region, entry in materials.items():         # m_F, L_F of each law beside (H_S)
-        print(f"{'material':<{width}}  {region}: {describe(entry, unit_of(result.scene, 'pressure'))}")
-    if check is not None:
-        print(f"{check[0]:<{width}}  {check[1]}")
-    for warning in result.warnings:
-        print(f"{'warning':<{width}}  {warning}")
-    if provenance:
-        print(f"{'provenance':<{width}}  ngwear {provenance['ngwear']}, NGSolve {provenance['ngsolve']}, Python "
-              f"{provenance['python']}, scene {provenance['scene_sha256'][:12]}")
-    frames = len(result.stored_steps)
-    print(f"{'written':<{width}}  {out}/ (result.npz, history.csv, fields.pvd with {frames} frames, {len(written)} "
-          "PNG)")
-
-
 def examples(args) -> int:
-    from .model import examples as shipped
+    from ..model import examples as shipped
 
     if args.copy is None:
         names = shipped.names()
@@ -315,7 +159,7 @@ def examples(args) -> int:
 def schema(args) -> int:
     import json
 
-    from .model.scene import json_schema
+    from ..model.scene import json_schema
 
     text = json.dumps(json_schema(), indent=1, ensure_ascii=False) + "\n"
     if args.out:
@@ -329,8 +173,8 @@ def sweep(args) -> int:
     import shlex
     import threading
 
-    from .studies.sweep import summary_text
-    from .studies.sweep import sweep as run_study
+    from ..studies.sweep import summary_text
+    from ..studies.sweep import sweep as run_study
 
     overrides = dict(parse_override(item) for item in args.set)
     stop, received = threading.Event(), []
@@ -339,7 +183,7 @@ def sweep(args) -> int:
         received.append(number)
         stop.set()
 
-    with _on_signals(interrupt):
+    with on_signals(interrupt):
         table = run_study(args.study, args.scheduler, out=args.out, workers=args.workers, overrides=overrides,
                           progress=not args.quiet, stop=stop)
     summary = table.attrs["summary"]
@@ -365,12 +209,12 @@ def sweep(args) -> int:
 def explore(args) -> int:
     from importlib.util import find_spec
 
-    from .views import app
+    from ..views import app
     if find_spec("voila") is None:
         print("ngwear: explore: needs the optional packages of ngwear[app] (voila is missing): "
               "pip install 'ngwear[app]'", file=sys.stderr)
         return 2
-    scene, _ = _scene(args)
+    scene, _ = scene_of(args)
     if args.kernel_timeout < 1:
         raise SceneError(f"--kernel-timeout: must be >= 1 s (got {args.kernel_timeout})")
     if args.port is not None and not 1 <= args.port <= 65535:
@@ -394,66 +238,11 @@ def explore(args) -> int:
                      kernel_timeout=args.kernel_timeout, max_kernels=args.max_kernels, origins=origins)
 
 
-class _Stderr(logging.StreamHandler):
-    """Log lines on whatever ``sys.stderr`` is when they are written (pytest and Jupyter replace it)."""
-
-    stream = property(lambda self: sys.stderr, lambda self, _: None)
-
-
-def _logging(quiet: bool, verbose: bool) -> None:
-    """Log lines on stderr as ``ngwear: …``: ngwear's warnings, its progress lines unless ``quiet``; ``verbose``: all.
-
-    Other libraries' warnings and errors are shown (the app server's refusals among them), except Dask's below
-    ERROR (its INFO lines and the notes on connections closed at the end of a study), which only ``verbose`` shows.
-    """
-    root = logging.getLogger()
-    for handler in [h for h in root.handlers if h.get_name() == "ngwear"]:
-        root.removeHandler(handler)
-    handler = _Stderr()
-    handler.set_name("ngwear")
-    handler.setFormatter(logging.Formatter("ngwear: %(message)s"))
-    if not verbose:
-        handler.addFilter(_shown)
-    root.addHandler(handler)
-    logging.getLogger("ngwear").setLevel(logging.DEBUG if verbose else logging.NOTSET)
-    logging.getLogger("ngwear.progress").setLevel(logging.WARNING if quiet else logging.INFO)
-
-
-def _shown(record: logging.LogRecord) -> bool:
-    """Without --verbose: ngwear's lines, errors, and other libraries' warnings but Dask's."""
-    library = record.name.split(".")[0]
-    return (library == "ngwear" or record.levelno >= logging.ERROR
-            or (record.levelno >= logging.WARNING and library != "distributed"))
-
-
-@contextmanager
-def _on_signals(handler):
-    """``handler(number)`` on SIGINT and SIGTERM within the block (the handlers before it after).
-
-    Also where SIGINT was ignored: a process started in the background by a script inherits that.  Called from
-    another thread than the main one (which alone may set handlers), it leaves them as they are.
-    """
-    import signal
-    import threading
-
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    before = {sig: signal.signal(sig, lambda number, _frame: handler(number)) for sig in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield
-    finally:
-        for sig, handler_before in before.items():
-            signal.signal(sig, handler_before)
-
-
 def main(argv: list[str] | None = None) -> int:
-    import signal
-
     args = _parser().parse_args(argv)
-    _logging(args.quiet, args.verbose)
+    log_lines(args.quiet, args.verbose)
     if args.command == "stress":
-        from .studies.stress import main as stress_main
+        from ..studies.stress import main as stress_main
         return stress_main([a for a in args.args if a != "--"])
     received = []
 
@@ -464,7 +253,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         commands = {"run": run, "verify": verify, "schema": schema, "sweep": sweep, "explore": explore,
                     "examples": examples}
-        with _on_signals(interrupted):
+        with on_signals(interrupted):
             return commands[args.command](args)
     except KeyboardInterrupt:
         print("ngwear: interrupted", file=sys.stderr)
@@ -478,9 +267,6 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as err:
         folder = getattr(args, "out", None) or getattr(args, "resume", None)
         name = err.filename2 or err.filename or folder          # a rename's target, rather than its temporary file
-        print(f"ngwear: {_written(args)}: cannot write {name} ({err.strerror or err})", file=sys.stderr)
+        print(f"ngwear: {written(args)}: cannot write {name} ({err.strerror or err})", file=sys.stderr)
         return 2
 
-
-if __name__ == "__main__":
-    sys.exit(main())
