@@ -14,7 +14,7 @@ from matplotlib import colormaps
 from PIL import Image
 
 import ngwear
-from ngwear.views import plots, render
+from ngwear.views import camera, plots, render
 
 FOUNDATION = (105, 105, 105)
 BODY = (176, 196, 222)
@@ -230,7 +230,7 @@ def test_a_3d_part_fills_the_frame(name, request):
     with render.Canvas(window_size=size) as canvas:
         image = canvas.frame(result, -1).astype(int)
         seen = on_screen(canvas._plotter, canvas._picture.framed())
-    left, right, bottom, top = render.FRAME
+    left, right, bottom, top = camera.FRAME
     assert seen[:, 0].min() >= left * size[0] - 1 and seen[:, 0].max() <= right * size[0] + 1
     assert seen[:, 1].min() >= bottom * size[1] - 1 and seen[:, 1].max() <= top * size[1] + 1
     assert max(np.ptp(seen[:, 0]) / ((right - left) * size[0]), np.ptp(seen[:, 1]) / ((top - bottom) * size[1])) > 0.99

@@ -1,9 +1,9 @@
 """The tables of a scene file and their keys, each declared once: type, range, documentation, what it invalidates.
 
 The top-level keys ``name`` and ``units``, then ``[geometry]``, ``[mesh]``, ``[material]``, ``[contact]``,
-``[foundation]``, ``[loads]`` (with ``plate``), ``[time]``, ``[wear]``, ``[heat]`` (declared in
-:mod:`ngwear.model.thermal`), ``[solver]``, ``[output]`` and ``[programme]`` (its blocks of stops, in
-:mod:`ngwear.model.programme`).  Ranges
+``[foundation]``, ``[loads]`` (with ``plate``), ``[time]``, ``[wear]``, ``[solver]``, ``[output]`` (the run's
+controls, declared in :mod:`ngwear.model.controls`), ``[heat]`` (in :mod:`ngwear.model.thermal`) and ``[programme]``
+(its blocks of stops, in :mod:`ngwear.model.programme`).  Ranges
 that depend on other keys are rules of :mod:`ngwear.model.rules`; the kinds of ``geometry.kind`` come from the registry
 (:mod:`ngwear.model.kinds`).
 """
@@ -17,6 +17,7 @@ from pydantic import Field, create_model, field_validator
 from . import cad, shapes  # noqa: F401 - they register the part kinds
 from .coefficients import normalised
 from .compliance import COMPLIANCES
+from .controls import Output, SolverSpec, TimeGrid, WearSpec
 from .keys import Flag, Level, Number, SceneError, Section, Table, Vector, Whole, key
 from .kinds import KINDS, ordered
 from .materials import LAWS, constants, groups, lame
@@ -314,69 +315,6 @@ class Loads(Section):
     time_table: Table = key((), "f(t) = f · s(t), piecewise linear", reuse=Level.NOTHING, shown="[] (s = 1)",
                             allowed="covers [0, T]")
     plate: Plate | None = Field(None, description="a rigid plate pressed by a force (force control)")
-
-
-class TimeGrid(Section):
-    """Time steps: uniform, t_j = j T / steps, or chosen by an error controller (``adaptive``)."""
-
-    T: Number = key(1.0, "final time (set by a `[programme]`: its end)", reuse=Level.NOTHING, gt=0)
-    steps: Whole = key(100, "number of steps N (k = T/N); with `time.adaptive` the first step is T/N (set by a "
-                       "`[programme]`: its stops' steps)",
-                       reuse=Level.NOTHING, ge=1, le=1_000_000)
-    adaptive: Flag = key(False, "choose the steps by an error estimate of the wear (see `time.tolerance`)",
-                         reuse=Level.NOTHING)
-    tolerance: Number = key(1e-3, "`adaptive`: the wear error to meet at T, relative to g", reuse=Level.NOTHING,
-                            gt=0, le=0.5)
-    min_step: Number | None = key(None, "`adaptive`: smallest step", reuse=Level.NOTHING, shown="T·1e-8",
-                                  allowed="(0, max_step]")
-    max_step: Number | None = key(None, "`adaptive`: largest step", reuse=Level.NOTHING, shown="T/10",
-                                  allowed="(0, T]")
-
-
-class WearSpec(Section):
-    """Wear integrator: the paper's ``explicit`` (eq. 15), ``implicit`` (backward Euler), ``trapezoidal``."""
-
-    integrator: Literal["explicit", "implicit", "trapezoidal"] | None = key(
-        None, "`explicit` (paper eq. 15), `implicit` (backward Euler), `trapezoidal`", reuse=Level.NOTHING,
-        shown="explicit; trapezoidal with `time.adaptive`", allowed="explicit, implicit, trapezoidal")
-    allow_unstable: Flag = key(False, "run an explicit update known to diverge (k·α·L > 2 at the uniform step, α "
-                               "the largest κ‖v*‖, L the largest slope of p on [0, g]) instead of refusing it",
-                               reuse=Level.NOTHING)
-    geometry: Literal["layer", "surface"] = key(
-        "layer", "`layer`: the paper's model, the wear removes the soft layer of a body whose shape never changes; "
-        "`surface`: the worn material leaves the body, its contact surface recedes along ν (the layer keeps its "
-        "thickness g)", reuse=Level.NOTHING)
-    update: Number = key(0.25, "`surface`: the wear since the last geometry update, relative to the height of the "
-                         "smallest element at Γ_C (or to `contact.gap` if smaller), that moves the surface (at most "
-                         "half: the layer never wears through between updates)", reuse=Level.NOTHING, gt=0, le=0.5)
-    limit: Number | None = key(None, "the smallest remaining thickness of the worn region (along ν, e.g. a pad's "
-                               "2 mm): reaching it ends the run as worn out", reuse=Level.NOTHING, shown="none",
-                               allowed="> 0", gt=0)
-
-
-class SolverSpec(Section):
-    """Nonlinear solver: ``condensed`` onto the contact points (fast) or ``full`` system (reference)."""
-
-    method: Literal["condensed", "full"] = key(
-        "condensed", "`condensed` (fast) or `full` (straightforward full-system Newton, reference; explicit wear "
-        "only)", reuse=Level.NOTHING)
-    tolerance: Number = key(1e-10, "Newton stopping rule: relative merit", reuse=Level.NOTHING, ge=1e-15, le=1e-2)
-    max_iterations: Whole = key(50, "Newton iterations per step", reuse=Level.NOTHING, ge=1, le=10_000)
-
-
-class Output(Section):
-    """When full fields are written and rendered (by time, whatever the steps), and checkpoints."""
-
-    every: Number | None = key(None, "time between the frames whose full fields are written and rendered "
-                               "(from t = 0, plus the last step)", reuse=Level.NOTHING, shown="T/4",
-                               allowed="(0, T]")
-    times: tuple[Number, ...] | None = key(None, "the frames' times (then `output.every` is not used)",
-                                           reuse=Level.NOTHING, shown="—", allowed="in [0, T], increasing")
-    checkpoint_seconds: Number = key(60.0, "wall time between checkpoints of a run with an output folder "
-                                     "(0: none)", reuse=Level.NOTHING, ge=0)
-    max_frames: Whole = key(10_000, "most frames a run may write (each a full field, kept in memory and written as a "
-                            "VTU file): a scene whose `output.every` or `output.times` gives more is refused before "
-                            "the run", reuse=Level.NOTHING, ge=1, le=1_000_000)
 
 
 SECTIONS = {"geometry": Geometry, "mesh": MeshSpec, "material": Material, "contact": Contact,

@@ -4,11 +4,11 @@ The picture (paper, Figs. 1–4) is described, and its arrays computed, in
 :mod:`ngwear.views.picture_data` (no pyvista there); this module turns them into pyvista
 objects and draws them: the body coloured by |u| (or plain), the remaining layer coloured by w (or
 p), the worn-away part of the layer translucent, the foundation (a block, or a sector of the
-rotor) with an arrow or an arc arrow for its motion.  A 3D picture looks from below, through the
-translucent foundation, at the worn contact face, turned so that the part's longest extent runs across the
-window, and the part fills the window left of the colour bars (:data:`FRAME`).  The colour bars say what they
-show, with units in an SI scene, and span the run's data from 0: the wear's up to its largest w, the layer's
-thickness g noted under it.  No numerical module imports this one.
+rotor) with an arrow or an arc arrow for its motion.  A 3D picture looks from below, through the translucent
+foundation, at the worn contact face, turned so that the part's longest extent runs across the window, and the part
+fills the window left of the colour bars (:mod:`ngwear.views.camera`).  The colour bars say what they show, with
+units in an SI scene, and span the run's data from 0: the wear's up to its largest w, the layer's thickness g noted
+under it.  No numerical module imports this one.
 A :class:`Canvas` keeps one plotter for many pictures (figures, animations, the explorer).
 
 VTK's OpenGL contexts belong to the thread that created them: a plotter used from another thread
@@ -35,6 +35,7 @@ from ..results.folder import replacing
 from ..results.units import label, unit
 from ..results.vtk import frame_name
 from . import video
+from .camera import aim
 from .picture_data import LAYER_FIELDS, ArcArrow, MeshArrays, PictureData, StraightArrow, xyz
 
 pv.OFF_SCREEN = True
@@ -228,7 +229,7 @@ class Canvas:
             parts["label"].points = np.asarray(where)[None]
             parts["label"].point_data["label"] = np.array([label])
         parts["caption"].SetInput(picture.caption(step))
-        _camera(self._plotter, picture, self.window_size)
+        aim(self._plotter, picture, self.window_size)
 
 
 def frame(result, step: int, *, field: str = "displacement", magnify: float = 1.0,
@@ -373,58 +374,3 @@ def _bar(title: str, slot: int, width: int) -> dict:
     return dict(title=title, vertical=True, position_x=0.93 - 0.1 * slot, position_y=BAR_BOTTOM, width=0.03,
                 height=0.6, color="black", fmt="%.3g", n_labels=5, title_font_size=round(16 * scale),
                 label_font_size=round(13 * scale))
-
-
-FRAME = (0.03, 0.79, 0.08, 0.9)
-"""Where a picture's subject goes: the window's fraction from its left (0) to right (1) and bottom to top, leaving
-the scalar bars on the right, the caption above and the note below."""
-
-
-def _camera(pl: pv.Plotter, picture: PictureData, window_size) -> None:
-    """Look at the picture's subject and fill :data:`FRAME` with it (parallel projection).
-
-    A 3D part is seen from below, through the translucent foundation, onto its worn contact face (from further
-    below on a rotor, so that the whole face shows); it is framed with its layer and the arrow of the foundation's
-    motion (:meth:`PictureData.framed`).  A 2D picture is seen from the front, the foundation's block included.
-    """
-    pl.enable_parallel_projection()
-    if picture.dim == 3:
-        pl.view_xz()
-        pl.camera.azimuth, pl.camera.elevation = -25, -55 if picture.rotor is not None else -40
-        points = picture.framed()
-        _level(pl.camera, points)
-    else:
-        pl.camera.position, pl.camera.focal_point, pl.camera.up = (0, 0, 10), (0, 0, 0), (0, 1, 0)
-        x0, x1, y0, y1 = picture.view()
-        points = np.array([[x0, y0, 0.0], [x1, y1, 0.0]])
-    _fit(pl.camera, points, window_size[0] / window_size[1])
-    pl.reset_camera_clipping_range()
-
-
-def _level(camera, points: np.ndarray) -> None:
-    """Turn the camera about its direction so that the longest extent of ``points`` runs across the window."""
-    forward = np.asarray(camera.direction)
-    up = np.asarray(camera.up) - (np.asarray(camera.up) @ forward) * forward
-    up /= np.linalg.norm(up)
-    right = np.cross(forward, up)
-    seen = np.column_stack([points @ right, points @ up])
-    major = np.linalg.eigh(np.cov(seen.T))[1][:, -1]          # the principal axis of the points as seen
-    angle = np.arctan2(major[1], major[0])
-    angle = (angle + np.pi / 2) % np.pi - np.pi / 2            # the smaller turn: within ±90°
-    camera.up = np.cos(angle) * up - np.sin(angle) * right
-
-
-def _fit(camera, points: np.ndarray, aspect: float) -> None:
-    """Point the camera (its direction and up kept) at the middle of ``points`` so that they fill :data:`FRAME`."""
-    forward = np.asarray(camera.direction)
-    up = np.asarray(camera.up) - (np.asarray(camera.up) @ forward) * forward
-    up /= np.linalg.norm(up)
-    right = np.cross(forward, up)
-    across, along, deep = points @ right, points @ up, points @ forward
-    left, width, bottom, height = FRAME[0], FRAME[1] - FRAME[0], FRAME[2], FRAME[3] - FRAME[2]
-    scale = max(np.ptp(along) / height, np.ptp(across) / (width * aspect), 1e-300) / 2   # half the window's height
-    middle = np.array([across.min() + np.ptp(across) / 2, along.min() + np.ptp(along) / 2])
-    shift = 2 * scale * np.array([aspect * (0.5 - left - width / 2), 0.5 - bottom - height / 2])
-    focus = (middle[0] + shift[0]) * right + (middle[1] + shift[1]) * up + deep.mean() * forward
-    camera.focal_point, camera.position = focus, focus - (np.ptp(deep) + 4 * scale) * forward
-    camera.parallel_scale = scale
