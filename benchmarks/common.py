@@ -51,8 +51,8 @@ import matplotlib.pyplot as plt  # noqa: E402,F401
 import ngsolve as ngs  # noqa: E402
 
 import ngwear  # noqa: E402
-from ngwear.model.geometry import build_mesh  # noqa: E402
 from ngwear.model.materials import region_laws  # noqa: E402
+from ngwear.model.scene_mesh import build_mesh  # noqa: E402
 from ngwear.numerics.discrete import Discretization  # noqa: E402
 from ngwear.numerics.forms import displacement_space, elastic_form, load_form  # noqa: E402
 
@@ -175,7 +175,7 @@ def scene_for(size: str, order: int, **overrides):
 
 
 def mesh_for(scene):
-    """Cached Netgen mesh of the scene (built on first use, see geometry.build_mesh)."""
+    """Cached Netgen mesh of the scene (built on first use, see scene_mesh.build_mesh)."""
     return build_mesh(scene, use_cache=True)
 
 

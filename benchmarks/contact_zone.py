@@ -22,7 +22,7 @@ import numpy as np
 from scipy.interpolate import LinearNDInterpolator
 
 import ngwear
-from ngwear.model.geometry import build_mesh
+from ngwear.model.scene_mesh import build_mesh
 from ngwear.numerics.discrete import Discretization
 
 PIN = {"name": "sphere", "units": "SI",

@@ -39,7 +39,7 @@ def main():
     args = C.parser(__doc__.splitlines()[0]).parse_args()
     import ngwear
     from ngwear.model import part_files
-    from ngwear.model.geometry import build_mesh
+    from ngwear.model.scene_mesh import build_mesh
     from ngwear.results.folder import _digest
     from ngwear.results.recording import History
 

@@ -30,7 +30,7 @@ import tomli_w
 
 import ngwear
 from ngwear.model.examples import scene_file
-from ngwear.model.geometry import build_mesh
+from ngwear.model.scene_mesh import build_mesh
 from ngwear.numerics.discrete import Discretization
 
 TARGET = 1.30

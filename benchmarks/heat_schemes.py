@@ -22,8 +22,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.special import erfc
 
-from ngwear.model.geometry import build_mesh
 from ngwear.model.scene import Scene
+from ngwear.model.scene_mesh import build_mesh
 from ngwear.numerics.forms import displacement_space
 from ngwear.numerics.heat import Heat
 from ngwear.numerics.points import contact_points

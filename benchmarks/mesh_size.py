@@ -1,7 +1,7 @@
 """Netgen's memory and time per element, and ngwear's estimate of the element count.
 
 Each case meshes a part in a fresh process (no cache) and reports the estimate of
-:func:`ngwear.model.meshing.estimate` beside the elements Netgen made, the meshing time and the peak memory above
+:func:`ngwear.model.netgen_meshing.estimate` beside the elements Netgen made, the meshing time and the peak memory above
 the process's memory before meshing (``VmHWM``, reset before it: Linux), per element: the numbers behind the
 default of ``mesh.max_elements`` (docs/guide/scenes.md).  Cases are ``scene:key=value,...`` (``strip`` is the
 paper's strip, ``box`` box3d, ``pad`` the brake pad).
@@ -27,7 +27,7 @@ CHILD = """
 import json, sys, time
 import ngwear
 from ngwear.model.kinds import KINDS
-from ngwear.model.meshing import _mesh, estimate
+from ngwear.model.netgen_meshing import _mesh, estimate
 name, sets = sys.argv[1], json.loads(sys.argv[2])
 scene = ngwear.load_scene(name).replace(**sets)
 g, m = scene.geometry, scene.mesh

@@ -69,7 +69,7 @@ def run_ngwear(kind: str, maxh: float, mode: str, remesh: bool, order: int = 1) 
     from ngwear.numerics.problem import Problem
 
     import ngwear
-    from ngwear.model.geometry import build_mesh, cache_dir, mesh_key
+    from ngwear.model.scene_mesh import build_mesh, cache_dir, mesh_key
     from ngwear.numerics.discrete import Discretization
 
     scene = scene_of(kind, maxh, order)

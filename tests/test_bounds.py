@@ -19,11 +19,11 @@ from conftest import PAPER
 import ngwear
 from ngwear.cli import main
 from ngwear.model.coefficients import Coefficients
-from ngwear.model.geometry import build_mesh
 from ngwear.model.kinds import KINDS
-from ngwear.model.meshing import estimate
+from ngwear.model.netgen_meshing import estimate
 from ngwear.model.rules import frame_count
 from ngwear.model.scene import SceneError
+from ngwear.model.scene_mesh import build_mesh
 
 
 def cli(capsys, *args) -> tuple[int, str]:

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 import scipy.sparse.linalg as spla
 
-from ngwear.model.geometry import build_mesh
 from ngwear.model.materials import Compaction, Isotropic, TransverselyIsotropic, region_laws
 from ngwear.model.scene import Scene
+from ngwear.model.scene_mesh import build_mesh
 from ngwear.model.thermal import thermal_stress
 from ngwear.numerics.expansion import ThermalLoad
 from ngwear.numerics.forms import elastic_form

@@ -3,8 +3,8 @@ import ngsolve as ngs
 import pytest
 
 from ngwear import SceneError
-from ngwear.model import meshing
-from ngwear.model.geometry import _check_complete, build_mesh
+from ngwear.model import netgen_meshing as meshing
+from ngwear.model.scene_mesh import _check_complete, build_mesh
 
 
 def test_regions_and_boundaries(paper_scene):

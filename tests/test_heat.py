@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from scipy.special import erfc
 
-from ngwear.model.geometry import build_mesh
 from ngwear.model.keys import SceneError
 from ngwear.model.scene import Scene
+from ngwear.model.scene_mesh import build_mesh
 from ngwear.model.thermal import partition
 from ngwear.numerics.forms import displacement_space
 from ngwear.numerics.heat import Heat, frictional_power

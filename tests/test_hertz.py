@@ -19,8 +19,8 @@ import pytest
 from conftest import ROOT
 
 import ngwear
-from ngwear.model.geometry import mesh_key
 from ngwear.model.scene import Scene, SceneError
+from ngwear.model.scene_mesh import mesh_key
 from ngwear.numerics.discrete import Discretization
 
 HERTZ = ROOT / "geometries" / "hertz.toml"

@@ -15,11 +15,11 @@ import pytest
 from conftest import PAPER
 
 import ngwear
-from ngwear.model.geometry import build_mesh
 from ngwear.model.programme import Schedule
+from ngwear.model.scene_mesh import build_mesh
 from ngwear.numerics.recession import contact_height
+from ngwear.results.history_csv import bare
 from ngwear.results.metrics import disc_taper, plane_slope, taper_along
-from ngwear.results.table import bare
 from ngwear.runs.checks import WORN_OUT
 
 

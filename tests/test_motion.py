@@ -15,8 +15,8 @@ import pytest
 from conftest import PAPER, ROOT
 
 import ngwear
-from ngwear.model.geometry import build_mesh
 from ngwear.model.kinds import KINDS
+from ngwear.model.scene_mesh import build_mesh
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.recession import (
     QUALITY,

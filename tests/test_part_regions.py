@@ -15,9 +15,9 @@ from test_cli import assert_one_line_error, ngwear
 from test_regions import COLUMN
 
 import ngwear as ng
-from ngwear.model.cad import read_shape
-from ngwear.model.geometry import build_mesh
 from ngwear.model.part_files import describe
+from ngwear.model.scene_mesh import build_mesh
+from ngwear.model.user_parts import read_shape
 
 SIGMA, T1, E1, L = 0.02 / 0.01, 0.3, 2e3, 5e3         # COLUMN: 0.02 N on 0.1 × 0.1, t₁ = 0.3, E₁ = 2e3, L = 5e3
 

@@ -17,9 +17,9 @@ from netgen.occ import Box, Pnt, X, Z
 
 import ngwear
 from ngwear import Scene, SceneError
-from ngwear.model.cad import read_shape
-from ngwear.model.geometry import build_mesh, mesh_key
 from ngwear.model.keys import Level
+from ngwear.model.scene_mesh import build_mesh, mesh_key
+from ngwear.model.user_parts import read_shape
 
 DISC = {"foundation": {"velocity": [0.0, 0.0, 0.0], "angular_velocity": [0.0, 0.0, 1.0]},
         "contact": {"gap": 0.05, "stiffness": 10.0, "friction": 0.3, "wear": 0.5},

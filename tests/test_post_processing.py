@@ -19,9 +19,9 @@ import ngwear
 from ngwear.cli import main
 from ngwear.model.materials import Compaction, Energy, Isotropic, TransverselyIsotropic, strain
 from ngwear.results.bulk_stress import BulkStress, full_tensor, von_mises
+from ngwear.results.history_csv import bare
 from ngwear.results.provenance import COLUMNS
 from ngwear.results.result import load_result
-from ngwear.results.table import bare
 from ngwear.studies.sweep import simulate_case
 
 OMEGA, STOP, DENSITY = 50.0, 4.0, 2500.0    # the pad's disc: rad/s, s to rest; the friction material's ρ

@@ -5,7 +5,7 @@ import pytest
 from conftest import ROOT
 
 import ngwear
-from ngwear.model.geometry import build_mesh
+from ngwear.model.scene_mesh import build_mesh
 
 COLUMN = {   # a 0.1 × 0.1 column of friction material (t₁ = 0.3) on a backing (t₂), held by a plate on top
     "geometry": {"kind": "box", "size": [0.1, 0.1, 0.3], "dirichlet": []},

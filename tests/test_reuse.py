@@ -17,9 +17,9 @@ import pytest
 from conftest import ROOT
 
 import ngwear
-from ngwear.model.geometry import build_mesh
 from ngwear.model.keys import Level, level_of
 from ngwear.model.kinds import KINDS
+from ngwear.model.scene_mesh import build_mesh
 from ngwear.model.sections import declared_keys
 from ngwear.numerics import discrete
 from ngwear.numerics.discrete import Discretization

@@ -8,8 +8,8 @@ import pytest
 from conftest import ROOT
 
 import ngwear
-from ngwear.model.geometry import build_mesh
 from ngwear.model.materials import region_laws, young_along
+from ngwear.model.scene_mesh import build_mesh
 
 PAD, COMPACTION = ROOT / "geometries" / "brake_pad.toml", ROOT / "geometries" / "brake_pad_compaction.toml"
 COARSE = {"mesh.maxh": 0.012, "time.steps": 10, "output.every": 150.0}

@@ -16,7 +16,7 @@ from netgen.occ import Box, Glue, OCCGeometry, Z
 from test_cli import COMMAND
 
 import ngwear
-from ngwear.model.geometry import build_mesh
+from ngwear.model.scene_mesh import build_mesh
 from ngwear.numerics.plate import plate_modes
 from ngwear.numerics.strain import outer_facets, segments
 from ngwear.numerics.topology import facets

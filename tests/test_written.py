@@ -21,8 +21,8 @@ import ngwear
 from ngwear.model.programme import Schedule
 from ngwear.model.scene import Scene
 from ngwear.numerics.thickness import thickness
+from ngwear.results.history_csv import bare
 from ngwear.results.recording import Recording
-from ngwear.results.table import bare
 from ngwear.runs import loop
 from ngwear.runs.heating import Heating
 

@@ -12,8 +12,8 @@ from conftest import ROOT
 from scipy.spatial import cKDTree
 
 import ngwear
-from ngwear.model.geometry import mesh_key
 from ngwear.model.scene import Scene, SceneError
+from ngwear.model.scene_mesh import mesh_key
 from ngwear.numerics.discrete import Discretization
 
 PIN = {"name": "sphere", "units": "SI",

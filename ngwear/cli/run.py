@@ -12,7 +12,7 @@ from pathlib import Path
 
 from scipy.sparse.linalg import ArpackNoConvergence
 
-from ..model.meshing import Stopped
+from ..model.netgen_meshing import Stopped
 from ..model.scene import parse_override
 from ..results.checkpoint import saved_scene
 from ..results.folder import NoSpace, hold, no_space

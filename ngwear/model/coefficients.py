@@ -2,7 +2,7 @@
 
 ``contact.friction``, ``contact.wear`` and ``contact.stiffness`` each take a number, an expression in x, y, z
 (:mod:`ngwear.model.expressions`), or in Python an array with one value per contact point or a function
-``f(points) -> values`` (kept by token, :mod:`ngwear.model.functions`).  :func:`normalised` checks what it can
+``f(points) -> values`` (kept by token, :mod:`ngwear.model.function_tokens`).  :func:`normalised` checks what it can
 before the mesh exists (a number's range, an expression's syntax, an array's values); :func:`at_points`
 evaluates a coefficient at the contact points and checks every value against the key's range, naming the key
 and the first point that is off.
@@ -19,7 +19,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from . import expressions, functions
+from . import expressions, function_tokens
 from .keys import SceneError, range_text
 
 RANGES = {"friction": {"lo": 0}, "wear": {"lo": 0}, "stiffness": {"lo": 0, "lo_open": True}}
@@ -39,7 +39,7 @@ def normalised(value, name: str):
             raise SceneError(f"{key}: must be {rule} (got {value!r})")
         return float(value)
     if isinstance(value, str):
-        if not functions.is_token(value):
+        if not function_tokens.is_token(value):
             expressions.Expression.parse(value, key)
         return value
     try:
@@ -78,7 +78,7 @@ def state_of(value, name: str) -> frozenset[str]:
     """The names of the state (T, p, v) the coefficient ``contact.<name>`` depends on (empty: a field of x alone)."""
     if is_table(value):
         return frozenset({"T"})
-    if isinstance(value, str) and not functions.is_token(value):
+    if isinstance(value, str) and not function_tokens.is_token(value):
         return expressions.Expression.parse(value, f"contact.{name}").state
     return frozenset()
 
@@ -104,8 +104,8 @@ def at_points(value, name: str, points: np.ndarray, state: dict | None = None, t
         temperatures, values = np.array(value).T
         return expressions.check_values(key, np.interp(state["T"], temperatures, values), points, state=state, t=t,
                                         **bounds)
-    if isinstance(value, str) and functions.is_token(value):
-        value = functions.resolve(value, key)
+    if isinstance(value, str) and function_tokens.is_token(value):
+        value = function_tokens.resolve(value, key)
     return expressions.values_at(value, key, points, state if needed else None, t, **bounds)
 
 

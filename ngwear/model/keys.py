@@ -92,7 +92,7 @@ class Constant:
     It is a scene key of the law's table (``material.young``, ``contact.exponent``): ``name``, ``type``, ``doc``,
     ``default`` (None: optional), the :class:`Level` a change invalidates and its limits (pydantic's ``ge``, ``gt``,
     ``le``; ``shown`` and ``allowed`` as for :func:`key`); ``function``: in Python a function, kept by its token
-    (:mod:`ngwear.model.functions`); and how a summary shows it: ``symbol`` (None: not a number it lists) and
+    (:mod:`ngwear.model.function_tokens`); and how a summary shows it: ``symbol`` (None: not a number it lists) and
     ``modulus`` (a stiffness: Pa in an SI scene).
     """
 

@@ -3,7 +3,7 @@
 A :class:`Kind` holds everything that depends on the kind: its dimension, default size and named
 boundaries, the default clamping, the rules of its size and of the keys only it takes, its largest
 dimension (the bound of ``mesh.maxh``) and how its shape is built.  The built-in kinds register in
-:mod:`ngwear.model.shapes`, the part-file kinds in :mod:`ngwear.model.cad`; a new kind is one
+:mod:`ngwear.model.shapes`, the part-file kinds in :mod:`ngwear.model.user_parts`; a new kind is one
 :func:`register` call there.
 """
 from __future__ import annotations

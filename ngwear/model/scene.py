@@ -23,7 +23,7 @@ from typing import Any
 
 from pydantic import ConfigDict, PrivateAttr, ValidationError, model_validator
 
-from . import cad, examples, functions, messages, rules
+from . import examples, function_tokens, messages, rules, user_parts
 from .keys import MAX_ROWS, Level, SceneError, level_of
 from .kinds import KINDS
 from .materials import default_constants
@@ -149,13 +149,13 @@ class Scene(TopLevel):
     def signature(self, level: Level, by_content: bool = False) -> str:
         """The values of the keys declared at ``level``, as one string.
 
-        A part file stands for its content: by its path, size and mtime (:func:`~ngwear.model.cad.fingerprint`,
+        A part file stands for its content: by its path, size and mtime (:func:`~ngwear.model.user_parts.fingerprint`,
         cheap, for comparing scenes in one session), or ``by_content``, by its bytes' hash alone
-        (:func:`~ngwear.model.cad.content_hash`, for what outlives the file's place: the mesh cache).
+        (:func:`~ngwear.model.user_parts.content_hash`, for what outlives the file's place: the mesh cache).
         """
         values = {name: self.value(name) for name, info in declared_keys() if level_of(info) == level}
         if values.get("geometry.file") is not None:
-            identify = cad.content_hash if by_content else cad.fingerprint
+            identify = user_parts.content_hash if by_content else user_parts.fingerprint
             values["geometry.file"] = identify(values["geometry.file"])
         return json.dumps(values, sort_keys=True, default=list)
 
@@ -287,7 +287,7 @@ def _given(data: dict[str, Any]) -> dict[str, Any]:
     if isinstance(g, dict) and "shape" in g:
         _store_shape(g)                         # a netgen shape is no data to copy: its cached file is
     data = copy.deepcopy(data)
-    functions.tokenised(data)
+    function_tokens.tokenised(data)
     g = data.get("geometry", {})
     if isinstance(g, dict) and isinstance(g.get("file"), str) and g["file"]:
         g["file"] = str(Path(g["file"]).expanduser().resolve())
@@ -372,18 +372,18 @@ def _default(data: dict, section: str, name: str, value: Any) -> None:
 def _store_shape(g: dict) -> None:
     """``geometry.shape`` (a netgen.occ shape or a mesh, Python only) becomes a cached part file."""
     try:
-        g["kind"], g["file"] = cad.store(g.pop("shape"))
-    except cad.PartError as err:
+        g["kind"], g["file"] = user_parts.store(g.pop("shape"))
+    except user_parts.PartError as err:
         raise SceneError(str(err)) from None
     g.pop("size", None)
 
 
-def _part(g: dict) -> cad.Part:
+def _part(g: dict) -> user_parts.Part:
     """The part file of a raw ``[geometry]`` table, read (its path resolved): one line naming geometry.file if not."""
     file = g.get("file")
     if not isinstance(file, str) or not file:
         raise SceneError(f"geometry.file: must name a file for geometry.kind = {g['kind']!r} (got {file!r})")
     try:
-        return cad.describe(g["file"], g["kind"])
-    except cad.PartError as err:
+        return user_parts.describe(g["file"], g["kind"])
+    except user_parts.PartError as err:
         raise SceneError(f"geometry.file: {err}") from None

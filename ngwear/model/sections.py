@@ -14,7 +14,7 @@ from typing import Literal, get_args, get_origin
 
 from pydantic import Field, create_model, field_validator
 
-from . import cad, shapes  # noqa: F401 - they register the part kinds
+from . import shapes, user_parts  # noqa: F401 - they register the part kinds
 from .coefficients import normalised
 from .compliance import COMPLIANCES
 from .controls import Output, SolverSpec, TimeGrid, WearSpec
@@ -42,7 +42,7 @@ class TopLevel(Section):
 
 
 class Geometry(Section):
-    """Body shape: a built-in kind with its ``size``, or the user's part from ``file`` (see :mod:`ngwear.model.cad`)."""
+    """Body shape: a built-in kind with its ``size``, or the user's part from ``file`` (:mod:`ngwear.model.user_parts`)."""
 
     kind: KindName = key("strip", "; ".join(k.doc for k in ordered()), reuse=Level.MESH)
     size: Vector | None = key(None, ", ".join(k.size_doc for k in ordered() if k.size) + "; not for files",
@@ -66,9 +66,9 @@ class Geometry(Section):
                                  "`interface`", reuse=Level.MESH, shown="none", allowed="> 0", gt=0)
 
     @property
-    def part(self) -> cad.Part | None:
+    def part(self) -> user_parts.Part | None:
         """The part file's dimension, boundaries and extent (None for the built-in kinds; read before validation)."""
-        return None if self.file is None else cad.describe(self.file, self.kind)
+        return None if self.file is None else user_parts.describe(self.file, self.kind)
 
     @property
     def dim(self) -> int:

@@ -18,12 +18,12 @@ import numpy as np
 
 from ..model.coefficients import at_points
 from ..model.compliance import compliance_from
-from ..model.geometry import build_mesh
 from ..model.keys import Level
 from ..model.materials import region_laws, young_along
 from ..model.scene import Scene
-from .bulk import Remainder, fixed_point
+from ..model.scene_mesh import build_mesh
 from .contact import Contact
+from .fixed_point import Remainder, fixed_point
 from .forms import contact_form
 from .operators import DENSE_LIMIT, SOFT_LIMIT
 from .pieces import Body, Condensation, Elastic, Loads
@@ -191,7 +191,7 @@ class Discretization:
         """Displacement DOF vector under the point forces f_c and the loads' factor s_F: u = s_F K⁻¹ f + D δ − K⁻¹ Pᵀ f_c.
 
         One back-substitution for a linear body (or ``nonlinear=False``: the part a step solver adds to); with a
-        nonlinear material the fixed point u = that − K⁻¹ n(u) (:mod:`ngwear.numerics.bulk`), solved to the
+        nonlinear material the fixed point u = that − K⁻¹ n(u) (:mod:`ngwear.numerics.fixed_point`), solved to the
         Newton tolerance.
         """
         solve = self.elastic.operator.solve

@@ -11,7 +11,7 @@ tangent at ε = 0 (the stiffness K₀ its step solver starts from): exact while 
 piecewise-linear law — for the compaction law the compressed one, where a pressed, heated layer is (a free,
 heated body of it would expand by (2η + 3λ + 3β)/(2η + 3λ) too much) — and to first order in the strain for
 ``energy`` (3D only).  The exact σ = F(ε(u) − ε_th) belongs in the bulk iteration's remainder
-(:mod:`ngwear.numerics.bulk`): K₀ u + n(u) = ℓ + f_th − (contact) with f_th as here and
+(:mod:`ngwear.numerics.fixed_point`): K₀ u + n(u) = ℓ + f_th − (contact) with f_th as here and
 n(u) = ∫ (F − C₀)(ε(u) − ε_th) : ε(v) dx, C₀ the tangent at ε = 0.
 """
 from __future__ import annotations

@@ -33,7 +33,7 @@ import scipy.sparse as sp
 from ngsolve.fem import NODE_TYPE
 
 from ..model.thermal import partition, region_properties
-from .counterface import counterface
+from .counterface_temperature import counterface
 from .pardiso import Pardiso
 from .stiffness import assembled
 
@@ -85,7 +85,7 @@ class Heat:
     power : float
         Q = Σ_i m_i q_i, the frictional power of the last step (body and counterface).
     counterface : Given or Lumped
-        The counterface's temperature (:mod:`ngwear.numerics.counterface`).
+        The counterface's temperature (:mod:`ngwear.numerics.counterface_temperature`).
     """
 
     def __init__(self, scene, mesh: ngs.Mesh, points):

@@ -14,10 +14,10 @@ from pathlib import Path
 import numpy as np
 
 from .folder import replacing
+from .history_csv import headed, write_history
 from .mesh_file import keep_mesh
 from .step_fields import DERIVED
 from .stops import QUANTITIES as STOP_QUANTITIES
-from .table import headed, write_history
 from .units import units
 
 

@@ -15,7 +15,7 @@ def checked_mesh(folder: Path, data, dim: int, key: str):
 
     Its SHA-256 must be ``data``'s ``mesh_sha256`` (which its reader checked is there).
     """
-    from ..model.geometry import load_mesh
+    from ..model.scene_mesh import load_mesh
 
     path = Path(folder) / "mesh.vol"
     if not path.is_file():

@@ -39,13 +39,13 @@ from ..numerics.systems.newton import NewtonRecord
 from .derived import QUANTITIES
 from .files import save
 from .folder import FolderError
+from .history_csv import to_dataframe
 from .mesh_file import saved_discretization
+from .newton_records import records_from_arrays, records_to_arrays
 from .provenance import canonical
-from .records import records_from_arrays, records_to_arrays
 from .step_fields import DERIVED, RECORDED
 from .stops import stop_table
 from .summary import summary
-from .table import to_dataframe
 
 ARRAYS = tuple(f.name for f in RECORDED if f.when is None)
 """The rows every run records (:data:`~ngwear.results.step_fields.RECORDED`; :func:`recorded`: those of a scene)."""
@@ -68,7 +68,7 @@ def _summary(result) -> dict:
 def _to_dataframe(result):
     """The run's per-step numbers, one row per step, as a pandas DataFrame: the table of ``history.csv``.
 
-    Its columns (:mod:`ngwear.results.table`): ``step``, ``times``, every per-step number (``torque``, …), the
+    Its columns (:mod:`ngwear.results.history_csv`): ``step``, ``times``, every per-step number (``torque``, …), the
     components of the short vectors, ``newton_iterations``, by their bare names (``history.csv`` heads them with their
     units in a scene in SI, ``torque [N m]``).
     """

@@ -5,7 +5,7 @@ output folder, :class:`~ngwear.results.recording.History`) and computes the fiel
 :class:`~ngwear.results.result.Result` property of the same name).  ``result.npz`` holds both, a checkpoint the
 recorded rows; the units of a scene in SI (:mod:`ngwear.results.units`) and the reference of the result files
 (``docs/reference/files.md``) read this table, and so does the table of every per-step number of a run: the fields
-whose shape per step is ``()`` and the components of the vectors (:mod:`ngwear.results.table`, ``history.csv``).
+whose shape per step is ``()`` and the components of the vectors (:mod:`ngwear.results.history_csv`, ``history.csv``).
 A new per-step field is one :class:`StepField` here, and the code that records or
 derives it.
 """

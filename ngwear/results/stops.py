@@ -46,7 +46,7 @@ QUANTITIES = {"start": "time", "energy": "energy", "torque": "torque", "friction
               "worn_volume": "volume", "worn_mass": "mass", "max_total_wear": "length",
               "min_remaining_thickness": "length", "taper_radial": "length", "taper_circumferential": "length",
               "taper_along": "length", **{c: "temperature" for c in COLUMNS if "temperature" in c}}
-"""The quantity of each column with a unit (``stops.csv``'s headers, :func:`ngwear.results.table.headed`)."""
+"""The quantity of each column with a unit (``stops.csv``'s headers, :func:`ngwear.results.history_csv.headed`)."""
 
 
 def _integral(values: np.ndarray, times: np.ndarray) -> float:

@@ -24,9 +24,9 @@ from pathlib import Path
 import numpy as np
 
 from ..model import plausibility
-from ..model.geometry import build_mesh
-from ..model.meshing import Stopped
+from ..model.netgen_meshing import Stopped
 from ..model.scene import Scene, SceneError
+from ..model.scene_mesh import build_mesh
 from ..numerics.contact import Instant
 from ..numerics.discrete import Discretization
 from ..numerics.systems import unknowns
@@ -74,7 +74,7 @@ def simulate(scene: Scene, *, discretization: Discretization | None = None, prog
         extend ``time.T``; ``None`` takes the checkpoint's scene.  Checkpoints go on in that folder.
     stop : threading.Event, optional
         When set, the run stops at the next step boundary with status ``interrupted``; during the set-up, after
-        the stage it is in (a large mesh at once), with :class:`~ngwear.model.meshing.Stopped`.
+        the stage it is in (a large mesh at once), with :class:`~ngwear.model.netgen_meshing.Stopped`.
     progress : bool
         Show the set-up's stages and the steps: a bar in a terminal or notebook, else log lines
         (``ngwear.progress`` at INFO, see :mod:`ngwear.runs.progress`).
@@ -214,7 +214,7 @@ class Stages:
     The set-up before the first step (minutes on large 3D meshes), the CLI's uniqueness check after the last.
 
     Stages already done (a reused discretization) are skipped; without ``show`` nothing is drawn.  A set ``stop``
-    ends the set-up after the stage it is in (meshing at once) with :class:`~ngwear.model.meshing.Stopped`.
+    ends the set-up after the stage it is in (meshing at once) with :class:`~ngwear.model.netgen_meshing.Stopped`.
     """
 
     def __init__(self, name: str, show: bool, stop=None):

@@ -11,9 +11,9 @@ run (the scene, the :class:`~ngwear.numerics.discrete.Discretization`) or a cach
 the compliance (:class:`~ngwear.numerics.wear.WearStep`), on the Newton system of :mod:`ngwear.numerics.systems`
 (dense, matrix-free or the full-system reference), from the last step's unknowns, and returns the new state: s = ν·u,
 p, λ, w, δ and the contact forces at the contact points.  A Newton failure
-is retried from a load continuation (cut-back).  For a body with a nonlinear law (:mod:`ngwear.numerics.bulk`) each
+is retried from a load continuation (cut-back).  For a body with a nonlinear law (:mod:`ngwear.numerics.fixed_point`) each
 step iterates u = G(u): the contact problem with the load f − n(u), the bulk recovered with one back-substitution,
-Anderson-mixed (:func:`~ngwear.numerics.bulk.fixed_point`), warm-started from the last two steps' u.
+Anderson-mixed (:func:`~ngwear.numerics.fixed_point.fixed_point`), warm-started from the last two steps' u.
 
 The cut-back does not change the scheme: it solves the same step's problem (wear law, v*) at the loads
 s_F = s_prev + θ (s_F(t) − s_prev), θ = 1/m … 1, each warm-starting the next, with m = 2, 4, 8; s_prev is the
@@ -28,8 +28,8 @@ import numpy as np
 
 from ..model.coefficients import Coefficients
 from ..numerics import systems
-from ..numerics.bulk import Remainder, fixed_point
 from ..numerics.contact import Instant
+from ..numerics.fixed_point import Remainder, fixed_point
 from ..numerics.systems import Caches, Drive
 from ..numerics.systems.newton import ConvergenceError, NewtonRecord, semismooth_newton
 from ..numerics.wear import WearStep
@@ -217,7 +217,7 @@ class _Bulk:
 def _bulk(disc, caches: StepCaches, state: State, drive: Drive, previous, t: float):
     """(x, λ, NewtonRecord, u) of a nonlinear body's step; ConvergenceError when it cannot be solved.
 
-    The fixed point u = G(u) of :mod:`ngwear.numerics.bulk`, from the last two steps' u extrapolated to t.  First at
+    The fixed point u = G(u) of :mod:`ngwear.numerics.fixed_point`, from the last two steps' u extrapolated to t.  First at
     most :data:`CHORD` Anderson-mixed images with the operator the last step left (the laws' tangent at its solution,
     or K₀): where little changed between steps they meet the tolerance with no factorisation.  Else Newton: the laws'
     tangent at the iterate and its image, :data:`NEWTON` times at most (3–4 from rest for the compaction law at

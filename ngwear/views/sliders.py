@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..model.functions import is_token
+from ..model.function_tokens import is_token
 from ..model.kinds import KINDS
 from ..model.materials import takes
 from ..model.scene import Scene, SceneError

@@ -40,7 +40,7 @@ class Energy(Law):
 
     @classmethod
     def of(cls, table, dim, direction, key):
-        from ..functions import resolve
+        from ..function_tokens import resolve
         return cls(resolve(table.energy, f"{key}.energy"), dim, key=key)
 
     @classmethod

@@ -6,7 +6,7 @@ of the classes of this package, which semismooth Newton (:mod:`.newton`) solves:
 Newton matrices kept while μ n* keeps its direction), matrix-free (:class:`.PatchSystem` on the contact patch with the
 compliance's columns kept for the run, or :class:`.KrylovSystem` with the products remembered for the run) or the full
 system (:class:`.FullSystem`).  What a run keeps between its steps on one operator K is one explicit
-:class:`Caches` object.  For a nonlinear body (:mod:`ngwear.numerics.bulk`) a step's contact problem is solved under
+:class:`Caches` object.  For a nonlinear body (:mod:`ngwear.numerics.fixed_point`) a step's contact problem is solved under
 the load f − n(u): :func:`shift` takes n(u) and moves the loads' normal displacements and the plate's load by
 N K⁻¹ n(u) and Dᵀ n(u).
 """

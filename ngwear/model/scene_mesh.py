@@ -1,6 +1,6 @@
 """Meshing a scene's body with Netgen, and the on-disk cache of meshes.
 
-The shapes come from the registry of part kinds (:mod:`ngwear.model.shapes`, :mod:`ngwear.model.cad`); the
+The shapes come from the registry of part kinds (:mod:`ngwear.model.shapes`, :mod:`ngwear.model.user_parts`); the
 body is the region ``body``, its contact face/edge ``contact``.  The soft layer is not meshed: it lives on
 the contact points (its compression and wear are nodal) and pictures draw it by offsetting Γ_C along ν.
 ``mesh.grading`` (Netgen's, default 0.3) slows the growth of the elements away from refined faces and from the
@@ -20,10 +20,10 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from .cad import cache_dir, read_mesh
 from .keys import Level, SceneError
 from .kinds import KINDS
-from .meshing import Stopped, check_size, generate, part
+from .netgen_meshing import Stopped, check_size, generate, part
+from .user_parts import cache_dir, read_mesh
 
 CACHE_VERSION = 5
 
@@ -57,7 +57,7 @@ def build_mesh(scene, use_cache: bool = True, stop: threading.Event | None = Non
     ``mesh.vol`` compute on the same numbers.  A part file's mesh must hang together where it is not held
     (:func:`_check_held`).  Before Netgen runs, the part's elements are estimated and refused beyond
     ``mesh.max_elements``; a large mesh is made in a child process that a set ``stop`` ends at once
-    (:mod:`ngwear.model.meshing`: :class:`~ngwear.model.meshing.Stopped`).
+    (:mod:`ngwear.model.netgen_meshing`: :class:`~ngwear.model.netgen_meshing.Stopped`).
     """
     mesh = _build_mesh(scene, use_cache, stop)
     if scene.geometry.file is not None:

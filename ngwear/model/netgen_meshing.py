@@ -108,6 +108,6 @@ def _mesh(shape, g, m, direction):
 
 def _generate(geometry, mesh, direction, path: str) -> None:
     """:func:`generate` in its child: build the part from the keys, mesh it, write the mesh file."""
-    from . import cad, shapes  # noqa: F401 - they register the kinds
+    from . import shapes, user_parts  # noqa: F401 - they register the kinds
 
     _mesh(part(geometry, mesh), geometry, mesh, direction).Save(path)
