@@ -10,7 +10,7 @@ import pytest
 import scipy.sparse as sp
 
 import ngwear
-from ngwear.numerics import pieces
+from ngwear.numerics import elastic
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.forms import elastic_integrand, tangent_form
 from ngwear.numerics.kink import Kink, kinked
@@ -92,7 +92,7 @@ def test_a_run_that_updates_agrees_with_one_that_refactorises(monkeypatch):
         monkeypatch.setattr(cls, "__init__", counted(cls.__init__, cls, built))
     updated = ngwear.simulate(scene, discretization=Discretization(scene, mesh), progress=False)
     assert built[UpdatedOperator] > built[ElasticOperator] > 1
-    monkeypatch.setattr(pieces, "LOW_RANK", -1)          # every tangent factorised
+    monkeypatch.setattr(elastic, "LOW_RANK", -1)          # every tangent factorised
     refactorised = ngwear.simulate(scene, discretization=Discretization(scene, mesh), progress=False)
     assert updated.status == refactorised.status == "completed"
     tolerance = 10 * scene.solver.tolerance

@@ -1,10 +1,10 @@
-"""The discrete problem of a scene: its pieces (:mod:`ngwear.numerics.pieces`) and their reuse across scenes.
+"""The discrete problem of a scene: its pieces (:mod:`.body`, :mod:`.elastic`, :mod:`.condensation`), reused.
 
-:class:`Discretization` holds a :class:`~ngwear.numerics.pieces.Body` (mesh, space, contact points), an
-:class:`~ngwear.numerics.pieces.Elastic` (stiffness, factorisation), a
-:class:`~ngwear.numerics.pieces.Condensation` (contact direction, compliance, plate),
-:class:`~ngwear.numerics.pieces.Loads` and a :class:`~ngwear.numerics.contact.Contact` (what the contact points read
-at each step: load factor, slip, coefficients, compliance law), one of each.  :meth:`Discretization.with_scene` keeps
+:class:`Discretization` holds a :class:`~ngwear.numerics.body.Body` (mesh, space, contact points), an
+:class:`~ngwear.numerics.elastic.Elastic` (stiffness, factorisation), a
+:class:`~ngwear.numerics.condensation.Condensation` (contact direction, compliance, plate),
+:class:`~ngwear.numerics.condensation.Loads` and a :class:`~ngwear.numerics.contact.Contact` (what the contact points
+read at each step: the motion, the coefficients, the laws), one of each.  :meth:`Discretization.with_scene` keeps
 every piece a scene change leaves valid, as the keys declare (:meth:`~ngwear.model.scene.Scene.changed_from`):
 friction, wear, gap, motion and time never invalidate anything.
 """
@@ -22,11 +22,13 @@ from ..model.keys import Level
 from ..model.materials import region_laws, young_along
 from ..model.scene import Scene
 from ..model.scene_mesh import build_mesh
+from .body import Body
+from .condensation import Condensation, Loads
 from .contact import Contact
+from .elastic import Elastic
 from .fixed_point import Remainder, fixed_point
 from .forms import contact_form
 from .operators import DENSE_LIMIT, SOFT_LIMIT
-from .pieces import Body, Condensation, Elastic, Loads
 
 CONTACT_SOLVES = ("auto", "dense", "krylov", "patch")
 BULK_RECOVERY = 500
@@ -147,7 +149,7 @@ class Discretization:
     def tangent(self, state: np.ndarray, columns: dict | None = None) -> Discretization:
         """The discretization with K the laws' tangent at the displacement ``state``.
 
-        A new factorisation, or an update of this one's (see :class:`~ngwear.numerics.pieces.Elastic`, ``columns``).
+        A new factorisation, or an update of this one's (see :class:`~ngwear.numerics.elastic.Elastic`, ``columns``).
         """
         elastic = Elastic(self.scene, self.body, self.elastic.schur, state, base=self.elastic, columns=columns)
         return Discretization(self.scene, contact_solve=self.contact_solve, body=self.body, elastic=elastic)

@@ -1,6 +1,6 @@
 """Nonlinear elasticity around few factorisations: F(u) = K u + n(u).
 
-F(u) = Σ_r ∫_r σ_r(ε(u)) : ε(v) dx are the body's internal forces (:meth:`~ngwear.numerics.pieces.Elastic.forces`:
+F(u) = Σ_r ∫_r σ_r(ε(u)) : ε(v) dx are the body's internal forces (:meth:`~ngwear.numerics.elastic.Elastic.forces`:
 NGSolve's ``Apply``, or for the compaction law sparse algebra, :mod:`~ngwear.numerics.kink`), K a
 factorised linear operator (K₀, the laws' tangent at ε = 0, or their tangent K_t at a recent state) and
 n(u) = F(u) − K u the remainder.  A step's problem F(u) + Pᵀ f_c(u) = f is today's condensed contact problem

@@ -1,6 +1,6 @@
 """The summary of a run: ``summary.json`` and what ``ngwear run`` prints, in three parts.
 
-The whole run (:func:`ngwear.results.run_summary.whole_run`: peaks and means of the torque, the friction force and
+The whole run (:func:`ngwear.results.whole_run.whole_run`: peaks and means of the torque, the friction force and
 the pressure, the dissipated energy, the worn volume and mass, when wear reached g, with the largest wear and
 penetration); the last step's values (:data:`LAST_STEP`); a part's life (the remaining thickness, geometry updates,
 stops) and the temperatures of a heated run; the solver's counts, times, ``materials`` (each region's law,
@@ -14,11 +14,11 @@ import numpy as np
 from ..model.programme import Schedule
 from .material_summary import region_materials
 from .metrics import per_block, stops_to_limit, thickness_range
-from .run_summary import QUANTITIES as RUN
-from .run_summary import whole_run
 from .step_fields import DERIVED
 from .stops import stop_table, tapers
 from .units import units
+from .whole_run import QUANTITIES as RUN
+from .whole_run import whole_run
 
 PART = tuple(f.name for f in DERIVED if not f.shape)
 """The derived per-step numbers of a part."""

@@ -8,8 +8,8 @@ m² and m, worn volumes Σ m_i w_i m³ and m².  :func:`units` maps the name of 
 """
 from __future__ import annotations
 
-from .run_summary import QUANTITIES as RUN
 from .step_fields import STEP_FIELDS
+from .whole_run import QUANTITIES as RUN
 
 QUANTITIES = {"length": ("m", "m"), "time": ("s", "s"), "pressure": ("Pa", "Pa"), "force": ("N", "N/m"),
               "torque": ("N·m", "N·m/m"), "area": ("m²", "m"), "volume": ("m³", "m²"),
