@@ -19,7 +19,7 @@ step (mean; median of the steps that compute no column), ratio (set-up + steps) 
 factor in the steps ("rhs": GCR's products, or the patch's columns) and the solves they took, and the largest
 difference between before and after relative to the largest value (wear, pressure, normal displacement).
 ``--crossover`` runs both matrix-free solves on the pin at 0.15 mm pressed harder and with flatter ends (the rigid
-body's patch from 8 % of Γ_C to all of it: "rigid share", ``numerics.problem.patch_share``; "touched": the share of the
+body's patch from 8 % of Γ_C to all of it: "rigid share", ``numerics.systems.patch_share``; "touched": the share of the
 points in contact at some step) and on the pad: the measured crossover behind ``PATCH_SHARE``.
 
 ``--profile`` counts, for GCR and the patch on the pins at 0.15, 0.1, 0.07 mm, step 0's and the later steps' Newton
@@ -68,11 +68,10 @@ def scene_of(case: str):
 def run_ngwear(case: str, mode: str, out: str) -> dict:
     import time
 
-    from ngwear.numerics.problem import Problem, patch_share
-
     import ngwear
     from ngwear.numerics.discrete import Discretization
-    from ngwear.runs import stepper
+    from ngwear.numerics.systems import patch_share
+    from ngwear.runs import loop
 
     scene = scene_of(case)
     mesh = C.mesh_for(scene)
@@ -90,16 +89,16 @@ def run_ngwear(case: str, mode: str, out: str) -> dict:
         return solve(rhs)
     disc.elastic.operator.solve = counted
     steps, chosen = [], {}
-    step = stepper.Stepper.solve
+    step = loop.advance
 
-    def timed(self, *args):
+    def timed(solved, caches, *args):
         wall, cpu, rhs = C.perf(), time.process_time(), solves["rhs"]
         try:
-            return step(self, *args)
+            return step(solved, caches, *args)
         finally:
             steps.append((C.perf() - wall, time.process_time() - cpu, solves["rhs"] - rhs))
-            chosen["path"] = ("patch" if self.problem.patch else "krylov") if disc.matrix_free else "dense"
-    stepper.Stepper.solve = timed
+            chosen["path"] = ("patch" if caches.base.caches.patch else "krylov") if disc.matrix_free else "dense"
+    loop.advance = timed
     wall, cpu = C.perf(), time.process_time()
     result = ngwear.simulate(scene, discretization=disc, progress=False)
     loop, loop_cpu = C.perf() - wall, time.process_time() - cpu
@@ -108,7 +107,7 @@ def run_ngwear(case: str, mode: str, out: str) -> dict:
     later = steps[1:]
     quiet = later[later[:, 2] == 0]
     return {"case": case, "mode": mode, "path": chosen.get("path"), "status": result.status,
-            "share": patch_share(Problem(disc)), "touched": float(np.logical_or.reduce(result.pressure > 0).mean()),
+            "share": patch_share(disc), "touched": float(np.logical_or.reduce(result.pressure > 0).mean()),
             "points": disc.points.n, "ndof": disc.fes.ndof, "setup_s": setup, "setup_cpu_s": setup_cpu,
             "first_s": steps[0, 0], "later_ms": 1e3 * later[:, 0].mean(), "later_cpu_ms": 1e3 * later[:, 1].mean(),
             "quiet_cpu_ms": 1e3 * np.median(quiet[:, 1]) if len(quiet) else None,
@@ -172,9 +171,10 @@ def run_profile(case: str, mode: str) -> dict:
     import time
 
     import ngwear
-    from ngwear.numerics import recycle, solver
+    from ngwear.numerics import recycle
     from ngwear.numerics.discrete import Discretization
-    from ngwear.runs import stepper
+    from ngwear.numerics.systems import condensed
+    from ngwear.runs import step as stepping
 
     scene = scene_of(case)
     disc = Discretization(scene, C.mesh_for(scene), contact_solve=mode)
@@ -182,7 +182,7 @@ def run_profile(case: str, mode: str) -> dict:
         build()
     count = {"solves": 0, "rhs": 0, "gcr": 0, "changes": 0, "active_changes": 0}
     solve, minimise, step, newton = (disc.elastic.operator.solve, recycle.Recycler._minimise,
-                                     solver.CondensedSystem.step, stepper.Stepper._newton)
+                                     condensed.CondensedSystem.step, stepping._newton)
     last, rows = {}, []
 
     def counted(rhs):
@@ -205,14 +205,14 @@ def run_profile(case: str, mode: str) -> dict:
         last["pattern"] = pattern
         return step(self, x, lam, active)
 
-    def timed(self, *args):
+    def timed(*args):
         before, cpu = dict(count), time.process_time()
-        out = newton(self, *args)
+        out = newton(*args)
         rows.append({"newton": out[2].iterations, "cpu_ms": 1e3 * (time.process_time() - cpu),
                      **{key: count[key] - before[key] for key in count}})
         return out
     disc.elastic.operator.solve, recycle.Recycler._minimise = counted, gcr
-    solver.CondensedSystem.step, stepper.Stepper._newton = stepped, timed
+    condensed.CondensedSystem.step, stepping._newton = stepped, timed
     profile = cProfile.Profile()
     wall = C.perf()
     profile.runcall(ngwear.simulate, scene, discretization=disc, progress=False)

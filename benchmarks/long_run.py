@@ -28,7 +28,7 @@ def run(steps: int) -> dict:
     import resource
 
     import ngwear
-    import ngwear.results.checkpoint as checkpoint_module
+    import ngwear.runs.loop as checkpoint_module  # where the run's checkpoints are written from
     from ngwear.numerics.discrete import Discretization
 
     scene = ngwear.load_scene(C.ROOT / "geometries" / "brake_pad.toml").replace(**{
@@ -37,7 +37,7 @@ def run(steps: int) -> dict:
     disc = Discretization(scene, C.mesh_for(scene))
     writes = []
     write = checkpoint_module.write_checkpoint
-    checkpoint_module.write_checkpoint = lambda folder, result: writes.append(C.timed(write, folder, result)[0])
+    checkpoint_module.write_checkpoint = lambda *args: writes.append(C.timed(write, *args)[0])
     with tempfile.TemporaryDirectory() as out:
         t0 = C.perf()
         result = ngwear.simulate(scene, discretization=disc, progress=False, checkpoint=out)

@@ -26,9 +26,11 @@ import common as C
 import numpy as np
 
 import ngwear
+from ngwear.numerics.contact import Instant
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.systems.newton import NewtonRecord
-from ngwear.results.recording import Recording, StepRecord
+from ngwear.results.recording import Recording
+from ngwear.runs.step import State
 
 STEP_COUNTS = (10, 100, 1000)
 THREADS = (1, 2)
@@ -65,11 +67,12 @@ def append_cost(disc, scene, steps: int) -> float:
     """Seconds of ``steps + 1`` Recording.append calls with arrays of this run's shapes."""
     n, d = disc.points.n, scene.dim
     recording = Recording.start(scene.replace(**{"time.steps": steps}), disc)
-    z, f, rec = np.zeros(n), np.zeros((n, d)), NewtonRecord()
+    z, f = np.zeros(n), np.zeros((n, d))
+    states = [State(z, z, disc.contact.coefficients, z, Instant(j * 1e-3, 1.0, 1.0), normal=z, pressure=z,
+                    plate=np.zeros(0), forces=f, record=NewtonRecord()) for j in range(steps + 1)]
     t = C.perf()
-    for j in range(steps + 1):
-        recording.append(StepRecord({"times": j * 1e-3, "wear": z, "normal_displacement": z, "pressure": z,
-                                     "reaction": z, "forces": f, "plate_displacement": np.zeros(0)}, rec))
+    for state in states:
+        recording.append(state)
     return C.perf() - t
 
 

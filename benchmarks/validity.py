@@ -15,9 +15,11 @@ from unittest import mock
 import common as C
 
 import ngwear
+from ngwear.numerics.contact import Instant
 from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.strain import segments
 from ngwear.runs import validity
+from ngwear.runs.step import State
 
 STEPS = 150
 
@@ -25,7 +27,7 @@ STEPS = 150
 class Off:
     """The checks replaced by nothing (the loop without them)."""
 
-    def __init__(self, result):
+    def __init__(self, result, disc):
         pass
 
     def __call__(self, *args):
@@ -50,16 +52,18 @@ def main():
         def run(off: bool):
             if not off:
                 return ngwear.simulate(scene, discretization=disc, progress=False)
-            with mock.patch("ngwear.runs.simulate.Validity", Off):
+            with mock.patch("ngwear.runs.loop.Validity", Off):
                 return ngwear.simulate(scene, discretization=disc, progress=False)
 
         times, outs = C.interleaved({"on": lambda: run(False), "off": lambda: run(True)}, args.reps)
         result = outs["on"]
-        check = validity.Validity(result)
+        check = validity.Validity(result, result.discretization)
+        states = [State(None, None, None, result.wear[j], Instant(t, 1.0, 1.0), normal=result.normal_displacement[j],
+                        plate=result.plate_displacement[j], steps=j) for j, t in enumerate(result.times)]
 
         def checks():
-            for j, t in enumerate(result.times):
-                check(j, t, result.normal_displacement[j], result.plate_displacement[j], result.wear[j])
+            for state in states:
+                check(state)
 
         alone = C.median([C.timed(checks)[0] for _ in range(5)]) / (result.steps + 1)
         on, off = C.median(times["on"]) / STEPS, C.median(times["off"]) / STEPS

@@ -1,6 +1,6 @@
 """A part's life in the time loop: programmes run stop by stop, stops.csv, wear.limit, cycle jumps, resume.
 
-A programme's stops drive the run through their factors (``ngwear.runs.life``); these tests check what a run of one
+A programme's stops drive the run through their factors (``ngwear.runs.stop_clock``); these tests check what a run of one
 must satisfy: one stop at constant factors is the plain run; a dwell wears nothing; the stops of a block are one
 problem; with the trapezoidal rule each stop's worn volume is κ/μ times the energy it dissipates (Archard against
 the friction power, the same rule on the same rows); ``wear.limit`` ends a run as worn out where the remaining
