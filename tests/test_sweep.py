@@ -20,6 +20,7 @@ from conftest import PAPER, ROOT
 from threadpoolctl import threadpool_limits
 
 import ngwear
+from ngwear.results.history_csv import bare
 from ngwear.studies.outputs import OUTPUTS, outputs
 from ngwear.studies.study import load_study
 
@@ -64,7 +65,7 @@ def test_local_cluster_grid_study(local):
     assert table.worker.nunique() == 2 and summary["workers"] == 2 and summary["groups"] == 1
     assert summary["factorisations"] == table.factorised.sum() == 2, "one per worker for the one mesh/material"
     pd.testing.assert_frame_equal(pd.read_parquet(out / "results.parquet"), table)
-    assert pd.read_csv(out / "results.csv").worn_volume.tolist() == table.worn_volume.tolist()
+    assert pd.read_csv(out / "results.csv").rename(columns=bare).worn_volume.tolist() == table.worn_volume.tolist()
     plots = sorted(p.name for p in (out / "plots").glob("*.png"))
     assert plots == ["contact.friction.png", "contact.wear.png", "heat_map.png"]
     assert json.loads((out / "summary.json").read_text()) == summary

@@ -52,11 +52,13 @@ from ..child import Child, ChildError
 from ..model.keys import Level
 from ..model.scene import SceneError
 from ..results.folder import hold, remove, replacing
+from ..results.history_csv import headed
 from ..results.provenance import COLUMNS as PROVENANCE
 from ..results.provenance import columns
 from ..runs.progress import bar as progress_bar
 from ..runs.simulate import simulate
 from .outputs import OUTPUTS, outputs
+from .outputs import QUANTITIES as OUTPUT_QUANTITIES
 from .study import Case, Study, StudyError, load_study, study_from_dict
 
 RETRIES = 2
@@ -386,8 +388,8 @@ def _write(out: Path, study: Study, table: pd.DataFrame) -> None:
 
     with replacing(out / "results.parquet") as tmp:
         table.to_parquet(tmp, index=False)
-    with replacing(out / "results.csv") as tmp:
-        table.to_csv(tmp, index=False)
+    with replacing(out / "results.csv") as tmp:          # headed by the rule of every CSV: name [unit]
+        headed(study.base, table, OUTPUT_QUANTITIES).to_csv(tmp, index=False)
     for key in study.varied:
         against(table, key, [k for k in study.varied if k != key], study.outputs, out / "plots" / f"{key}.png")
     if len(study.varied) == 2 and study.grid == study.varied:
