@@ -7,6 +7,8 @@
   meaning (the per-step fields': their declarations, :mod:`ngwear.results.step_fields`).  The keys are those of
   files really written by a small run at build time; a key the code writes that :data:`MEANING` does not explain,
   or one it explains that the code no longer writes, fails the build.
+* ``{contact-fields} contact_stepNNN.vtu`` — the point fields of the contact file, from their declarations
+  (:data:`ngwear.results.contact_file.CONTACT_FIELDS`), with their SI units (:mod:`ngwear.results.units`).
 * :func:`cli_parser` — ``ngwear``'s argument parser for sphinx-argparse, its plain help texts (read in a terminal)
   turned into reST.
 
@@ -223,6 +225,18 @@ def result_key_table(name: str) -> str:
     return "\n".join(lines)
 
 
+def contact_field_table(_name: str) -> str:
+    """The Markdown table of the contact file's point fields, as declared."""
+    from ngwear.results.contact_file import CONTACT_FIELDS
+    from ngwear.results.units import QUANTITIES
+
+    lines = ["| array | components | unit | what |", "|---|---|---|---|"]
+    for f in CONTACT_FIELDS:
+        unit = QUANTITIES[f.quantity][0] if f.quantity else "—"
+        lines.append(markdown_row((f"`{f.name}`", str(f.components), unit, f.doc + (" (with `heat`)" if f.heat else ""))))
+    return "\n".join(lines)
+
+
 def rest(text: str | None) -> str | None:
     """A help text in reST: `code` as a literal, and addresses (``tcp://host:8786``) literal too, not links."""
     if not text:
@@ -271,7 +285,12 @@ class ResultKeys(_Table):
     make = staticmethod(result_key_table)
 
 
+class ContactFields(_Table):
+    make = staticmethod(contact_field_table)
+
+
 def setup(app):
     app.add_directive("scene-keys", SceneKeys)
     app.add_directive("result-keys", ResultKeys)
+    app.add_directive("contact-fields", ContactFields)
     return {"parallel_read_safe": True, "parallel_write_safe": True}

@@ -26,8 +26,8 @@ CELL_TYPES = {(2, 1): 3, (2, 2): 21, (3, 1): 5, (3, 2): 22, (4, 1): 9, (4, 2): 2
 class ContactField:
     """One point field of the contact file: its name, quantity (:mod:`ngwear.results.units`), meaning and values.
 
-    ``values(result, step)``: an array (n,) or (n, d) at the contact points, the step's own (what it was solved with);
-    ``heat``: only in runs with a temperature.
+    ``values(result, step)``: an array (n,) or (n, d) at the contact points, the step's own (what it was solved with),
+    written with ``components`` (a vector padded to 3); ``heat``: only in runs with a temperature.
     """
 
     name: str
@@ -35,6 +35,7 @@ class ContactField:
     doc: str
     values: Callable
     heat: bool = False
+    components: int = 1
 
 
 def _displacement(result, step):
@@ -54,7 +55,8 @@ def _coefficient(row: str, fixed: str):
 
 
 CONTACT_FIELDS = (
-    ContactField("displacement", "length", "u (for ParaView's Warp By Vector, as the frame's)", _displacement),
+    ContactField("displacement", "length", "u (for ParaView's Warp By Vector, as the frame's)", _displacement,
+                 components=3),
     ContactField("pressure", "pressure", "p, the compliance's pressure", lambda r, j: r.pressure[j]),
     ContactField("reaction", "pressure", "λ, the rigid reaction where u_ν − d₀ = g", lambda r, j: r.reaction[j]),
     ContactField("wear", "length", "w, the layer's wear (since the last geometry update in `\"surface\"` runs)",
