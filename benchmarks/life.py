@@ -25,7 +25,7 @@ import time
 from common import ROOT, blas_limit, elastic_reference, machine_lines, mesh_for, parser, print_table, write_csv
 
 import ngwear
-from ngwear.runs import life
+from ngwear.runs import surface
 
 SCENE = ROOT / "geometries" / "brake_pad_life.toml"
 
@@ -42,16 +42,16 @@ def scene(quick: bool, jump: bool, maxh: float | None = None):
 def child(mode: str, quick: bool, maxh: float | None) -> dict:
     """One run in this process: its numbers as a dict (printed as JSON)."""
     spent = []
-    apply = life.Surface.apply
+    update = surface.Surface.update
 
-    def timed_apply(self, *args):
+    def timed_update(self, *args):
         began = time.perf_counter()
         try:
-            return apply(self, *args)
+            return update(self, *args)
         finally:
             spent.append(time.perf_counter() - began)
 
-    life.Surface.apply = timed_apply
+    surface.Surface.update = timed_update
     run = scene(quick, mode == "jumps", maxh)
     began = time.perf_counter()
     result = ngwear.simulate(run, progress=False)

@@ -82,7 +82,7 @@ def png_files(block, block_vars, gallery_conf) -> str:
 
 def thumbnails(app) -> None:
     """After Sphinx-Gallery made them (``builder-inited``): thumbnails of ngwear's pictures show the picture's frame."""
-    from ngwear.views.render import FRAME
+    from ngwear.views.camera import FRAME
 
     width, height = app.config.sphinx_gallery_conf["thumbnail_size"]
     for picture in sorted(_framed):
