@@ -13,7 +13,6 @@ from conftest import PAPER
 import ngwear
 from ngwear.results.checkpoint import CHECKPOINT
 from ngwear.results.folder import FolderError
-from ngwear.results.mesh_file import save_mesh
 from ngwear.results.recording import History
 from ngwear.results.result import ARRAYS
 
@@ -117,7 +116,7 @@ def test_a_checkpoint_holding_its_rows_is_refused(tmp_path):
     x, lam, step = (part.continuation[key] for key in ("x", "lam", "step"))
     np.savez(tmp_path / CHECKPOINT, **part.arrays(), x=x, lam=lam, step=np.array(step),
              scene=np.array(json.dumps(part.scene.to_dict())))
-    save_mesh(part.discretization.mesh, tmp_path)
+    part.discretization.mesh.ngmesh.Save(str(tmp_path / "mesh.vol"))
     with pytest.raises(FolderError, match=rf"^resume: {re.escape(str(tmp_path / CHECKPOINT))} is damaged or not a "
                                           r"checkpoint of ngwear \(no rows, history, checksums, mesh_sha256\)$"):
         ngwear.simulate(small(**{"time.T": 2.0, "time.steps": 80}), progress=False, resume=tmp_path)

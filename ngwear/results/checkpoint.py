@@ -23,7 +23,7 @@ import numpy as np
 
 from ..model.scene import Scene, SceneError
 from .folder import FolderError, replacing
-from .mesh_file import checked_mesh, keep_mesh
+from .mesh_file import checked_mesh, kept_mesh
 from .recording import PREFIX, History, Recording, remove_others
 from .result import HEADER, Result, from_arrays, row_shapes
 
@@ -48,9 +48,8 @@ def write_checkpoint(folder, result: Result, recording: Recording | None = None,
     folder, history, rows = Path(folder), recording.history, len(result.times)
     if not history.is_in(folder):
         history = history.moved(folder, rows)
-    mesh = keep_mesh(result, folder)
     history.flush()
-    with replacing(folder / CHECKPOINT) as tmp:
+    with kept_mesh(result, folder) as mesh, replacing(folder / CHECKPOINT) as tmp:
         np.savez(tmp, **result.header(), **continuation, **_temperatures(result), **_moved(result),
                  rows=np.array(rows), history=np.array(history.folder.name),
                  checksums=np.array(json.dumps(history.checksums(rows))), mesh_sha256=np.array(mesh),

@@ -9,13 +9,14 @@ then renamed, so that an interrupt never leaves half a file; :func:`~ngwear.resu
 from __future__ import annotations
 
 import json
+from contextlib import ExitStack
 from pathlib import Path
 
 import numpy as np
 
 from .folder import replacing
 from .history_csv import headed, write_history
-from .mesh_file import keep_mesh
+from .mesh_file import kept_mesh
 from .step_fields import DERIVED
 from .stops import QUANTITIES as STOP_QUANTITIES
 from .units import units
@@ -27,15 +28,17 @@ def save(result, directory) -> Path:
     out.mkdir(parents=True, exist_ok=True)
     steps = result.stored_steps
     fields = np.array([result.displacement(s) for s in steps]) if result.discretization else np.zeros((0, 0))
-    mesh = {"mesh_sha256": np.array(keep_mesh(result, out))} if result.discretization is not None else {}
     arrays = {**result.arrays(), **{f.name: getattr(result, f.name) for f in DERIVED},
-              "field_steps": np.array(steps, dtype=int), "fields": fields, **mesh, **_temperature_fields(result, steps)}
+              "field_steps": np.array(steps, dtype=int), "fields": fields, **_temperature_fields(result, steps)}
     if result.discretization is not None:                 # the worn body of each frame ("surface")
         arrays["frame_coordinates"] = (np.array([result.body_coordinates(s) for s in steps]) if result.geometry_updates
                                        else np.zeros((0, 0, result.scene.dim)))
     if result.scene.units:
         arrays["units"] = np.array(json.dumps(units(result.scene, arrays), ensure_ascii=False))
-    with replacing(out / "result.npz") as tmp:
+    with ExitStack() as written:
+        if result.discretization is not None:              # result.npz names its mesh by its SHA-256
+            arrays["mesh_sha256"] = np.array(written.enter_context(kept_mesh(result, out)))
+        tmp = written.enter_context(replacing(out / "result.npz"))
         np.savez(tmp, **arrays)                 # not compressed: zlib costs far more time than it saves space
 
     with replacing(out / "scene.json") as tmp:

@@ -149,8 +149,8 @@ def _take(folder: Path, key: str):
 LEFTOVERS = re.compile(r"^(\..+\.\d+(\.[0-9a-f]{8})?\.tmp(\.\w+)?|\.fields-\w+)$")
 """What a run killed outright (SIGKILL) leaves: ``.result.<pid>.tmp.npz`` (and ``.<name>.<pid>.<random>.tmp.<ext>``,
 :func:`replacing`'s), ``.fields-<random>/`` (the frames being written)."""
-OUTPUTS = ("result.npz", "scene.json", "summary.json", "history.csv", "checkpoint.npz", "mesh.vol", "fields.pvd",
-           "fields_step*.vtu", "contact_step*.vtu",
+OUTPUTS = ("result.npz", "scene.json", "summary.json", "history.csv", "checkpoint.npz", "mesh.vol", "mesh.next.vol",
+           "fields.pvd", "fields_step*.vtu", "contact_step*.vtu",
            "steps-*", "fig*_step*.png", "wear.png", "pressure.png", "history.png", "contact_maps.png", "regions.png",
            "coefficients.png", "pressure_radius.png", "life.png")
 """The files (and folders) of a run in its output folder (see the reference of the result files)."""

@@ -1,50 +1,69 @@
-"""The run's mesh beside its results: ``mesh.vol``, written atomically, trusted only once it is seen to be theirs.
+"""The run's mesh beside its results: ``mesh.vol``, written so that every file of the folder finds its own mesh.
 
 A result file keeps the SHA-256 of the mesh it was computed on (``mesh_sha256``); :func:`checked_mesh` compares
-it before NGSolve reads the file.
+it before NGSolve reads the file.  A new mesh (a geometry update's) is written as ``mesh.next.vol`` and takes the
+name ``mesh.vol`` only once the file that refers to it has been renamed into place (:func:`kept_mesh`): at every
+instant — a full disk or a kill between any two writes — each file of the folder refers to a mesh the folder holds.
 """
 from __future__ import annotations
 
+import os
+from contextlib import contextmanager
 from pathlib import Path
 
 from .folder import FolderError, digest, replacing
 
+MESH, NEXT = "mesh.vol", "mesh.next.vol"
+
 
 def checked_mesh(folder: Path, data, dim: int, key: str):
-    """The folder's ``mesh.vol`` once it is seen to be the mesh ``data`` was computed on (else a FolderError).
+    """The folder's mesh that ``data`` was computed on (its ``mesh_sha256``), else a FolderError.
 
-    Its SHA-256 must be ``data``'s ``mesh_sha256`` (which its reader checked is there).
+    ``mesh.vol``, or ``mesh.next.vol`` where a run stopped between writing the file that refers to it and renaming
+    it: then it becomes ``mesh.vol`` (the folder is held by the caller).
     """
     from ..model.scene_mesh import load_mesh
 
-    path = Path(folder) / "mesh.vol"
-    if not path.is_file():
+    folder = Path(folder)
+    path, pending = folder / MESH, folder / NEXT
+    if not path.is_file() and not pending.is_file():
         raise FolderError(key, f"{folder} holds no mesh.vol (the mesh its results were computed on)")
-    if digest(path) != str(data["mesh_sha256"]):
+    wanted = str(data["mesh_sha256"])
+    if pending.is_file() and digest(pending) == wanted:
+        os.replace(pending, path)
+    elif not path.is_file() or digest(path) != wanted:
         raise FolderError(key, f"{path} is not the mesh its results were computed on (its SHA-256 differs: "
                                "replaced or damaged)")
     return load_mesh(path, dim)
 
 
-def keep_mesh(result, folder) -> str:
-    """Write the result's mesh as ``mesh.vol`` in ``folder`` unless it is there already; its SHA-256."""
-    path = Path(folder) / "mesh.vol"
-    if result.mesh_digest is None or not path.is_file() or digest(path) != result.mesh_digest:
-        save_mesh(result.discretization.mesh, Path(folder))
-        result.mesh_digest = digest(path)
-    return result.mesh_digest
+@contextmanager
+def kept_mesh(result, folder):
+    """``with kept_mesh(result, folder) as sha:`` write the file that refers to the result's mesh by ``sha``.
 
-
-def save_mesh(mesh, folder: Path) -> Path:
-    """The run's mesh as ``mesh.vol`` in ``folder`` (atomically); the mesh a resumed run reads."""
-    with replacing(Path(folder) / "mesh.vol") as tmp:
-        mesh.ngmesh.Save(str(tmp))
-    return Path(folder) / "mesh.vol"
+    The mesh is written unless ``mesh.vol`` is it already: as ``mesh.next.vol``, renamed onto ``mesh.vol`` after the
+    block; if the block fails, ``mesh.next.vol`` goes and ``mesh.vol`` stays the mesh of the files written before.
+    """
+    folder = Path(folder)
+    path, pending = folder / MESH, folder / NEXT
+    if result.mesh_digest is not None and path.is_file() and digest(path) == result.mesh_digest:
+        yield result.mesh_digest
+        return
+    try:
+        with replacing(pending) as tmp:
+            result.discretization.mesh.ngmesh.Save(str(tmp))
+        sha = digest(pending)
+        yield sha
+    except BaseException:
+        pending.unlink(missing_ok=True)
+        raise
+    os.replace(pending, path)
+    result.mesh_digest = sha
 
 
 def saved_discretization(scene, folder: Path, data):
     """The discretization of a saved run on the mesh of its folder (None without one)."""
-    if not (folder / "mesh.vol").is_file():
+    if not (folder / MESH).is_file() and not (folder / NEXT).is_file():
         return None
     from ..numerics.discrete import Discretization
     return Discretization(scene, checked_mesh(folder, data, scene.dim, "directory"))

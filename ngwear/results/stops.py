@@ -121,7 +121,8 @@ def stop_table(result, taper: bool = True):
     if not len(order):
         shown = tapers(result, result.thickness) if taper else {}
         table = pd.DataFrame(columns=[c for c in COLUMNS if c not in ("stop", "block", "start", "worn_mass") and
-                                      (heated or "temperature" not in c) and (c not in TAPERS or c in shown)])
+                                      (heated or "temperature" not in c) and (c not in TAPERS or c in shown)],
+                             index=pd.Index([], name="stop", dtype=int))
     table.insert(0, "block", schedule.block[order])
     table.insert(1, "start", schedule.start[order])
     if density is not None:

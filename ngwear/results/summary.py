@@ -31,23 +31,14 @@ LAST_STEP = (*LAST, "plate_displacement", "contact_fraction", "active_fraction")
 def summary(result) -> dict:
     """Key numbers of ``result`` (a :class:`~ngwear.results.result.Result`), in the order ``ngwear run`` prints."""
     its = [r.iterations for r in result.newton if r.converged]
-    # the paper's "penetration": how far Γ_C has moved into the layer, u_ν − d₀ ≤ g
-    pen = result.penetration if len(result.times) else np.zeros((1, 1))
-    stepped = len(result.times) > 0
-    last = {name: float(getattr(result, name)[-1]) + 0.0 if stepped else 0.0 for name in LAST}
-    if result.plate_displacement.shape[1] and stepped:
-        last["plate_displacement"] = float(result.plate_displacement[-1, 0]) + 0.0
-    last["contact_fraction"] = float((result.pressure[-1] > 0).mean()) if stepped else 0.0
-    last["active_fraction"] = float((result.reaction[-1] > 0).mean()) if stepped else 0.0
     out = {
         "status": result.status,
         "steps": result.steps,
         "contact_points": len(result.weights),
         **whole_run(result),
-        "max_wear": float(result.max_wear.max(initial=0.0)),
-        "max_penetration": float(pen.max(initial=0.0)),
+        **_extremes(result),
         "gap": result.scene.contact.gap,
-        **last,
+        **_last_step(result),
         **({"rejected_steps": result.rejected} if result.scene.time.adaptive else {}),
         **life_metrics(result),
         **heat_extremes(result),
@@ -63,6 +54,25 @@ def summary(result) -> dict:
         out["units"] = units(result.scene, [name for name, value in out.items() if isinstance(value, float)
                                             or name == "gap_reached_at"])
     return out
+
+
+def _extremes(result) -> dict[str, float]:
+    """The largest total wear and penetration u_ν − d₀ (how far Γ_C moved into the layer) of the run; no steps: {}."""
+    if not len(result.times):
+        return {}
+    return {"max_wear": float(result.max_wear.max()), "max_penetration": float(result.penetration.max())}
+
+
+def _last_step(result) -> dict[str, float]:
+    """:data:`LAST_STEP` of the last step (a signed zero as 0); no steps: {} (nothing computed, nothing to report)."""
+    if not len(result.times):
+        return {}
+    last = {name: float(getattr(result, name)[-1]) + 0.0 for name in LAST}
+    if result.plate_displacement.shape[1]:
+        last["plate_displacement"] = float(result.plate_displacement[-1, 0]) + 0.0
+    last["contact_fraction"] = float((result.pressure[-1] > 0).mean())
+    last["active_fraction"] = float((result.reaction[-1] > 0).mean())
+    return last
 
 
 def life_metrics(result) -> dict:

@@ -185,7 +185,7 @@ class Run:
         if isinstance(err, ArithmeticError):
             self.recording.fail(f"step {j} (t = {t:.4g}): non-finite solution", err.args[0])
         else:
-            self.recording.fail(f"step {j} (t = {t:.4g}): {err}; {remedy(self.scene, err.record)}", err.record)
+            self.recording.fail(f"step {j} (t = {t:.4g}): {err}; {remedy(self.scene, err.record, j)}", err.record)
 
 
 def run(loop: Run) -> None:
@@ -201,13 +201,19 @@ def run(loop: Run) -> None:
             return
 
 
-def remedy(scene, record) -> str:
-    """What to try after a Newton failure, from the failure's history."""
+def remedy(scene, record, step: int) -> str:
+    """What to try after a Newton failure of ``step``, from the failure's history.
+
+    Smaller steps help from step 1 on (step 0 is the contact problem at t = 0, before any wear): more
+    ``time.steps``, or ``programme.steps_per_stop`` in a programme, which sets the steps.
+    """
     last = record.residuals[-1] if record.residuals else np.inf
     if np.isfinite(last) and last < 1e3 * scene.solver.tolerance:
         return f"the merit stalled at round-off: raise solver.tolerance above {last:.1e}"
-    tips = [f"more time.steps (now {scene.time.steps})",
-            f"solver.max_iterations > {scene.solver.max_iterations}"]
+    programme = scene.programme
+    steps = ([] if step == 0 else [f"more time.steps (now {scene.time.steps})"] if programme is None else
+             [f"more programme.steps_per_stop (now {programme.steps_per_stop})"])
+    tips = [*steps, f"solver.max_iterations > {scene.solver.max_iterations}"]
     if bound(scene.contact.friction) != 0:
         tips.append(f"a smaller contact.friction (μ = {describe(scene.contact.friction)} may exceed the smallness "
                     f"bound (H_S): see `ngwear verify`)")
