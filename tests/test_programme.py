@@ -4,13 +4,17 @@ The schedule of blocks of identical stops: the stops' start times (a block's sto
 time, to the bit), T and the steps, the factors s_v, s_F on each stop's grid and by time, and their
 piecewise-linear tables read by :func:`~ngwear.model.keys.piecewise_linear` as the scene's time tables are.
 """
+import math
+import os
+import re
+
 import numpy as np
 import pytest
 from conftest import PAPER
 
 import ngwear
 from ngwear.model.keys import piecewise_linear
-from ngwear.model.programme import Schedule
+from ngwear.model.programme import Schedule, exact_prefix_sums
 from ngwear.model.scene import SceneError, parse_override
 
 BLOCKS = [{"count": 3, "duration": 5.0, "speed": [1.0, 0.0], "dwell": 2.0},
@@ -142,6 +146,63 @@ def test_bad_programme_files_are_one_line(tmp_path, text, fragment):
 def test_a_missing_file_is_one_line(tmp_path):
     with pytest.raises(SceneError, match=r"^programme.file: cannot read .*none.csv"):
         strip(file=str(tmp_path / "none.csv"))
+
+
+@pytest.mark.parametrize("path", ["/dev/zero", "/dev/urandom", "fifo"])
+def test_a_programme_file_is_a_regular_file_or_refused_at_once(tmp_path, path):
+    """A device is never read (it would read gigabytes before a MemoryError) and a FIFO never waited on."""
+    if path == "fifo":
+        path = tmp_path / "fifo"
+        os.mkfifo(path)
+    with pytest.raises(SceneError, match=rf"^programme.file: {re.escape(str(path))} is not a regular file \(a CSV "
+                                         r"file of the blocks\)$"):
+        strip(file=str(path))
+
+
+def test_a_file_larger_than_the_bound_is_read_no_further(tmp_path, monkeypatch):
+    from ngwear.model import programme
+    monkeypatch.setattr(programme, "MAX_BYTES", 64)
+    (tmp_path / "p.csv").write_text(CSV + "5,1.0,1.0,1.0,0.0\n" * 10)
+    with pytest.raises(SceneError, match=r"^programme.file: p.csv is larger than 0 MB$"):
+        strip(file=str(tmp_path / "p.csv"))
+
+
+def test_a_spreadsheets_utf8_csv_with_its_byte_order_mark_is_read(scene, tmp_path):
+    (tmp_path / "p.csv").write_bytes(b"\xef\xbb\xbf" + CSV.encode())
+    assert strip(file=str(tmp_path / "p.csv"), steps_per_stop=4).programme.blocks == scene.programme.blocks
+
+
+def test_the_start_times_are_the_exactly_rounded_sums_of_the_periods_before():
+    """T_b = fsum of the earlier blocks' n (d + D), in one pass (the set-up is linear in the blocks)."""
+    rng = np.random.default_rng(7)
+    periods = list(rng.uniform(0.01, 100.0, 500) * 10.0 ** rng.integers(-8, 8, 500))
+    assert np.array_equal(exact_prefix_sums(periods), [math.fsum(periods[:i]) for i in range(len(periods))])
+
+
+def test_a_programme_file_is_read_once_per_scene(tmp_path, monkeypatch):
+    from ngwear.model import programme
+    (tmp_path / "p.csv").write_text(CSV)
+    reads, read = [], programme.read_rows
+    monkeypatch.setattr(programme, "read_rows", lambda path: reads.append(path) or read(path))
+    loaded = strip(file=str(tmp_path / "p.csv"), steps_per_stop=4)
+    Schedule.of(loaded.programme), loaded.programme.blocks, loaded.programme.count
+    assert len(reads) <= 1          # none when the same unchanged file was read before
+
+
+@pytest.mark.parametrize("loads, factor", [({"plate": {"boundary": "top", "force": [0.0, -1e300]}}, None),
+                                           ({"traction": {"top": [0.0, -1e145]}}, 1e10)])
+def test_loads_that_overflow_are_refused_before_the_run(loads, factor):
+    data = ngwear.load_scene(PAPER).to_dict()
+    data.pop("time")
+    data["output"].pop("every")
+    data["loads"] = loads
+    if loads.get("plate"):
+        data["geometry"]["dirichlet"] = []
+    blocks = [{"count": 2, "duration": 1.0, "load": factor if factor else 1.0}]
+    with pytest.raises(SceneError, match=r"^loads\.(plate\.force|traction\.top): its largest component( times the "
+                                         r"largest load factor \(the programme, 1e\+10\))? is 1e\+\d+; must be <= "
+                                         r"1e\+150"):
+        ngwear.Scene.from_dict({**data, "programme": {"stops": blocks}})
 
 
 @pytest.mark.parametrize("changes, field", [

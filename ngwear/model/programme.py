@@ -29,13 +29,17 @@ from __future__ import annotations
 
 import csv
 import math
+import os
+import re
+import stat
 import tomllib
 from dataclasses import dataclass
-from functools import cached_property
+from fractions import Fraction
+from functools import cached_property, lru_cache
 from pathlib import Path
 
 import numpy as np
-from pydantic import ValidationError, field_validator, model_validator
+from pydantic import PrivateAttr, TypeAdapter, ValidationError, field_validator, model_validator
 
 from .keys import Flag, Level, Number, SceneError, Section, Whole, key
 from .messages import message
@@ -46,6 +50,29 @@ COLUMNS = ("count", "duration", "speed", "load", "dwell")
 REQUIRED = ("count", "duration")
 MAX_BYTES = 10_000_000
 """The largest programme file read (a million blocks of short rows)."""
+_DECIMAL = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
+_NUMBER, _INTEGER = re.compile(_DECIMAL), re.compile(r"[+-]?\d+")
+_PAIR = re.compile(rf"\[\s*({_DECIMAL})\s*,\s*({_DECIMAL})\s*\]")
+"""A decimal number, and [start, end] of two (``inf``, ``nan``, ``1_000`` and the rest go to TOML, which refuses or
+reads them)."""
+
+
+def read_blocks(path) -> tuple[Stop, ...]:
+    """The blocks of a programme's CSV file (:func:`read_rows`), each checked; read once while the file is unchanged."""
+    try:
+        info = os.stat(path)
+    except OSError as err:
+        raise SceneError(f"programme.file: cannot read {path} ({err})") from None
+    return _read_blocks(str(path), info.st_size, info.st_mtime_ns)
+
+
+@lru_cache(maxsize=4)
+def _read_blocks(path: str, _size: int, _mtime: int) -> tuple[Stop, ...]:
+    rows = read_rows(path)
+    try:                                    # all rows at once; the first bad one named by checking them one by one
+        return tuple(_BLOCKS.validate_python([row for _, row in rows]))
+    except ValidationError:
+        return tuple(block(row, f"programme.file: {where}") for where, row in rows)
 
 
 def read_rows(path) -> list[tuple[str, dict]]:
@@ -55,13 +82,7 @@ def read_rows(path) -> list[tuple[str, dict]]:
     value (a number, or ``[start, end]`` quoted); an empty cell takes the key's default.
     """
     path = Path(path)
-    try:
-        if path.stat().st_size > MAX_BYTES:
-            raise SceneError(f"programme.file: {path.name} is larger than {MAX_BYTES // 1_000_000} MB")
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as err:
-        raise SceneError(f"programme.file: cannot read {path} ({err})") from None
-    lines = csv.reader(text.splitlines())
+    lines = csv.reader(_text(path).splitlines())
     header = [name.strip() for name in next(lines, [])]
     missing = [name for name in REQUIRED if name not in header]
     unknown = [name for name in header if name not in COLUMNS]
@@ -84,11 +105,47 @@ def read_rows(path) -> list[tuple[str, dict]]:
     return rows
 
 
-def _cell(text: str, where: str):
+def _text(path: Path) -> str:
+    """The text of a regular file of at most :data:`MAX_BYTES` (UTF-8, a spreadsheet's byte-order mark dropped).
+
+    Opened without blocking and checked on the open file (a FIFO, a device or a link swapped in is refused), then read
+    with the bound: ``/dev/zero`` is never read at all.
+    """
     try:
-        return tomllib.loads(f"v = {text.strip()}")["v"]
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
+        with os.fdopen(fd, "rb") as file:
+            if not stat.S_ISREG(os.fstat(file.fileno()).st_mode):
+                raise SceneError(f"programme.file: {path} is not a regular file (a CSV file of the blocks)")
+            data = file.read(MAX_BYTES + 1)
+        if len(data) > MAX_BYTES:
+            raise SceneError(f"programme.file: {path.name} is larger than {MAX_BYTES // 1_000_000} MB")
+        return data.decode("utf-8-sig")
+    except (OSError, UnicodeDecodeError) as err:
+        raise SceneError(f"programme.file: cannot read {path} ({err})") from None
+
+
+def _cell(text: str, where: str):
+    """A cell's value: a number or ``[start, end]`` of numbers (read as such, the common cases), else a TOML value."""
+    text = text.strip()
+    try:
+        if _NUMBER.fullmatch(text):
+            return int(text) if _INTEGER.fullmatch(text) else float(text)
+        pair = _PAIR.fullmatch(text)
+        return [float(pair[1]), float(pair[2])] if pair else tomllib.loads(f"v = {text}")["v"]
     except tomllib.TOMLDecodeError:
-        raise SceneError(f"programme.file: {where}: must be a number or [start, end] (got {text.strip()!r})") from None
+        raise SceneError(f"programme.file: {where}: must be a number or [start, end] (got {text!r})") from None
+
+
+def exact_prefix_sums(values: list[float]) -> np.ndarray:
+    """T_b = Σ_{c < b} values_c, each correctly rounded (as ``math.fsum`` of the prefix), in one pass.
+
+    The running sum is kept exactly (a :class:`~fractions.Fraction` of the floats) and rounded once per prefix.
+    """
+    total, out = Fraction(0), np.empty(len(values))
+    for i, value in enumerate(values):
+        out[i] = float(total)
+        total += Fraction(value)
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -118,12 +175,18 @@ class Schedule:
 
     @classmethod
     def of(cls, programme) -> Schedule:
-        """The schedule of a ``[programme]`` table (:class:`Programme`)."""
+        """The schedule of a ``[programme]`` table (:class:`Programme`), compiled once per programme."""
+        if programme._schedule is None:
+            programme._schedule = cls._compiled(programme)
+        return programme._schedule
+
+    @classmethod
+    def _compiled(cls, programme) -> Schedule:
         blocks = programme.blocks
         counts = np.array([b.count for b in blocks])
         block = np.repeat(np.arange(len(blocks)), counts)
         first = np.concatenate([[0], np.cumsum(counts)])
-        begins = [math.fsum(b.count * b.period for b in blocks[:i]) for i in range(len(blocks))]
+        begins = exact_prefix_sums([b.count * b.period for b in blocks])
         within = np.arange(first[-1]) - first[block]
         field = lambda name: np.array([getattr(b, name) for b in blocks], dtype=float)[block]  # noqa: E731
         period = np.array([b.period for b in blocks])
@@ -244,6 +307,9 @@ class Stop(Section):
         return self.duration + self.dwell
 
 
+_BLOCKS = TypeAdapter(list[Stop])
+
+
 def block(entry, where: str) -> Stop:
     """One block from a table (or a file's row), or one SceneError line starting with ``where``."""
     if not isinstance(entry, (dict, Stop)):
@@ -289,20 +355,28 @@ class Programme(Section):
                              f"(got {value!r})")
         return tuple(block(entry, f"programme.stops: block {i}") for i, entry in enumerate(value, start=1))
 
+    _read: tuple[Stop, ...] = PrivateAttr(default=())    # the rows of ``file``, read once with the scene
+    _schedule: Schedule | None = PrivateAttr(default=None)     # compiled once (Schedule.of)
+
+    def __eq__(self, other) -> bool:
+        """The same keys and blocks (the compiled schedule is a cache of them)."""
+        return isinstance(other, Programme) and self.__dict__ == other.__dict__ and self._read == other._read
+
+    __hash__ = Section.__hash__
+
     @model_validator(mode="after")
     def _one_source(self) -> Programme:
         if (not self.stops) == (self.file is None):
             raise SceneError("programme.stops: give the blocks either as programme.stops or in programme.file "
                              f"(got {'both' if self.stops else 'neither'})")
-        self.blocks       # a file is read (and its rows checked) with the scene
+        if self.file is not None:           # a file is read (and its rows checked) with the scene
+            self._read = read_blocks(self.file)
         return self
 
     @property
     def blocks(self) -> tuple[Stop, ...]:
         """The blocks: ``stops``, or the rows of ``file``."""
-        if self.file is None:
-            return self.stops
-        return tuple(block(row, f"programme.file: {where}") for where, row in read_rows(self.file))
+        return self.stops if self.file is None else self._read
 
     @property
     def end(self) -> float:

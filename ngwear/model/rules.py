@@ -29,6 +29,7 @@ def check(scene) -> None:
     _check_time(scene)
     _check_heat(scene)
     _check_programme(scene)
+    _check_load_sizes(scene)
     if scene.solver.method == "full" and scene.wear.integrator != "explicit":
         raise SceneError(f"solver.method: 'full' supports only wear.integrator = 'explicit' "
                          f"(got {scene.wear.integrator!r}; use solver.method = 'condensed')")
@@ -236,6 +237,29 @@ def _check_loads(scene) -> None:
     _check_table(loads.time_table, "loads.time_table", scene.time.T)
     if loads.plate is not None:
         _check_plate(scene, boundaries)
+
+
+def _check_load_sizes(scene) -> None:
+    """Each load times the largest factor it is scaled by (``loads.time_table`` or a programme's ``load``) <= :data:`BIG`.
+
+    Beyond it the forces and the merit of the Newton method overflow: refused, naming the load.
+    """
+    loads, programme = scene.loads, scene.programme
+    factors = ([abs(f) for b in programme.blocks for f in b.load] if programme is not None else
+               [abs(f) for _, f in loads.time_table])
+    factor = max(factors, default=1.0)
+    scaled = (f" times the largest load factor ({'the programme' if programme is not None else 'loads.time_table'}"
+              f", {factor:g})" if factor != 1.0 else "")
+    given = {f"loads.traction.{name}": vec for name, vec in loads.traction.items()}
+    if loads.body_force is not None:
+        given["loads.body_force"] = loads.body_force
+    if loads.plate is not None:
+        given["loads.plate.force"] = loads.plate.force
+    for name, vec in given.items():
+        size = max(abs(v) for v in vec) * factor
+        if not size <= BIG:
+            raise SceneError(f"{name}: its largest component{scaled} is {size:.3g}; must be <= {BIG:g} (the forces "
+                             f"of a run this large overflow; got {list(vec)})")
 
 
 def _check_plate(scene, boundaries: tuple[str, ...]) -> None:

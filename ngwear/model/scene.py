@@ -364,8 +364,9 @@ def _time_of_programme(data: dict[str, Any]) -> None:
 
 
 def _default(data: dict, section: str, name: str, value: Any) -> None:
+    """Fill a key that depends on others where it is not given (or given as None: "the default")."""
     sec = data.setdefault(section, {})
-    if isinstance(sec, dict) and name not in sec:
+    if isinstance(sec, dict) and sec.get(name) is None:
         sec[name] = value
 
 

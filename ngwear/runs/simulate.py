@@ -30,6 +30,7 @@ from ..model.scene_mesh import build_mesh
 from ..numerics.contact import Instant
 from ..numerics.discrete import Discretization
 from ..numerics.systems import unknowns
+from ..numerics.thickness import thickness
 from ..numerics.wear import WearIntegrator, diverging, explicit_stability
 from ..results.checkpoint import Checkpoint
 from ..results.folder import NoSpace, clear, hold, no_space
@@ -172,9 +173,11 @@ def _start(scene, discretization, checkpoint, stages, stop) -> _Start:
     if refusal:
         stages.close()
         raise SceneError(refusal)
+    measured = _checked_limit(scene, disc)
     if checkpoint is not None:
         clear(checkpoint)                           # an earlier run's files go: a folder never mixes two runs
     recording = Recording.start(scene, disc, checkpoint)
+    recording.result.measured = measured
     recording.result.warnings.extend(cautions)
     warning = None if scene.time.adaptive else explicit_stability(scene, disc.contact.largest_rate())
     if warning:
@@ -184,6 +187,20 @@ def _start(scene, discretization, checkpoint, stages, stop) -> _Start:
     state = State(unknowns(disc), np.zeros(n), contact.coefficients, np.zeros(n),
                   reference=Heating.reference(scene, contact))
     return _Start(scene, disc, recording, state, checkpoint, {})
+
+
+def _checked_limit(scene, disc) -> np.ndarray | None:
+    """The worn region's thickness under the contact points, with ``wear.limit`` below its least (None: no limit).
+
+    A limit at or above it would end the run as worn out before anything wore.
+    """
+    if scene.wear.limit is None:
+        return None
+    measured = thickness(disc.mesh, disc.points.coords, disc.condensation.nu)
+    if scene.wear.limit >= (thinnest := float(measured.min())):
+        raise SceneError(f"wear.limit: must be below the worn region's thickness along ν, {thinnest:.4g} at its "
+                         f"thinnest (the remaining thickness that ends the run; got {scene.wear.limit:g})")
+    return measured
 
 
 def _resume(scene, resume, checkpoint, stages) -> _Start:
