@@ -7,6 +7,8 @@ its ``mesh.vol`` (there, with the SHA-256 the checkpoint recorded, and the check
 (whole rows, as many as counted, their CRC-32) before it trusts them; a saved result's ``result.npz`` holds every
 key its writer writes.
 """
+import json
+import re
 import shutil
 
 import numpy as np
@@ -93,6 +95,25 @@ def without(path, key):
     np.savez(path, **data)
 
 
+def changed(path, key, change):
+    """``key`` of the checkpoint at ``path`` replaced by ``change(value)``."""
+    data = dict(np.load(path))
+    data[key] = change(data[key])
+    np.savez(path, **data)
+
+
+def nan_at_first(value):
+    value = np.array(value, dtype=float)
+    value.flat[0] = np.nan
+    return value
+
+
+def edited(scene):
+    data = json.loads(str(scene))
+    data["contact"]["friction"] = 0.9
+    return np.array(json.dumps(data))
+
+
 def cut(path, size):
     with open(path, "r+b") as file:
         file.truncate(size)
@@ -125,6 +146,12 @@ RESUME_CASES = {
     "rows-changed": (lambda c, o: flip(steps(c) / "pressure.f64", 808), "pressure.f64: its first 41 rows"),
     "rows-missing": (lambda c, o: (steps(c) / "reaction.f64").unlink(), "reaction.f64 is missing"),
     "steps-missing": (lambda c, o: shutil.rmtree(steps(c)), "is missing (it holds the steps"),
+    "checkpoint-nan-x": (lambda c, o: changed(c / CHECKPOINT, "x", nan_at_first), "is damaged (not finite: x)"),
+    "checkpoint-nan-lam": (lambda c, o: changed(c / CHECKPOINT, "lam", nan_at_first), "(not finite: lam)"),
+    "checkpoint-short-x": (lambda c, o: changed(c / CHECKPOINT, "x", lambda x: x[:-1]),
+                           "(x has the shape (15,), its run's is (16,))"),
+    "checkpoint-edited-scene": (lambda c, o: changed(c / CHECKPOINT, "scene", edited),
+                                "is damaged (its scene is not the one its run recorded"),
 }
 
 
@@ -156,6 +183,16 @@ def test_a_saved_result_with_a_foreign_mesh_is_refused(runs, tmp_path):
     assert ng.load_result(folder).steps == 40
     shutil.copy(runs / "other" / "mesh.vol", folder / "mesh.vol")
     with pytest.raises(ng.SceneError, match=r"^directory: .*mesh\.vol is not the mesh its results were computed on"):
+        ng.load_result(folder)
+
+
+@pytest.mark.parametrize("damage", ["cut", "empty"])
+def test_a_damaged_result_npz_is_one_line_naming_it(runs, tmp_path, damage):
+    folder = tmp_path / "run"
+    shutil.copytree(runs / "base", folder)
+    cut(folder / "result.npz", (folder / "result.npz").stat().st_size // 2 if damage == "cut" else 0)
+    with pytest.raises(ng.SceneError, match=rf"^directory: {re.escape(str(folder / 'result.npz'))} is damaged "
+                                            r"\((BadZipFile|EOFError): [^\n]*\)$"):
         ng.load_result(folder)
 
 
@@ -192,3 +229,35 @@ def test_a_study_with_a_crashing_part_keeps_its_valid_case(runs, tmp_path):
 ], ids=["scheduler-not-a-url", "scheduler-scheme", "port-99999", "port-0"])
 def test_a_malformed_address_is_one_line(tmp_path, args, field):
     assert_one_line_error(ngwear(*args, cwd=tmp_path), field)
+
+
+@pytest.fixture(scope="module")
+def moved(tmp_path_factory):
+    """The folder of a "surface" run stopped after two geometry updates (its checkpoint holds the moved body)."""
+    from test_life import taper_scene
+
+    folder = tmp_path_factory.mktemp("moved")
+    part = ng.simulate(taper_scene(T=1.5, steps=15).replace(**{"output.every": 0.5}), progress=False,
+                       checkpoint=folder)
+    assert part.geometry_updates >= 1
+    return folder
+
+
+@pytest.mark.parametrize("key, damage, fragment", [
+    ("surface_wear", nan_at_first, "is damaged (not finite: surface_wear)"),
+    ("surface_coordinates", nan_at_first, "is damaged (not finite: surface_coordinates)"),
+    ("surface_reference", lambda x: x[:-1], "(surface_reference has the shape"),
+    ("surface_wear", None, "is damaged (it moved its worn surface 2 times but holds no surface_wear)"),
+    ("body_coordinates", nan_at_first, "is damaged (not finite: body_coordinates)"),
+])
+def test_a_damaged_checkpoint_of_a_moved_body_is_one_line_naming_it(moved, tmp_path, key, damage, fragment):
+    folder = tmp_path / "run"
+    shutil.copytree(moved, folder)
+    if damage is None:
+        without(folder / CHECKPOINT, key)
+    else:
+        changed(folder / CHECKPOINT, key, damage)
+    with pytest.raises(ng.SceneError) as err:
+        ng.simulate(None, progress=False, resume=folder)
+    message = str(err.value)
+    assert message.startswith(f"resume: {folder / CHECKPOINT} ") and fragment in message and "\n" not in message

@@ -13,17 +13,18 @@ loop decides when to write one (:class:`~ngwear.runs.loop.Saver`).
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import re
-import zipfile
-import zlib
 from pathlib import Path
 
 import numpy as np
 
 from ..model.scene import Scene, SceneError
-from .folder import FolderError, replacing
+from ..numerics.systems import unknowns
+from .folder import FolderError, read_arrays, replacing
 from .mesh_file import checked_mesh, kept_mesh
+from .provenance import canonical, scene_hash
 from .recording import PREFIX, History, Recording, remove_others
 from .result import HEADER, Result, from_arrays, row_shapes
 
@@ -91,21 +92,33 @@ def _read(folder) -> dict[str, np.ndarray]:
     path = Path(folder) / CHECKPOINT
     if not path.is_file():
         raise FolderError("resume", f"{folder} holds no {CHECKPOINT} (not the output folder of a run)")
-    try:
-        with np.load(path) as data:
-            arrays = {key: data[key] for key in data.files}
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as err:
-        reason = str(err).split(". ")[0]             # numpy's advice on pickles is not for a damaged file
-        raise FolderError("resume", f"{path} is damaged ({type(err).__name__}: {reason})") from None
+    arrays = read_arrays(path, "resume")
     missing = [key for key in KEYS if key not in arrays]
     if missing:
         raise FolderError("resume", f"{path} is damaged or not a checkpoint of ngwear (no {', '.join(missing)})")
+    broken = [key for key, value in arrays.items() if key not in MAY_BE_NAN and value.dtype.kind == "f"
+              and not np.isfinite(value).all()]
+    if broken:
+        raise FolderError("resume", f"{path} is damaged (not finite: {', '.join(broken)})")
     return arrays
 
 
+MAY_BE_NAN = ("newton_residuals",)
+"""The only numbers of a checkpoint that may be NaN or infinite: a failed Newton iteration's merit is one."""
+
+
 def _scene(data: dict, path: Path) -> Scene:
+    """The checkpoint's scene, once its SHA-256 is the one its run recorded (``provenance``): an edited scene is refused."""
     try:
-        return Scene.from_dict(json.loads(str(data["scene"])))
+        given, recorded = json.loads(str(data["scene"])), json.loads(str(data["provenance"]))["scene_sha256"]
+        same = hashlib.sha256(canonical(given).encode()).hexdigest() == recorded
+    except (ValueError, TypeError, KeyError, RecursionError) as err:
+        raise FolderError("resume", f"{path} holds no valid scene ({err})") from None
+    if not same:
+        raise FolderError("resume", f"{path} is damaged (its scene is not the one its run recorded: edited after "
+                                    "the run? change a resumed run with SCENE or --set, not in the checkpoint)")
+    try:
+        return Scene.from_dict(given)
     except (ValueError, TypeError, RecursionError) as err:
         raise FolderError("resume", f"{path} holds no valid scene ({err})") from None
 
@@ -133,6 +146,7 @@ class Checkpoint:
         disc = Discretization(self.scene, mesh)
         disc.elastic.ordering = _ordering(folder / CHECKPOINT, data.get("surface_ordering"), disc)
         _check_counts(folder / CHECKPOINT, data, disc, moved=bool(self.surface))
+        _check_shapes(folder / CHECKPOINT, data, disc)
         if not re.fullmatch(rf"{PREFIX}[0-9a-f]{{12}}", str(data["history"])):    # a folder of its own, here
             raise FolderError("resume", f"{folder / CHECKPOINT} names no history folder of its own "
                                         f"({str(data['history'])[:80]!r})")
@@ -141,6 +155,7 @@ class Checkpoint:
         self.result = from_arrays(self.scene, data, disc, {name: history.buffers[name][:rows] for name in shapes})
         self.recording = Recording(self.result, history)
         self.result.mesh_digest = str(data["mesh_sha256"])
+        self.result.provenance = {**self.result.provenance, "scene_sha256": scene_hash(self.scene)}  # the scene run on
         self.x, self.lam, self.step = np.array(data["x"]), np.array(data["lam"]), float(data["step"])
         self.heat = {key: np.array(value) for key, value in data.items() if key.startswith("heat_")}
         if "temperature_steps" in data:
@@ -206,6 +221,38 @@ def _check_counts(path: Path, data: dict, disc, moved: bool = False) -> None:
     if records - rows not in (0, 1) or len(data["lam"]) != disc.points.n:
         raise FolderError("resume", f"{path} is damaged ({records} Newton records for {rows} steps, {len(data['lam'])} "
                                     f"multipliers for {disc.points.n} contact points)")
+
+
+def _check_shapes(path: Path, data: dict, disc) -> None:
+    """Each array of the run's state of the shape the discretization gives it (else a FolderError naming it).
+
+    n contact points, d dimensions, v mesh vertices, x unknowns, U geometry updates, F frames' bodies, M recovered
+    fields, K kept temperatures of N heat nodes.
+    """
+    updates, frames = len(data["removed_rows"]), len(data.get("body_meshes", ()))
+    sizes = {"n": disc.points.n, "d": disc.mesh.dim, "v": disc.mesh.nv, "x": len(unknowns(disc)), "U": updates,
+             "F": frames, "M": len(data.get("moved_steps", ())), "K": len(data.get("temperature_steps", ()))}
+    if "heat_temperature" in data:
+        sizes["N"] = len(data["heat_temperature"])
+    for key, shape in SHAPES.items():
+        if key in data and key != "moved_fields":
+            wanted = tuple(sizes[s] if isinstance(s, str) else s for s in shape)
+            if data[key].shape != wanted:
+                raise FolderError("resume", f"{path} is damaged ({key} has the shape {data[key].shape}, its run's is "
+                                            f"{wanted})")
+    fields = data.get("moved_fields")
+    if fields is not None and (fields.ndim != 2 or len(fields) != sizes["M"]):
+        raise FolderError("resume", f"{path} is damaged (moved_fields has the shape {fields.shape} for "
+                                    f"{sizes['M']} recovered steps)")
+
+
+SHAPES = {"contact_points": ("n", "d"), "weights": ("n",), "friction_coefficient": ("n",),
+          "wear_coefficient": ("n",), "contact_stiffness": ("n",), "thickness": ("n",), "x": ("x",), "lam": ("n",),
+          "step": (), "rows": (), "wall_time": (), "solve_time": (), "removed": ("U", "n"),
+          "moved_weights": ("U", "n"), "surface_reference": ("v", "d"), "surface_coordinates": ("v", "d"),
+          "body_meshes": ("F",), "body_coordinates": ("F", "v", "d"), "moved_steps": ("M",),
+          "temperature_steps": ("K",), "temperature_fields": ("K", "N"), "heat_started_temperature": ("N",)}
+"""The shape of each array of a checkpoint's state (see :func:`_check_shapes`)."""
 
 
 def _continuing(saved: Scene, scene: Scene) -> Scene:

@@ -31,10 +31,14 @@ import secrets
 import shutil
 import socket
 import threading
+import zipfile
+import zlib
 from contextlib import contextmanager
 from functools import lru_cache
 from pathlib import Path
 from stat import S_ISREG
+
+import numpy as np
 
 from ..model.scene import SceneError
 
@@ -196,6 +200,16 @@ def digest(path) -> str:
 def _digest(path: str, size: int, mtime: int) -> str:
     with open(path, "rb") as file:
         return hashlib.file_digest(file, "sha256").hexdigest()
+
+
+def read_arrays(path: Path, key: str) -> dict:
+    """Every array of the ``.npz`` file ``path``, or a FolderError (``key``: the argument) saying it is damaged."""
+    try:
+        with np.load(path) as data:
+            return {name: data[name] for name in data.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as err:
+        reason = str(err).split(". ")[0]             # numpy's advice on pickles is not for a damaged file
+        raise FolderError(key, f"{path} is damaged ({type(err).__name__}: {reason})") from None
 
 
 @contextmanager

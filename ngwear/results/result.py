@@ -38,7 +38,7 @@ from ..numerics.expansion import ThermalLoad
 from ..numerics.systems.newton import NewtonRecord
 from .derived import QUANTITIES
 from .files import save
-from .folder import FolderError
+from .folder import FolderError, read_arrays
 from .history_csv import to_dataframe
 from .mesh_file import saved_discretization
 from .newton_records import records_from_arrays, records_to_arrays
@@ -344,10 +344,13 @@ def load_result(directory) -> Result:
     src = Path(directory)
     if not (src / "result.npz").is_file():
         raise FileNotFoundError(f"{src}: no result.npz (not a saved ngwear result)")
-    data = np.load(src / "result.npz")
-    scene = Scene.from_dict(json.loads((src / "scene.json").read_text()))
+    data = read_arrays(src / "result.npz", "directory")
+    try:
+        scene = Scene.from_dict(json.loads((src / "scene.json").read_text(encoding="utf-8")))
+    except (OSError, ValueError, TypeError, RecursionError) as err:
+        raise FolderError("directory", f"{src / 'scene.json'} is missing or damaged ({err})") from None
     meshed = ("mesh_sha256", "frame_coordinates") if (src / "mesh.vol").is_file() else ()   # saved with its mesh
-    missing = [key for key in (*HEADER, *recorded(scene), "field_steps", "fields", *meshed) if key not in data.files]
+    missing = [key for key in (*HEADER, *recorded(scene), "field_steps", "fields", *meshed) if key not in data]
     if missing:
         raise FolderError("directory", f"{src / 'result.npz'} is damaged or not a result of ngwear (no "
                                        f"{', '.join(missing)})")
