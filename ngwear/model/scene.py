@@ -132,12 +132,7 @@ class Scene(TopLevel):
         of them), and the defaults are filled after them.  A programme given here sets ``time.T`` and ``time.steps``
         (unless they are given too: that is refused).
         """
-        data = copy.deepcopy(self._given) if self._given is not None else self.to_dict()
-        if any(name.split(".")[0] == "programme" for name in dotted):
-            _follow_programme(data)
-        for name, value in dotted.items():
-            set_dotted(data, name, value)
-        return Scene.from_dict(data)
+        return _overridden(copy.deepcopy(self._given) if self._given is not None else self.to_dict(), dotted)
 
     def value(self, dotted: str) -> Any:
         """The value of a dotted scene key (None where a table, e.g. ``loads.plate``, is absent)."""
@@ -219,9 +214,14 @@ def load_scene(path: str | Path, overrides: dict[str, Any] | None = None) -> Sce
     programme = data.get("programme")
     if isinstance(programme, dict) and isinstance(programme.get("file"), str):
         programme["file"] = str(path.parent / Path(programme["file"]).expanduser())
-    if overrides and any(name.split(".")[0] == "programme" for name in overrides):
+    return _overridden(data, overrides or {})
+
+
+def _overridden(data: dict[str, Any], dotted: dict[str, Any]) -> Scene:
+    """The scene of the tables ``data`` with the dotted keys set (a programme set there sets the time), then filled."""
+    if any(name.split(".")[0] == "programme" for name in dotted):
         _follow_programme(data)
-    for name, value in (overrides or {}).items():
+    for name, value in dotted.items():
         set_dotted(data, name, value)
     return Scene.from_dict(data)
 

@@ -120,6 +120,10 @@ class Motion:
                        for ends in (self.schedule.speed, self.schedule.load))
         return Instant(t, speed, load, (int(stop), int(step)))
 
+    def first(self) -> Instant:
+        """The instant of a run's step 0: t = 0, at the first stop's start in a programme."""
+        return self.at(0.0, None if self.schedule is None else (0, 0))
+
     @property
     def largest_speed(self) -> float:
         """Max |s_v| over the run (the tables and a programme's ramps are piecewise linear: their nodes)."""
@@ -218,8 +222,8 @@ class Contact:
         """
         if not self.stateful:
             return None
-        n, first = len(self.weights), self.motion.at(0.0, None if self.motion.schedule is None else (0, 0))
-        return {"T": np.full(n, self.scene.heat.start), "p": np.zeros(n), "v": self.motion.speeds(first.speed)}
+        n = len(self.weights)
+        return {"T": np.full(n, self.scene.heat.start), "p": np.zeros(n), "v": self.motion.speeds(self.motion.first().speed)}
 
     def _check_motion(self) -> None:
         """Friction and wear need the foundation to slide; the fastest wear rate stays finite (the fields' values)."""

@@ -225,8 +225,8 @@ def layer_ratio(scene: Scene, body: Body) -> float:
 
     The Newton matrix of the contact problem is I + A diag(m p') on the points in contact, and the
     largest eigenvalue of A diag(m p') is of the order of ρ: for ρ < 1 a Krylov solve converges in a few
-    products (from scratch: the brake pad without its backing plate, ρ = 0.12, about 11 per step; box3d, ρ = 2,
-    about 35; with the products remembered across the run, ``numerics/recycle.py``: 0.5 and 22 per step).
+    products, and the products remembered across the run (``numerics/recycle.py``) make most steps need fewer
+    still (``benchmarks/contact_scaling.py`` counts them).
     """
     nu = np.array(scene.contact.direction)
     young = min(young_along(law, nu) for region, law in region_laws(scene).items() if region in body.contact_regions)

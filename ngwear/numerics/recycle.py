@@ -38,7 +38,7 @@ DEPENDENT = 1e-8
 """Relative size of a new direction's part outside the span of the earlier ones below which it is not taken."""
 RECALLED = 1e-3
 """The same for a block of remembered directions, whose images are combined, not computed: their round-off grows
-like the inverse of this (1e-6 left residuals 300× atol where p' varies over decades; measured)."""
+like the inverse of this (a smaller bound leaves residuals far above atol where p' varies over decades)."""
 BYTES = 4e8
 """Memory budget of the remembered inputs and images, and that of the kept spans."""
 SPANS = 8

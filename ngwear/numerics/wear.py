@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.compliance import Compliance
+from ..model.wear_laws import WearLaw
 
 
 @dataclass
@@ -37,15 +38,14 @@ INTEGRATORS = {
 }
 
 
-def worn(law: Compliance, a: np.ndarray, c: np.ndarray, z: np.ndarray, wear_law=None) -> np.ndarray:
-    """W(z) solving W = a + c g(p(z − W)) nodewise (W = a where z ≤ a or c = 0); g the wear law's (default: p)."""
+def worn(law: Compliance, a: np.ndarray, c: np.ndarray, z: np.ndarray, wear_law) -> np.ndarray:
+    """W(z) solving W = a + c g(p(z − W)) nodewise (W = a where z ≤ a or c = 0); g the wear law's."""
     if not np.any(c):
         return a
     r0 = z - a
-    linear = wear_law is None or wear_law.linear
-    if law.is_linear and linear:
+    if law.is_linear and wear_law.linear:
         return a + c * law.stiffness * np.maximum(r0, 0.0) / (1 + c * law.stiffness)
-    g, dg = (lambda p: p, lambda p: 1.0) if linear else (wear_law.g, wear_law.dg)
+    g, dg = wear_law.g, wear_law.dg
     lo, hi = a.copy(), np.maximum(z, a)
     p0 = law(r0)
     w = a + c * g(p0) / (1 + c * dg(p0) * law.derivative(r0))  # one Newton step from W = a
@@ -70,22 +70,21 @@ class WearStep:
     a: np.ndarray
     c: np.ndarray
     law: Compliance
-    wear_law: object = None
+    wear_law: WearLaw
 
     def point_law(self) -> PointLaw:
         """The effective law p_j(z) the solver uses at this step."""
         law, a, c, wear_law = self.law, self.a, self.c, self.wear_law
         if not c.any():
             return PointLaw(lambda z: law(z - a), lambda z: law.derivative(z - a))
-        linear = wear_law is None or wear_law.linear
-        if law.is_linear and linear:  # closed form p = L (z − a)₊ / (1 + c L), free of cancellation in z − W
+        if law.is_linear and wear_law.linear:  # closed form p = L (z − a)₊ / (1 + c L), free of cancellation in z − W
             scale = law.stiffness / (1 + c * law.stiffness)
             return PointLaw(lambda z: scale * np.maximum(z - a, 0.0), lambda z: np.where(z >= a, scale, 0.0))
 
         def derivative(z):
             r = z - worn(law, a, c, z, wear_law)
             dp = law.derivative(r)
-            return dp / (1 + c * dp) if linear else dp / (1 + c * wear_law.dg(law(r)) * dp)
+            return dp / (1 + c * dp) if wear_law.linear else dp / (1 + c * wear_law.dg(law(r)) * dp)
         return PointLaw(lambda z: law(z - worn(law, a, c, z, wear_law)), derivative)
 
     def wear_at(self, z: np.ndarray) -> np.ndarray:
@@ -99,15 +98,14 @@ class WearIntegrator:
 
     name: str
     law: Compliance
-    wear_law: object = None
+    wear_law: WearLaw
 
     def step(self, w: np.ndarray, pressure: np.ndarray, alpha: np.ndarray, alpha_next: np.ndarray,
              k: float) -> WearStep:
         """The step of size k from w_j, p_j and α_j, α_{j+1} (per contact point)."""
         theta_old, theta_new = INTEGRATORS[self.name]
         if theta_old and alpha.any():
-            g = pressure if self.wear_law is None or self.wear_law.linear else self.wear_law.g(pressure)
-            w = w + theta_old * k * alpha * g
+            w = w + theta_old * k * alpha * self.wear_law.g(pressure)
         return WearStep(w, theta_new * k * alpha_next, self.law, self.wear_law)
 
     def rest(self, w: np.ndarray) -> WearStep:

@@ -20,6 +20,7 @@ from .mesh_file import kept_mesh
 from .step_fields import DERIVED
 from .stops import QUANTITIES as STOP_QUANTITIES
 from .units import units
+from .vtk import write_series
 
 
 def save(result, directory) -> Path:
@@ -50,7 +51,6 @@ def save(result, directory) -> Path:
         with replacing(out / "stops.csv") as tmp:
             headed(result.scene, result.stops, STOP_QUANTITIES).to_csv(tmp)
     if result.discretization is not None:
-        from .vtk import write_series
         write_series(result, out)
     return out
 

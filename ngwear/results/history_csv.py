@@ -56,16 +56,17 @@ def headed(scene, table, quantities: dict[str, str | None]):
     return table.rename(columns={name: heading(scene, name, quantities.get(name)) for name in table.columns})
 
 
-def to_dataframe(result):
-    """The table as a pandas DataFrame, its columns by their bare names."""
+def to_dataframe(result, table: dict | None = None):
+    """The table (:func:`history`, or ``table`` of it) as a pandas DataFrame, its columns by their bare names."""
     import pandas as pd
 
-    return pd.DataFrame({name: values for name, (_, values) in history(result).items()})
+    return pd.DataFrame({name: values for name, (_, values) in (table or history(result)).items()})
 
 
 def write_history(result, path) -> Path:
     """Write the table as CSV to ``path``, headed by the rule (floats in full precision: ``read_csv`` gives them back)."""
-    quantities = {name: quantity for name, (quantity, _) in history(result).items()}
+    table = history(result)
+    quantities = {name: quantity for name, (quantity, _) in table.items()}
     with replacing(path) as tmp:
-        headed(result.scene, to_dataframe(result), quantities).to_csv(tmp, index=False)
+        headed(result.scene, to_dataframe(result, table), quantities).to_csv(tmp, index=False)
     return Path(path)

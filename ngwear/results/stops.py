@@ -49,18 +49,18 @@ QUANTITIES = {"start": "time", "energy": "energy", "torque": "torque", "friction
 """The quantity of each column with a unit (``stops.csv``'s headers, :func:`ngwear.results.history_csv.headed`)."""
 
 
-def _integral(values: np.ndarray, times: np.ndarray) -> float:
+def _trapezoid(values: np.ndarray, times: np.ndarray) -> float:
     """∫ v dt by the trapezoidal rule over the stop's rows."""
-    return float(np.sum(0.5 * (values[1:] + values[:-1]) * np.diff(times)))
+    return float(np.trapezoid(values, times))
 
 
 def _sliding_mean(values: np.ndarray, speed: np.ndarray, times: np.ndarray) -> float:
     """∫ v |s_v| dt / ∫ |s_v| dt over the stop's rows (a stop that slides nothing: the plain mean)."""
-    sliding = _integral(np.abs(speed), times)
+    sliding = _trapezoid(np.abs(speed), times)
     if sliding > 0:
-        return _integral(values * np.abs(speed), times) / sliding
+        return _trapezoid(values * np.abs(speed), times) / sliding
     span = times[-1] - times[0]
-    return _integral(values, times) / span if span > 0 else float(values[0])
+    return _trapezoid(values, times) / span if span > 0 else float(values[0])
 
 
 def tapers(result, values: np.ndarray) -> dict[str, float]:
@@ -103,7 +103,7 @@ def stop_table(result, taper: bool = True):
         span, stop = slice(end - m, end + 1), int(stop_of[end])
         times, speed = result.times[span], result.speed_factor[span]
         increment = total[end] - total[end - m]
-        row = {"energy": _integral(power[span], times), "torque": _sliding_mean(torque[span], speed, times),
+        row = {"energy": _trapezoid(power[span], times), "torque": _sliding_mean(torque[span], speed, times),
                "friction_force": _sliding_mean(force[span], speed, times),
                "apparent_friction": _sliding_mean(apparent[span], speed, times),
                "worn_volume": float(increment @ (weights if weights.ndim == 1 else weights[end]))}

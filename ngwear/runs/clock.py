@@ -65,9 +65,9 @@ class Clock:
         """The step the clock proposes next (the uniform k without adaptivity): what a checkpoint keeps."""
         return self.step if self.adaptive else self.uniform
 
-    def done(self, j: int, t: float) -> bool:
-        """Whether the run has reached T (adaptive) or its N steps (uniform)."""
-        return t >= self.T if self.adaptive else j >= self.steps
+    def done(self, state, contact=None) -> bool:
+        """Whether the run's last step has reached T (adaptive) or its N steps (uniform)."""
+        return state.instant.t >= self.T if self.adaptive else state.steps >= self.steps
 
     def next_time(self, j: int, t: float) -> float:
         """The end of the step after t_j: (j + 1) T/N, or t + k cut to land on the next mark."""

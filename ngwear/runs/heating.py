@@ -47,7 +47,7 @@ class Heating:
     Attributes
     ----------
     heat : Heat or None
-        The temperature (None with ``heat.model = "none"``: only coefficients of p, v); the run's state holds it.
+        The temperature (None with ``heat.model = "none"``: only coefficients of p, v).
     load : ThermalLoad or None
         f_th = G (T − T₀); None when no region expands.
     started : dict or None
@@ -55,7 +55,7 @@ class Heating:
     """
 
     def __init__(self, scene, disc):
-        self.scene, self.contact, self.disc = scene, disc.contact, disc
+        self.scene, self.contact = scene, disc.contact
         self.heat = Heat(scene, disc.mesh, disc.points) if scene.heat.model == "conduction" else None
         self.programme = scene.programme is not None
         self.started: dict | None = None
@@ -91,7 +91,7 @@ class Heating:
         carry), the temperature carried node by node onto the moved mesh with its matrices rebuilt
         (:meth:`~ngwear.numerics.heat.Heat.moved`), and the thermal load's G assembled there.
         """
-        self.contact, self.disc = disc.contact, disc
+        self.contact = disc.contact
         if self.heat is not None:
             self.heat.moved(disc.mesh, disc.points)
             if self.load is not None:

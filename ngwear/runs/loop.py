@@ -65,7 +65,6 @@ class Run:
         self.clock.replay(result.times, [contact.rate(state.coefficients, v, p) for v, p in
                                          zip(result.speed_factor, result.pressure)])
         self.heating = Heating.of(scene, disc, saved.get("heat"))
-        state.heat = None if self.heating is None else self.heating.heat
         self._thermal()
         self.check, self.validity = StepCheck(result, disc), Validity(result, disc)
         self.proposed = self.clock.next_step        # the clock's next step after the last recorded one
@@ -76,9 +75,7 @@ class Run:
 
     def first(self) -> bool:
         """Step 0: the contact problem at the first instant, before any wear (from the unloaded state)."""
-        contact = self.disc.contact
-        place = self.clock.first() if isinstance(self.clock, StopClock) else None
-        target = Target(contact.motion.at(0.0, place), self.integrator.rest(self.state.wear))
+        target = Target(self.disc.contact.motion.first(), self.integrator.rest(self.state.wear))
         try:
             state, _ = advance(self.disc, self.caches, self.state, target)
         except (ConvergenceError, ArithmeticError) as err:
@@ -117,9 +114,7 @@ class Run:
 
     def done(self) -> bool:
         """Whether the clock has reached the run's end."""
-        if isinstance(self.clock, StopClock):
-            return self.clock.done(self.state, self.disc.contact)
-        return self.clock.done(self.state.steps, self.state.instant.t)
+        return self.clock.done(self.state, self.disc.contact)
 
     def _keep(self, state: State, target: Target) -> bool:
         """Record the step if it keeps the invariants (else stop the run); then whether the model holds there."""

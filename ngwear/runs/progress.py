@@ -16,6 +16,8 @@ import logging
 import sys
 import time
 
+from ..model.programme import Schedule
+
 log = logging.getLogger("ngwear.progress")
 
 
@@ -130,8 +132,7 @@ class RunProgress:
 
     def _stops(self, result) -> int:
         """The stops done: the simulated ones whose end is recorded, and the jumped ones."""
-        m = self.scene.programme.steps_per_stop
-        return len(range(m, len(result.times), m + 1)) + len(result.jumped)
+        return len(Schedule.of(self.scene.programme).ends(len(result.times))) + len(result.jumped)
 
     def update(self, result) -> None:
         """After a recorded step: one step, its time, or the stops it ended."""

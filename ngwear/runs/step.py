@@ -77,8 +77,6 @@ class State:
         μ, κ, L at the points for the next step: fields of x, or of the last step's state (:mod:`ngwear.runs.heating`).
     reference : ndarray or None
         With μ of the state, the reference μ whose dense factors precondition the steps'.
-    heat : Heat or None
-        The body's and the counterface's temperatures (:class:`~ngwear.numerics.heat.Heat`).
     displacements : tuple
         (t, u) of a nonlinear body's last two steps (the bulk's warm start); ``displacement`` the last step's u where
         it is not recovered from the contact forces (a nonlinear body), else None.
@@ -98,7 +96,6 @@ class State:
     plate: np.ndarray | None = None
     forces: np.ndarray | None = None
     reference: np.ndarray | None = None
-    heat: object = None
     displacements: tuple = ()
     displacement: np.ndarray | None = None
     record: NewtonRecord | None = None

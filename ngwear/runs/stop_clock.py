@@ -40,7 +40,7 @@ class StopClock:
     def __init__(self, scene, result, surface=None):
         self.schedule, self.result, self.surface = Schedule.of(scene.programme), result, surface
         self.m, self.gap, self.limit = scene.programme.steps_per_stop, scene.contact.gap, scene.wear.limit
-        self.rejected, self.unmet, self.retrying, self.next_step = 0, False, False, 0.0
+        self.rejected, self.unmet, self.next_step = 0, False, 0.0
         self.jumps = CycleJumps(scene.programme.jump_tolerance) if scene.programme.jump else None
         plate = scene.loads.plate
         self.modes = rigid_modes(result.contact_points, scene.contact.direction, plate is not None,
@@ -66,18 +66,14 @@ class StopClock:
             if stop + 1 in jumped:
                 self.jumps.jumped()
 
-    def first(self) -> tuple[int, int]:
-        """The place of a run's step 0: the first stop's start."""
-        return 0, 0
-
     def done(self, state, contact) -> bool:
         """Whether the programme's last stop is done (simulated, or jumped over)."""
-        return self.step == self.m and self._following(state, contact) >= self.schedule.count
+        return self.step == self.m and self._following(contact) >= self.schedule.count
 
-    def _following(self, state, contact) -> int:
+    def _following(self, contact) -> int:
         """The next stop to simulate after the current one (its end reached), once the jump is decided."""
         if self.aim is None or self.aim[0] <= self.stop:
-            n = self._jump_length(state, contact)
+            n = self._jump_length(contact)
             self.aim, self.added = (self.stop + 1 + n, 0), n
         return self.aim[0]
 
@@ -98,7 +94,7 @@ class StopClock:
             wear = integrator.step(state.wear, state.pressure, before,
                                    contact.alpha(state.coefficients, instant.speed), local[step] - local[step - 1])
             return Target(instant, wear, heat_steps=(instant.t - t,))
-        stop = self._following(state, contact)
+        stop = self._following(contact)
         instant = contact.motion.at(float(s.start[stop]), (stop, 0))
         start = state.wear + self.added * self._increment() if self.added else state.wear
         before = stop - 1                               # the dwell before the stop it reaches
@@ -129,7 +125,7 @@ class StopClock:
         result = self.result
         return result.total_wear_at(-1) - result.total_wear_at(result.steps - self.m)
 
-    def _jump_length(self, state, contact) -> int:
+    def _jump_length(self, contact) -> int:
         """N, the stops after the current one applied at once (0: simulate the next)."""
         if self.jumps is None:
             return 0

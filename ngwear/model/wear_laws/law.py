@@ -67,7 +67,7 @@ class WearLaw:
         """
         a, magnitude = self.speed_exponent, np.abs(factors)
         weighted = magnitude if a == 1 else magnitude ** a
-        integral = float(np.sum(np.diff(local) * 0.5 * (weighted[1:] + weighted[:-1])))
+        integral = float(np.trapezoid(weighted, local))
         return (integral if a == 1 else integral ** (1 / a)) * speed
 
     def factor_power(self, factor: float) -> float:

@@ -13,6 +13,7 @@ N K⁻¹ n(u) and Dᵀ n(u).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -66,7 +67,7 @@ class Drive:
     reference: np.ndarray | None
     wear: WearStep
 
-    @property
+    @cached_property
     def law(self) -> PointLaw:
         """The nodal law p_j the solver sees (the wear step folded into the compliance)."""
         return self.wear.point_law()
@@ -144,7 +145,7 @@ def system(disc, caches: Caches, drive: Drive, load_factor: float | None = None)
     if disc.matrix_free:
         if caches.patch is None:
             caches.patch = disc.contact_solve == "patch" or (
-                disc.contact_solve == "auto" and patch_share(disc, caches) <= PATCH_SHARE)
+                disc.contact_solve == "auto" and patch_share(disc) <= PATCH_SHARE)
         directions = cond.nu[None, :] + friction                                     # A's force directions ν + μ n*
         key = ("patch" if caches.patch else "krylov", directions.tobytes())
         if key != next(reversed(caches.matrices), None):
@@ -241,7 +242,7 @@ def _full_system(disc, caches: Caches, drive: Drive, load_factor: float) -> Full
                       disc.elastic.stiffness, drive.law, cond.rigid_translation if floating else None)
 
 
-def patch_share(disc, caches: Caches | None = None) -> float:
+def patch_share(disc) -> float:
     """The share of the contact points in the rigid body's contact patch under the largest load.
 
     The body moved rigidly to the plate's force balance (:meth:`PatchSystem.start`; held otherwise: the loads'
@@ -251,13 +252,9 @@ def patch_share(disc, caches: Caches | None = None) -> float:
     cond, n, contact = disc.condensation, disc.points.n, disc.contact
     law, largest = contact.law, contact.motion.largest_load
     directed = None if cond.plate is None else cond.plate.directed(
-        cond.nu[None, :] + contact.friction_directions(contact.coefficients, contact.motion.at(0.0, _first(disc)).speed))
+        cond.nu[None, :] + contact.friction_directions(contact.coefficients, contact.motion.first().speed))
     patch = PatchSystem(None, cond.compliance_estimate, disc.points.weights, largest * disc.loads.s_load, cond.d0,
                         disc.scene.contact.gap, PointLaw(law, law.derivative), {}, plate_rows(disc, directed, largest))
     x, _ = patch.start(np.concatenate([patch.s_load, np.zeros(cond.plate_modes_count)]), np.zeros(n))
     return np.count_nonzero(law.derivative(x[:n] - cond.d0)) / max(n, 1)
 
-
-def _first(disc) -> tuple[int, int] | None:
-    """The place of a run's first step: (0, 0) of a programme, None without one."""
-    return None if disc.contact.motion.schedule is None else (0, 0)
