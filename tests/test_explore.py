@@ -289,3 +289,17 @@ def test_a_result_is_not_saved_into_a_folder_a_run_holds(explorer, tmp_path):
         thread.join()
     assert not (tmp_path / "busy" / "result.npz").exists()
     assert (explorer.save_result(tmp_path / "busy") / "result.npz").is_file()
+
+
+def test_a_programme_scene_opens_and_its_sliders_act():
+    """A strip under a braking programme: the steps slider sets programme.steps_per_stop (the programme sets the time)."""
+    scene = ngwear.load_scene(PAPER).replace(**{"programme.stops": [{"count": 2, "duration": 0.5, "speed": [1, 0],
+                                                                     "dwell": 0.5}], "output.every": 0.5})
+    ex = Explorer(scene, maxh=0.2, window_size=(400, 170))
+    steps = next(s for s in ex.sliders if s.name == "steps")
+    assert steps.key == "programme.steps_per_stop" and steps.label == "steps per stop"
+    ex.set(steps=steps.maximum)
+    assert ex.result.completed and ex.scene.programme.steps_per_stop == steps.maximum
+    assert len(ex.result.times) == 2 * (steps.maximum + 1)        # two stops: their starts and their m steps each
+    assert ex.picture().size and ex.plots().size
+    ex.close()

@@ -14,13 +14,18 @@ PAD = ROOT / "geometries" / "brake_pad.toml"
 
 
 def test_millimetres_typed_for_metres_are_refused_with_the_remedy(tmp_path):
-    """The pad 1000× too large: α = κωr 1000× too; k·α·L = 60.  One line naming time.steps, exit 2, no output."""
+    """The pad 1000× too large: α = κωr 1000× too; k·α·L = 60.  One line naming time.steps, exit 2, no output.
+
+    The line ends with the likeliest cause: the plate's force, a mean contact pressure of 0.458 Pa over the huge face.
+    """
     proc = ngwear("run", PAD, "--set", "geometry.size=[100,150,60,12]", "geometry.backing=5.5", "mesh.maxh=6",
                   "--quiet", "--out", tmp_path / "out", cwd=tmp_path)
     assert_one_line_error(proc, "time.steps")
     assert "k·α·L = 60 > 2 diverges" in proc.stderr
     assert "wear.integrator = 'implicit' or 'trapezoidal'" in proc.stderr and "wear.allow_unstable" in proc.stderr
     assert "time.steps >= 9000" in proc.stderr       # k·α·L ≤ 1: 60 × the scene's 150 steps
+    assert "; the likeliest cause: loads.plate.force = [0.0, 0.0, -3000.0] (a mean contact pressure of 0.458 Pa" \
+        in proc.stderr
     assert not (tmp_path / "out").exists()
 
 

@@ -124,3 +124,17 @@ def test_smallness_takes_the_softest_region_of_a_two_material_pad():
     steel = m.regions["backing"]
     assert expected < steel.young / (1 + steel.poisson)               # 2η of the steel
     assert smallness(Discretization(pad)).monotonicity == pytest.approx(expected, rel=1e-12)
+
+
+def test_a_programme_is_verified_on_its_first_stop(paper_scene):
+    """``ngwear verify`` of a programme: its first stop as a scene of its own, the same wear as the programme's stop."""
+    from ngwear.studies.convergence import first_stop
+
+    blocks = [{"count": 3, "duration": 0.5, "speed": [1.0, 0.0], "load": [1.0, 0.5], "dwell": 0.5}]
+    programme = paper_scene.replace(**{"programme.stops": blocks, "mesh.maxh": 0.2, "output.every": 0.5})
+    stop = first_stop(programme)
+    assert stop.programme is None and (stop.time.T, stop.time.steps) == (0.5, 20)
+    assert stop.foundation.speed_table == ((0.0, 1.0), (0.5, 0.0)) and stop.loads.time_table == ((0.0, 1.0), (0.5, 0.5))
+    whole, alone = ngwear.simulate(programme, progress=False), ngwear.simulate(stop, progress=False)
+    assert np.allclose(whole.wear[:21], alone.wear, rtol=1e-12, atol=1e-15)
+    assert np.allclose(whole.speed_factor[:21], alone.speed_factor, rtol=0, atol=1e-15)

@@ -127,6 +127,9 @@ MEANING = {
                           "their scene keys (`young`, `poisson`, `compaction_modulus`, …) and the law's `m_F` and "
                           "`L_F` (H(F)); an `energy` law's estimated over the run's frames, with `estimated`, the "
                           "number of sampled tangents"),
+        "warnings": ("", "every warning of the run, as `ngwear run` prints them: the plausibility of an SI scene's "
+                         "numbers, the stability of the wear update, where the model's validity ends, a layer "
+                         "worn through (a list; empty: none)"),
         "provenance": ("", "`ngwear`, `ngsolve`, `python`: the versions that computed the run; `scene_sha256`: the "
                            "SHA-256 of the scene's canonical JSON (keys sorted, no spaces, UTF-8), as `scene.json` "
                            "gives it"),

@@ -120,6 +120,7 @@ def write(result, out: Path, pictures: bool, check: tuple[str, str] | None = Non
     summary = result.summary()
     unit, materials = summary.pop("units", {}), summary.pop("materials")
     provenance, blocks = summary.pop("provenance", None), summary.pop("blocks", [])
+    warnings = summary.pop("warnings")
     width = max(map(len, summary))
     for key, value in summary.items():
         if key == LAST_STEP[0] and "end_time" in summary:   # the whole run's numbers first, then the last step's
@@ -136,7 +137,7 @@ def write(result, out: Path, pictures: bool, check: tuple[str, str] | None = Non
         print(f"{'material':<{width}}  {region}: {describe(entry, unit_of(result.scene, 'pressure'))}")
     if check is not None:
         print(f"{check[0]:<{width}}  {check[1]}")
-    for warning in result.warnings:
+    for warning in warnings:
         print(f"{'warning':<{width}}  {warning}")
     if provenance:
         print(f"{'provenance':<{width}}  ngwear {provenance['ngwear']}, NGSolve {provenance['ngsolve']}, Python "

@@ -16,6 +16,13 @@ The ranges are those of engineering materials widened tenfold on each side:
 * the wear coefficient κ, Archard's dimensional coefficient K/H in 1/Pa (= m³/(N·m)): from 1e-18 1/Pa (mild wear,
   1e-9 mm³/(N·m)) to 1e-9 1/Pa (severe abrasion, 1 mm³/(N·m)): outside [1e-19, 1e-8] 1/Pa (0: no wear).
 
+* the friction coefficient μ: dry and lubricated pairs lie in [0, 1.5] (clean metals in vacuum excepted); outside
+  it is warned of;
+* temperatures (``heat.ambient``, ``heat.initial``, ``foundation.temperature``): ngwear's are °C; one between 253
+  and 323 looks like a room temperature in kelvin (−20 to 50 °C);
+* the loads, once the part is meshed (:func:`load_warnings`): the mean contact pressure of a plate's force over
+  Γ_C, and a traction's magnitude, against the 10 kPa–100 MPa of contact pressures in engineering widened tenfold.
+
 Fields given as expressions are not looked at (their values are known at the contact points only); arrays by their
 smallest and largest value.
 """
@@ -27,6 +34,12 @@ MODULUS = (1e4, 1e13)
 """Pa: the moduli of engineering solids (1e5 to 1.2e12 Pa), widened tenfold."""
 WEAR = (1e-19, 1e-8)
 """1/Pa: Archard's dimensional wear coefficients K/H of engineering pairs (1e-18 to 1e-9 1/Pa), widened tenfold."""
+FRICTION = (0.0, 1.5)
+"""μ of engineering pairs, dry or lubricated."""
+KELVIN = (253.0, 323.0)
+"""A temperature here, in °C, looks like −20 to 50 °C given in kelvin."""
+PRESSURE = (1e3, 1e9)
+"""Pa: contact pressures in engineering (10 kPa to 100 MPa), widened tenfold."""
 
 
 def warnings(scene) -> list[str]:
@@ -51,6 +64,38 @@ def warnings(scene) -> list[str]:
         if value:
             out += _outside(f"contact.wear = {value:g} 1/Pa", value, WEAR, "Archard's wear coefficients of engineering "
                             "pairs (1e-18 to 1e-9 1/Pa, 1e-9 to 1 mm³/(N·m))", (None, "mm³/(N·m)"))
+    for value in _numbers(contact.friction):
+        if not FRICTION[0] <= value <= FRICTION[1]:
+            out.append(f"contact.friction = {value:g}: outside the [0, 1.5] of engineering pairs' μ (dry or "
+                       "lubricated)")
+    heat, temperature = scene.heat, scene.foundation.temperature
+    temperatures = {"heat.ambient": heat.ambient, "heat.initial": heat.initial,
+                    "foundation.temperature": temperature if isinstance(temperature, (int, float)) else None}
+    for name, value in temperatures.items():
+        if heat.model != "none" and value is not None and KELVIN[0] <= value <= KELVIN[1]:
+            out.append(f"{name} = {value:g} °C looks like a temperature in kelvin ({value - 273.15:.4g} °C; "
+                       "ngwear's temperatures are °C)")
+    return out
+
+
+def load_warnings(scene, area: float) -> list[str]:
+    """One line for each load of an SI scene whose contact pressure is far outside engineering's (:data:`PRESSURE`).
+
+    ``area``: Γ_C's (m², or m per unit thickness in 2D).  A plate's force over it is the mean contact pressure it
+    makes; a traction is itself a pressure on its boundary.
+    """
+    if scene.units != "SI":
+        return []
+    loads, out = scene.loads, []
+    pressures = "contact pressures in engineering (10 kPa to 100 MPa)"
+    if loads.plate is not None and area > 0:
+        pressing = abs(sum(f * n for f, n in zip(loads.plate.force, scene.contact.direction)))
+        out += _outside(f"loads.plate.force = {list(loads.plate.force)} (a mean contact pressure of "
+                        f"{pressing / area:.3g} Pa over Γ_C)", pressing / area, PRESSURE, pressures, ("kN", None))
+    for name, vector in loads.traction.items():
+        size = max(abs(v) for v in vector)
+        if size:
+            out += _outside(f"loads.traction.{name} = {list(vector)} Pa", size, PRESSURE, pressures, ("MPa", None))
     return out
 
 

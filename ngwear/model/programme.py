@@ -46,6 +46,8 @@ from .messages import message
 
 MAX_STEPS = 1_000_000
 """Most time steps of a programme's stops, one after the other (as ``time.steps``): the bound of its grid."""
+STEPS_PER_STOP = 10_000
+"""Most time steps of one stop (``programme.steps_per_stop``)."""
 COLUMNS = ("count", "duration", "speed", "load", "dwell")
 REQUIRED = ("count", "duration")
 MAX_BYTES = 10_000_000
@@ -339,7 +341,7 @@ class Programme(Section):
                            "a block (a [start, end] factor quoted: `\"[1.0, 0.0]\"`)", reuse=Level.NOTHING, shown="—",
                            allowed="an existing CSV file")
     steps_per_stop: Whole = key(20, "uniform time steps of one stop (`time.adaptive` is refused with a programme)",
-                                reuse=Level.NOTHING, ge=1, le=10_000)
+                                reuse=Level.NOTHING, ge=1, le=STEPS_PER_STOP)
     jump: Flag = key(False, "apply stops of a block at once (cycle jumps) once their wear increments settle",
                      reuse=Level.NOTHING)
     jump_tolerance: Number = key(1e-3, "`jump`: the change of the wear increment between consecutive simulated "

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.compliance import Compliance
+from ..model.programme import STEPS_PER_STOP
 from ..model.wear_laws import WearLaw
 
 
@@ -130,10 +131,21 @@ def steps_cap() -> int:
     return next(m.le for m in steps.metadata if getattr(m, "le", None) is not None)
 
 
+def steps_key(scene) -> str:
+    """The key that sets the time step: ``time.steps``, or a programme's ``programme.steps_per_stop``."""
+    return "time.steps" if scene.programme is None else "programme.steps_per_stop"
+
+
 def _enough_steps(scene, rate: float) -> str:
-    """', or time.steps >= N' with k α L_p = T rate / N ≤ 1, when N is within the schema's cap (else nothing)."""
-    needed = int(np.ceil(scene.time.T * rate * (1 - 1e-12)))
-    return f", or time.steps >= {needed}" if needed <= steps_cap() else ""
+    """', or time.steps >= N' with k α L_p ≤ 1, when N is within the schema's cap (else nothing).
+
+    k = T/N; a programme's k = d/m of its longest stop, its key ``programme.steps_per_stop``.
+    """
+    if scene.programme is None:
+        needed, cap = int(np.ceil(scene.time.T * rate * (1 - 1e-12))), steps_cap()
+    else:
+        needed, cap = int(np.ceil(scene.dt * scene.programme.steps_per_stop * rate * (1 - 1e-12))), STEPS_PER_STOP
+    return f", or {steps_key(scene)} >= {needed}" if needed <= cap else ""
 
 
 def diverging(scene, rate: float) -> str | None:
@@ -147,7 +159,7 @@ def diverging(scene, rate: float) -> str | None:
     r = scene.dt * rate
     if r <= 2:
         return None
-    return (f"time.steps: explicit wear with k·α·L = {r:.3g} > 2 diverges (the wear passes the surface); use "
+    return (f"{steps_key(scene)}: explicit wear with k·α·L = {r:.3g} > 2 diverges (the wear passes the surface); use "
             f"wear.integrator = 'implicit' or 'trapezoidal'{_enough_steps(scene, rate)}, "
             "or wear.allow_unstable = true to run it anyway")
 
@@ -167,10 +179,10 @@ def explicit_stability(scene, rate: float) -> str | None:
     if integrator == "trapezoidal":
         if r <= 2:
             return None
-        return (f"time.steps: trapezoidal wear with k·α·L = {r:.3g} > 2 oscillates and can wear past the "
+        return (f"{steps_key(scene)}: trapezoidal wear with k·α·L = {r:.3g} > 2 oscillates and can wear past the "
                 f"surface; use wear.integrator = 'implicit'{_enough_steps(scene, rate / 2)}")
     if r <= 1:
         return None
     kind = "diverges" if r > 2 else "oscillates"
-    return (f"time.steps: explicit wear with k·α·L = {r:.3g} > {1 if r <= 2 else 2} {kind}; "
+    return (f"{steps_key(scene)}: explicit wear with k·α·L = {r:.3g} > {1 if r <= 2 else 2} {kind}; "
             f"use wear.integrator = 'implicit' or 'trapezoidal'{_enough_steps(scene, rate)}")

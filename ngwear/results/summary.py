@@ -48,6 +48,7 @@ def summary(result) -> dict:
         "solve_time_s": round(result.solve_time, 3),
         "materials": region_materials(result.scene, result.discretization,
                                       [result.fields[s] for s in result.stored_steps if s in result.fields]),
+        "warnings": list(result.warnings),
         **({"provenance": result.provenance} if result.provenance else {}),
     }
     if result.scene.units:

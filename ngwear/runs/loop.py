@@ -17,6 +17,7 @@ import time
 
 import numpy as np
 
+from ..model import plausibility
 from ..model.coefficients import bound, describe
 from ..model.keys import SceneError
 from ..numerics.systems.newton import ConvergenceError
@@ -68,6 +69,7 @@ class Run:
         self._thermal()
         self.check, self.validity = StepCheck(result, disc), Validity(result, disc)
         self.proposed = self.clock.next_step        # the clock's next step after the last recorded one
+        self.cautions = plausibility.warnings(scene) + plausibility.load_warnings(scene, float(disc.points.weights.sum()))
 
     @property
     def result(self):
@@ -122,7 +124,7 @@ class Run:
         if broken is not None:
             name, value = broken
             remedy = (f"a cycle jump of {target.jumped} stops ended here: try a smaller programme.jump_tolerance or "
-                      "programme.jump = false" if target.jumped else
+                      "programme.jump = false" if target.jumped else likeliest(self.cautions) or
                       "try wear.integrator = 'implicit' or more time.steps")
             self.recording.fail(f"step {state.steps} (t = {state.instant.t:.4g}): invariant {name} broken by "
                                 f"{value:.3g} (allowed {self.check.allowed(name):.0e}; see ngwear.runs.checks); "
@@ -180,7 +182,8 @@ class Run:
         if isinstance(err, ArithmeticError):
             self.recording.fail(f"step {j} (t = {t:.4g}): non-finite solution", err.args[0])
         else:
-            self.recording.fail(f"step {j} (t = {t:.4g}): {err}; {remedy(self.scene, err.record, j)}", err.record)
+            advice = likeliest(self.cautions) or remedy(self.scene, err.record, j)
+            self.recording.fail(f"step {j} (t = {t:.4g}): {err}; {advice}", err.record)
 
 
 def run(loop: Run) -> None:
@@ -194,6 +197,11 @@ def run(loop: Run) -> None:
             return
         if not loop.next():
             return
+
+
+def likeliest(cautions: list[str]) -> str | None:
+    """The likeliest cause of a failure in a scene with implausible numbers: the first of them (None: none)."""
+    return f"the likeliest cause: {cautions[0]}" if cautions else None
 
 
 def remedy(scene, record, step: int) -> str:

@@ -38,7 +38,7 @@ from ..results.recording import Recording
 from ..results.result import Result
 from .checks import WORN_OUT
 from .heating import Heating
-from .loop import Run, Saver, run
+from .loop import Run, Saver, likeliest, run
 from .progress import RunProgress, bar
 from .step import State
 
@@ -169,10 +169,14 @@ def _start(scene, discretization, checkpoint, stages, stop) -> _Start:
         disc = stages.run("mesh (Netgen, or the cache)", lambda: Discretization(scene, build_mesh(scene, stop=stop)))
     else:
         disc = discretization if discretization.scene == scene else discretization.with_scene(scene)
+    loads = plausibility.load_warnings(scene, float(disc.points.weights.sum()))     # said here, or in the refusal
+    cautions += loads
     refusal = diverging(scene, disc.contact.largest_rate())
     if refusal:
         stages.close()
-        raise SceneError(refusal)
+        raise SceneError(refusal + (f"; {likeliest(cautions)}" if cautions else ""))
+    for caution in loads:
+        log.warning("%s", caution)
     measured = _checked_limit(scene, disc)
     if checkpoint is not None:
         clear(checkpoint)                           # an earlier run's files go: a folder never mixes two runs

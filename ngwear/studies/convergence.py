@@ -6,7 +6,9 @@ that the reference is the scene's mesh); the time grids keep k·α·L ≤ 1 (α 
 contact points, L the largest slope of p on [0, g]) so that the k-study measures accuracy, not overshoot;
 the stability study takes the step counts of k·α·L = 0.5, 1, 1.5, 2.5, 5 that N ≥ 1 reaches.  A scene
 without wear (κ = 0, or no sliding) has nothing that depends on k: its k- and stability studies are left
-out, and said so; so is the h-study of a mesh file (one resolution).
+out, and said so; so is the h-study of a mesh file (one resolution).  A programme's scene is verified on its first
+stop (:func:`first_stop`): the same part, loads and coefficients over one stop of the first block, its speed and load
+ramps as time tables, so that the studies may choose its time steps.
 """
 from __future__ import annotations
 
@@ -34,6 +36,22 @@ class Plan:
     k_ref: int
     stability_steps: tuple[int, ...]
     stability_ref: int
+
+
+def first_stop(scene: Scene) -> Scene:
+    """A programme's first stop as a scene of its own: T = d, the stop's s_v and s_F as the time tables (else itself)."""
+    if scene.programme is None:
+        return scene
+    stop, steps = scene.programme.blocks[0], scene.programme.steps_per_stop
+    data = scene.to_dict()
+    del data["programme"]
+    d = stop.duration
+    data["time"] = {**data.get("time", {}), "T": d, "steps": steps}
+    data["foundation"]["speed_table"] = [[0.0, stop.speed[0]], [d, stop.speed[1]]]
+    data["loads"]["time_table"] = [[0.0, stop.load[0]], [d, stop.load[1]]]
+    data["output"] = {**data.get("output", {}), "every": d}
+    data["output"].pop("times", None)
+    return Scene.from_dict(data)
 
 
 def plan(scene: Scene, quick: bool) -> Plan:
@@ -71,6 +89,7 @@ class Report:
     k_rows: dict[str, list[dict]] = field(default_factory=dict)
     stability: list[dict] = field(default_factory=list)
     smallness: list[str] = field(default_factory=list)
+    on_first_stop: bool = False
 
     def orders(self) -> dict:
         """Observed orders: ``{"h": {column: order}, "k": {integrator: {column: order}}}`` (NaN: nothing to fit)."""
@@ -79,12 +98,16 @@ class Report:
 
     def to_dict(self) -> dict:
         """Everything of the report as plain data (``convergence.json``)."""
-        return {"scene": self.scene.name, "plan": self.plan.__dict__, "smallness": self.smallness,
+        return {"scene": self.scene.name, "on_first_stop": self.on_first_stop, "plan": self.plan.__dict__,
+                "smallness": self.smallness,
                 "h": self.h_rows, "k": self.k_rows, "stability": self.stability, "orders": self.orders()}
 
     def markdown(self) -> str:
         s, p = self.scene, self.plan
         sections = [f"# Convergence of {s.name}\n", *(f"{line}\n" for line in self.smallness)]
+        if self.on_first_stop:
+            sections.insert(1, f"On the programme's first stop: T = {s.time.T:g} (its duration), its speed and load "
+                               "factors as foundation.speed_table and loads.time_table.\n")
         if self.h_rows:
             sizes = "mesh.maxh" + (" and mesh.contact_maxh" if s.mesh.contact_maxh is not None else "")
             sections += [f"## h-refinement (P{s.mesh.order}, {p.h_steps} steps; {sizes} refined together, "
@@ -114,9 +137,14 @@ class Report:
 
 
 def run(scene: Scene, quick: bool = False, *, paper_form: bool = True) -> Report:
-    """Run the plan's studies for ``scene`` (``paper_form``: also the paper's c₀, a second factorisation)."""
+    """Run the plan's studies for ``scene`` (``paper_form``: also the paper's c₀, a second factorisation).
+
+    A programme's scene: on its first stop (:func:`first_stop`), said in the report.
+    """
+    stop = scene.programme is not None
+    scene = first_stop(scene)
     p = plan(scene, quick)
-    report = Report(scene, p)
+    report = Report(scene, p, on_first_stop=stop)
     base = scene.replace(**{"time.steps": p.h_steps, "output.every": scene.time.T})
     if bound(scene.contact.friction) != 0:        # a field (None) may have friction
         disc = Discretization(scene)

@@ -219,9 +219,10 @@ class Explorer:
             u, s = self.updates[-1], self.result.summary()
             ms = lambda x: "–" if x is None else f"{1000 * x:.0f} ms"  # noqa: E731
             reuse = u.reuse
-            parts = [f"solve {ms(u.solve)} ({reuse}), picture {ms(u.picture)}, plots {ms(u.plots)}",
-                     f"max wear {s['max_wear']:.4g}, max penetration {s['max_penetration']:.4g} "
-                     f"(g = {s['gap']:.3g})", *_temperatures(s), *self.result.warnings]
+            extremes = (f"max wear {s['max_wear']:.4g}, max penetration {s['max_penetration']:.4g} "
+                        f"(g = {s['gap']:.3g})" if "max_wear" in s else "no step computed")
+            parts = [f"solve {ms(u.solve)} ({reuse}), picture {ms(u.picture)}, plots {ms(u.plots)}", extremes,
+                     *_temperatures(s), *self.result.warnings]
             if self.pinned is not None:
                 parts.append(self._ab_line())
             return " · ".join(parts)

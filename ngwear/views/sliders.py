@@ -34,6 +34,8 @@ from ..model.scene import Scene, SceneError
 
 log = logging.getLogger(__name__)
 DATA = Path(__file__).with_name("sliders.toml")
+PROGRAMMED = {"time.steps": ("programme.steps_per_stop", "steps per stop")}
+"""The key and label of a slider of the time in a programme's scene, whose programme sets ``time.steps``."""
 SCALED = re.compile(r"(\S+) \* \((.*)\)", re.DOTALL)
 """A field scaled by a slider, ``s * (field)``."""
 
@@ -80,6 +82,8 @@ def sliders_for(scene: Scene) -> tuple[Slider, ...]:
         key = spec.get("key", "")
         if key.startswith("material.") and not takes(scene.material.kind, key.removeprefix("material.")):
             continue
+        if scene.programme is not None and key in PROGRAMMED:      # the programme sets the time: its key instead
+            spec = {**spec, "key": PROGRAMMED[key][0], "label": PROGRAMMED[key][1]}
         lo, hi, step = spec["range"]
         start = _read(scene, spec.get("key"), spec.get("scale"))
         if "key" in spec and isinstance(scene.value(spec["key"]), (str, tuple)):   # a field: the slider scales it
