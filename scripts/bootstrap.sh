@@ -13,7 +13,7 @@ ldconfig -p | grep -q 'libEGL.so.1' || missing+=(libegl1 libgl1 libgl1-mesa-dri)
 command -v npm >/dev/null || missing+=(npm)
 if [ ${#missing[@]} -gt 0 ]; then
   if [ "$(id -u)" = 0 ]; then
-    apt-get update -qq && apt-get install -y -qq --no-install-recommends "${missing[@]}"
+    bash scripts/apt_get.sh update -qq && bash scripts/apt_get.sh install -y -qq --no-install-recommends "${missing[@]}"
   else
     echo "ngwear: pictures, browser tests and the docs need: sudo apt-get install ${missing[*]}" >&2
   fi

@@ -152,7 +152,7 @@ def test_a_mesh_beyond_max_elements_is_refused_before_meshing(paper_scene, tmp_p
 def test_a_signal_ends_a_run_that_meshes_within_seconds(tmp_path):
     """Netgen meshing 430 000 elements (minutes) in its child: SIGINT kills it, the run ends at once, clean.
 
-    (SIGTERM takes the same way: ``ngwear.cli.shell.on_signals``.)
+    (SIGTERM takes the same way: ``ngwear.cli.signals.on_signals``.)
     """
     proc = subprocess.Popen([sys.executable, "-m", "ngwear", "run", str(PAPER), "--out", str(tmp_path / "out"),
                              "--set", "mesh.maxh=0.004"], stderr=subprocess.PIPE, text=True,

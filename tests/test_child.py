@@ -72,6 +72,8 @@ def test_a_child_imports_the_modules_its_calls_name_and_ngwear_api_on_use(child)
     assert child.call(part_files._listed, ["pad"]) == ("body", "pad")
     assert child.call(eval, loaded) == ["ngwear", "ngwear.child", "ngwear.model", "ngwear.model.part_files"]
     assert child.call(eval, "__import__('ngwear').__version__") == ngwear.__version__
+    assert "ngsolve" not in child.call(eval, loaded)
+    assert child.call(eval, "__import__('ngwear').simulate.__name__") == "simulate"
     assert {"ngwear.runs.simulate", "ngsolve"} <= set(child.call(eval, loaded))
 
 

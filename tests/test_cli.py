@@ -149,7 +149,7 @@ def test_examples_listed_copied_and_run(tmp_path):
 
 
 def test_every_command_takes_quiet_and_verbose():
-    from ngwear.cli import _parser
+    from ngwear.cli.commands import _parser
     parser = _parser()
     commands = {"run": ["x.toml"], "verify": [], "schema": [], "sweep": ["s.toml"], "explore": [], "examples": [],
                 "stress": []}
@@ -162,7 +162,7 @@ def test_every_command_takes_quiet_and_verbose():
 
 def test_help_is_plain_text(capsys):
     """`ngwear --help` and every command's: no reST (``…``, :func:), read in a terminal as it is."""
-    from ngwear.cli import _parser
+    from ngwear.cli.commands import _parser
     parser = _parser()
     commands = parser._subparsers._group_actions[0].choices
     texts = [parser.format_help(), *(command.format_help() for command in commands.values())]

@@ -7,6 +7,7 @@ the friction power, the same rule on the same rows); ``wear.limit`` ends a run a
 thickness reaches it; jumps keep the worn volume and the remaining thickness of stop by stop.
 """
 import json
+import logging
 import threading
 
 import numpy as np
@@ -434,3 +435,16 @@ def test_a_programme_with_jumps_resumes_to_the_bit(tmp_path):
     assert resumed.completed and np.array_equal(resumed.jumped, whole.jumped)
     for name in ("times", "wear", "pressure", "plate_displacement"):
         assert np.array_equal(getattr(resumed, name), getattr(whole, name)), name
+
+
+def test_the_progress_of_a_programme_counts_its_stops_jumped_or_not(caplog):
+    """A programme's progress counts stops, the jumped ones among them, up to the programme's count and no further."""
+    programme = {"stops": [{"count": 200, "duration": 1.0, "speed": [1.0, 0.0], "dwell": 0.5}], "steps_per_stop": 5,
+                 "jump": True}
+    with caplog.at_level(logging.INFO, logger="ngwear.progress"):
+        run = ngwear.simulate(pressed(programme, **{"wear.integrator": "trapezoidal"}), progress=True)
+    counts = [tuple(map(int, m.split(": ")[1].split(" stops")[0].replace(",", "").split(" of ")))
+              for m in caplog.messages if " stops [" in m]
+    assert run.completed and len(run.jumped) > 0
+    assert counts[-1] == (200, 200) and all(n <= total == 200 for n, total in counts)
+    assert [n for n, _ in counts] == sorted(n for n, _ in counts)

@@ -267,3 +267,34 @@ def test_results_that_do_not_fit_are_written_by_a_resume_once_there_is_room(unin
     resumed = ngwear_cli("run", "--resume", out, "--quiet", "--no-pictures")
     assert resumed.wait(timeout=600) == 0, resumed.stderr.read()
     assert same(np.load(out / "result.npz"), uninterrupted)
+
+
+def ended_by(proc, sig, after):
+    """Send ``sig`` ``after`` seconds from the start; (exit status, stderr, seconds from the signal to the exit)."""
+    time.sleep(after)
+    sent = time.monotonic()
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=60)
+    return proc.returncode, err, time.monotonic() - sent
+
+
+@pytest.mark.parametrize("after", [0.05, 0.3])
+@pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)], ids=["SIGINT", "SIGTERM"])
+def test_a_signal_while_the_command_starts_ends_it_at_once_in_one_line(tmp_path, sig, code, after):
+    """From its first instant (the libraries still loading) the command ends on a signal: 128 + it, one line."""
+    proc = ngwear_cli("run", PAPER, "--out", tmp_path / "run", "--quiet", "--no-pictures")
+    status, err, took = ended_by(proc, sig, after)
+    assert (status, err) == (code, "ngwear: interrupted\n") and took < 2.0
+
+
+@pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)], ids=["SIGINT", "SIGTERM"])
+def test_a_signal_while_a_long_programme_is_read_ends_the_command_within_a_second(tmp_path, sig, code):
+    """A programme of 200,000 blocks takes seconds to read and check: a signal then ends the command within a second."""
+    rows = "".join(f"{1 + i % 3},0.5,\"[1.0, 0.0]\",1.0,0.5\n" for i in range(200_000))
+    (tmp_path / "blocks.csv").write_text("count,duration,speed,load,dwell\n" + rows)
+    (tmp_path / "long.toml").write_text(PAPER.read_text().split("[time]")[0]
+                                        + '[programme]\nfile = "blocks.csv"\nsteps_per_stop = 1\n')
+    proc = ngwear_cli("run", tmp_path / "long.toml", "--out", tmp_path / "run", "--quiet", "--no-pictures")
+    status, err, took = ended_by(proc, sig, 1.5)
+    assert status == code and err.splitlines()[-1] == "ngwear: interrupted" and "Traceback" not in err
+    assert took < 1.0 + 0.5, "within a second (and a margin for a busy machine)"

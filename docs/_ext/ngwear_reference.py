@@ -253,8 +253,8 @@ def rest(text: str | None) -> str | None:
 
 
 def cli_parser() -> argparse.ArgumentParser:
-    """``ngwear``'s parser (:func:`ngwear.cli._parser`) with every description and help text in reST (:func:`rest`)."""
-    from ngwear.cli import _parser
+    """``ngwear``'s parser (:func:`ngwear.cli.commands._parser`), every description and help text in reST (:func:`rest`)."""
+    from ngwear.cli.commands import _parser
 
     def convert(parser):
         parser.description = rest(parser.description)

@@ -22,7 +22,8 @@ from ..results.units import unit as unit_of
 from ..runs.checks import WORN_OUT
 from ..runs.simulate import Stages, simulate
 from ..studies.theory import uniqueness as lanczos_uniqueness
-from .shell import STAGES, on_signals, scene_of
+from .shell import STAGES, scene_of
+from .signals import on_signals
 
 
 def run(args) -> int:

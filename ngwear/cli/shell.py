@@ -1,11 +1,8 @@
-"""The command line's shell: the scene a command's SCENE and --set give, the log lines and the signals."""
+"""The command line's shell: the scene a command's SCENE and --set give, and the log lines."""
 from __future__ import annotations
 
 import logging
-import signal
 import sys
-import threading
-from contextlib import contextmanager
 
 from ..model.scene import SceneError, load_scene, parse_override
 
@@ -59,21 +56,3 @@ def _shown(record: logging.LogRecord) -> bool:
     library = record.name.split(".")[0]
     return (library == "ngwear" or record.levelno >= logging.ERROR
             or (record.levelno >= logging.WARNING and library != "distributed"))
-
-
-@contextmanager
-def on_signals(handler):
-    """``handler(number)`` on SIGINT and SIGTERM within the block (the handlers before it after).
-
-    Also where SIGINT was ignored: a process started in the background by a script inherits that.  Called from
-    another thread than the main one (which alone may set handlers), it leaves them as they are.
-    """
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    before = {sig: signal.signal(sig, lambda number, _frame: handler(number)) for sig in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield
-    finally:
-        for sig, handler_before in before.items():
-            signal.signal(sig, handler_before)
