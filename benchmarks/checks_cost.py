@@ -2,11 +2,12 @@
 
 Every check runs outside the steps: before the run (the plausibility of the scene and of its loads, the loads
 against the programme's largest factor, ``wear.limit`` against the worn region's thickness), at a resume (every
-number of the checkpoint finite, its embedded scene's SHA-256, each array's shape) or at a geometry update (the new
-mesh written as ``mesh.next.vol`` and renamed).  Each is timed alone, and as a share of one step of
-``geometries/brake_pad.toml`` (``solve_time / steps`` of a run from its discretization).  The programme's set-up
-(read, checked and compiled into its schedule) is timed for 1 000 … 200 000 blocks, inline and from a CSV file:
-its cost per block is flat when the set-up is linear.  Medians of ``--reps``.
+number of the checkpoint finite, its embedded scene's SHA-256, each array's shape, its counts, times and
+coefficients in range) or at a geometry update (the new mesh written as ``mesh.next.vol`` and renamed).  The
+thickness that ``wear.limit`` is checked against is measured for the run anyway.  Each is timed alone, and as a
+share of one step of ``geometries/brake_pad.toml`` (``solve_time / steps`` of a run from its discretization).  The
+programme's set-up (read, checked and compiled into its schedule) is timed for 1 000 … 200 000 blocks, inline and
+from a CSV file: its cost per block is flat when the set-up is linear.  Medians of ``--reps``.
 
     .venv/bin/python benchmarks/checks_cost.py [--quick] [--reps 5]
 """
@@ -30,7 +31,7 @@ def pad_checks(reps: int) -> list[dict]:
     import ngwear
     from ngwear.model import plausibility
     from ngwear.model.rules import _check_load_sizes
-    from ngwear.results.checkpoint import CHECKPOINT, _check_shapes, _read, _scene
+    from ngwear.results.checkpoint import CHECKPOINT, _check_shapes, _check_signs, _read, _scene
     from ngwear.runs.simulate import _checked_limit
 
     scene = ngwear.load_scene(C.ROOT / "geometries" / "brake_pad.toml").replace(
@@ -57,6 +58,7 @@ def pad_checks(reps: int) -> list[dict]:
               ("checkpoint: keys and every number finite", "at a resume", lambda: _read(folder)),
               ("checkpoint: embedded scene's SHA-256", "at a resume", lambda: _scene(data, folder / CHECKPOINT)),
               ("checkpoint: each array's shape", "at a resume", lambda: _check_shapes(folder / CHECKPOINT, data, disc)),
+              ("checkpoint: counts, times, μ, κ in range", "at a resume", lambda: _check_signs(folder / CHECKPOINT, data)),
               ("mesh.next.vol renamed onto mesh.vol (twice)", "at a geometry update", rename)]
     rows = []
     for name, when, check in checks:

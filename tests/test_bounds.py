@@ -25,6 +25,8 @@ from ngwear.model.rules import frame_count
 from ngwear.model.scene import SceneError
 from ngwear.model.scene_mesh import build_mesh
 
+pytestmark = pytest.mark.hostile
+
 
 def cli(capsys, *args) -> tuple[int, str]:
     """``ngwear ARGS`` in this process: its status and its stderr, checked to be one line."""

@@ -33,6 +33,7 @@ def assert_one_line_error(proc, field):
     assert proc.stdout == ""
 
 
+@pytest.mark.hostile
 def test_bad_scene_file(tmp_path, bad_scene):
     proc = ngwear("run", bad_scene, "--quiet", "--no-pictures", cwd=tmp_path)
     assert_one_line_error(proc, "contact.gap")
@@ -52,6 +53,7 @@ def test_bad_scene_file(tmp_path, bad_scene):
     (PAPER, ["time.steps"], "--set time.steps"),
 ], ids=["missing-file", "invalid-toml", "steps-zero", "steps-fraction", "nan", "full-implicit",
         "traction-dirichlet", "unknown-section", "set-without-equals"])
+@pytest.mark.hostile
 def test_bad_input_exits_2_with_one_line(tmp_path, scene, sets, field):
     (tmp_path / "invalid.toml").write_text("[time]\nsteps = = 3\n")
     args = ["run", scene, "--quiet", "--no-pictures"] + (["--set", *sets] if sets else [])

@@ -21,6 +21,8 @@ from test_cli import assert_one_line_error, ngwear
 import ngwear as ng
 from ngwear.results.checkpoint import CHECKPOINT
 
+pytestmark = pytest.mark.hostile
+
 SMALL = ["mesh.maxh=0.2", "time.steps=40"]
 LONGER = ["--set", "time.T=2", "time.steps=80"]
 

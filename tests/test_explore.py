@@ -291,6 +291,7 @@ def test_a_result_is_not_saved_into_a_folder_a_run_holds(explorer, tmp_path):
     assert (explorer.save_result(tmp_path / "busy") / "result.npz").is_file()
 
 
+@pytest.mark.hostile
 def test_a_programme_scene_opens_and_its_sliders_act():
     """A strip under a braking programme: the steps slider sets programme.steps_per_stop (the programme sets the time)."""
     scene = ngwear.load_scene(PAPER).replace(**{"programme.stops": [{"count": 2, "duration": 0.5, "speed": [1, 0],

@@ -22,6 +22,8 @@ from ngwear.results.folder import NoSpace
 from ngwear.results.history_csv import bare
 from ngwear.runs.surface import Surface
 
+pytestmark = pytest.mark.hostile
+
 STOPS = "programme.stops=[{count=400, duration=1.0, dwell=0.1}]"
 HEATED = ("material.conductivity=1.0", "material.heat_capacity=1.0", "material.density=1.0",
           "heat.model=conduction", "heat.partition=0.5")

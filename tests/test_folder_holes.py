@@ -18,6 +18,8 @@ from ngwear.cli import main
 from ngwear.results.folder import LOCK, FolderError, hold
 from ngwear.results.recording import Recording
 
+pytestmark = pytest.mark.hostile
+
 
 def small(**changes):
     return ngwear.load_scene(PAPER).replace(**{"mesh.maxh": 0.2, "time.steps": 10, **changes})

@@ -22,6 +22,8 @@ import ngwear as ng
 from ngwear.results.folder import LOCK, FolderError, NoSpace, hold
 from ngwear.results.recording import History, Recording
 
+pytestmark = pytest.mark.hostile
+
 
 def small(**changes):
     return ng.load_scene(PAPER).replace(**{"mesh.maxh": 0.2, "time.steps": 40, **changes})

@@ -437,6 +437,7 @@ def test_a_programme_with_jumps_resumes_to_the_bit(tmp_path):
         assert np.array_equal(getattr(resumed, name), getattr(whole, name)), name
 
 
+@pytest.mark.hostile
 def test_the_progress_of_a_programme_counts_its_stops_jumped_or_not(caplog):
     """A programme's progress counts stops, the jumped ones among them, up to the programme's count and no further."""
     programme = {"stops": [{"count": 200, "duration": 1.0, "speed": [1.0, 0.0], "dwell": 0.5}], "steps_per_stop": 5,

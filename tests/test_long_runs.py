@@ -23,6 +23,8 @@ from ngwear.results.checkpoint import CHECKPOINT
 from ngwear.results.recording import Recording
 from ngwear.runs import loop
 
+pytestmark = pytest.mark.hostile
+
 STEPS = 5000
 SETTINGS = ["mesh.maxh=0.2", f"time.steps={STEPS}", "output.checkpoint_seconds=0.02",
             "time.T=0.5"]                           # the layer not yet worn through: no warning beside the one line

@@ -10,6 +10,8 @@ import pytest
 import ngwear
 from ngwear.model.plausibility import load_warnings, warnings
 
+pytestmark = pytest.mark.hostile
+
 SHIPPED_SI = ["brake_pad", "brake_pad_compaction", "pin_on_disc"]   # the CAD pads: the same numbers
 
 

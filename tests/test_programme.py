@@ -117,6 +117,7 @@ ERRORS = [
 
 @pytest.mark.parametrize("programme, field, allowed", ERRORS, ids=[e[1].split(":")[-1].strip() + "-" + e[2]
                                                                    for e in ERRORS])
+@pytest.mark.hostile
 def test_bad_programmes_are_one_line(programme, field, allowed):
     with pytest.raises(SceneError) as err:
         strip(**programme)
@@ -135,6 +136,7 @@ FILES = [
 
 
 @pytest.mark.parametrize("text, fragment", FILES, ids=[f[1].split()[-1] for f in FILES])
+@pytest.mark.hostile
 def test_bad_programme_files_are_one_line(tmp_path, text, fragment):
     (tmp_path / "p.csv").write_text(text)
     with pytest.raises(SceneError) as err:
@@ -143,12 +145,14 @@ def test_bad_programme_files_are_one_line(tmp_path, text, fragment):
     assert "\n" not in message and message.startswith("programme.file: ") and fragment in message, message
 
 
+@pytest.mark.hostile
 def test_a_missing_file_is_one_line(tmp_path):
     with pytest.raises(SceneError, match=r"^programme.file: cannot read .*none.csv"):
         strip(file=str(tmp_path / "none.csv"))
 
 
 @pytest.mark.parametrize("path", ["/dev/zero", "/dev/urandom", "fifo"])
+@pytest.mark.hostile
 def test_a_programme_file_is_a_regular_file_or_refused_at_once(tmp_path, path):
     """A device is never read (it would read gigabytes before a MemoryError) and a FIFO never waited on."""
     if path == "fifo":
@@ -159,6 +163,7 @@ def test_a_programme_file_is_a_regular_file_or_refused_at_once(tmp_path, path):
         strip(file=str(path))
 
 
+@pytest.mark.hostile
 def test_a_file_larger_than_the_bound_is_read_no_further(tmp_path, monkeypatch):
     from ngwear.model import programme
     monkeypatch.setattr(programme, "MAX_BYTES", 64)
@@ -167,6 +172,7 @@ def test_a_file_larger_than_the_bound_is_read_no_further(tmp_path, monkeypatch):
         strip(file=str(tmp_path / "p.csv"))
 
 
+@pytest.mark.hostile
 def test_a_spreadsheets_utf8_csv_with_its_byte_order_mark_is_read(scene, tmp_path):
     (tmp_path / "p.csv").write_bytes(b"\xef\xbb\xbf" + CSV.encode())
     assert strip(file=str(tmp_path / "p.csv"), steps_per_stop=4).programme.blocks == scene.programme.blocks
@@ -191,6 +197,7 @@ def test_a_programme_file_is_read_once_per_scene(tmp_path, monkeypatch):
 
 @pytest.mark.parametrize("loads, factor", [({"plate": {"boundary": "top", "force": [0.0, -1e300]}}, None),
                                            ({"traction": {"top": [0.0, -1e145]}}, 1e10)])
+@pytest.mark.hostile
 def test_loads_that_overflow_are_refused_before_the_run(loads, factor):
     data = ngwear.load_scene(PAPER).to_dict()
     data.pop("time")
@@ -214,6 +221,7 @@ def test_loads_that_overflow_are_refused_before_the_run(loads, factor):
     ({"geometry": {"kind": "strip", "dirichlet": []}, "loads": {"plate": {"boundary": "top", "force": [0.0, -0.1]}},
       "programme": {"stops": [{"duration": 1.0, "load": [1.0, -0.5]}]}}, "programme.stops: block 1: load"),
 ])
+@pytest.mark.hostile
 def test_what_a_programme_replaces_is_refused_with_it(changes, field):
     data = ngwear.load_scene(PAPER).to_dict()
     data.pop("time")
@@ -227,6 +235,7 @@ def test_what_a_programme_replaces_is_refused_with_it(changes, field):
 @pytest.mark.parametrize("key, value, fragment", [("wear.geometry", "worn", "layer, surface"),
                                                   ("wear.update", 0.0, "(0, 0.5]"), ("wear.update", 0.6, "(0, 0.5]"),
                                                   ("wear.limit", -1.0, "> 0")])
+@pytest.mark.hostile
 def test_life_keys_are_validated(key, value, fragment):
     with pytest.raises(SceneError) as err:
         ngwear.load_scene(PAPER).replace(**{key: value})

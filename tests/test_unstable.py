@@ -10,6 +10,8 @@ from ngwear.numerics.discrete import Discretization
 from ngwear.numerics.wear import diverging, explicit_stability, steps_cap
 from ngwear.runs.checks import k_alpha_slope
 
+pytestmark = pytest.mark.hostile
+
 PAD = ROOT / "geometries" / "brake_pad.toml"
 
 

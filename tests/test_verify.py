@@ -126,6 +126,7 @@ def test_smallness_takes_the_softest_region_of_a_two_material_pad():
     assert smallness(Discretization(pad)).monotonicity == pytest.approx(expected, rel=1e-12)
 
 
+@pytest.mark.hostile
 def test_a_programme_is_verified_on_its_first_stop(paper_scene):
     """``ngwear verify`` of a programme: its first stop as a scene of its own, the same wear as the programme's stop."""
     from ngwear.studies.convergence import first_stop

@@ -16,7 +16,7 @@ from ..studies.study import StudyError
 from ..version import __version__
 from ..views.app import DEFAULT_PORT
 from .run import run, written
-from .shell import log_lines, scene_of
+from .shell import OneLineParser, log_lines, scene_of
 from .signals import on_signals
 
 FLAGS = {"checkpoint": "--out", "resume": "--resume", "out": "--out"}
@@ -32,7 +32,7 @@ documentation's CLI reference turns them into reST (``docs/_ext/ngwear_reference
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="ngwear", description=DESCRIPTION)
+    parser = OneLineParser(prog="ngwear", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     talk = argparse.ArgumentParser(add_help=False)
@@ -235,7 +235,7 @@ def dispatch(argv: list[str] | None = None) -> int:
     log_lines(args.quiet, args.verbose)
     if args.command == "stress":
         from ..studies.stress import main as stress_main
-        return stress_main([a for a in args.args if a != "--"])
+        return stress_main([a for a in args.args if a != "--"], prog="ngwear stress")
     try:
         commands = {"run": run, "verify": verify, "schema": schema, "sweep": sweep, "explore": explore,
                     "examples": examples}

@@ -1,6 +1,7 @@
 """The command line's shell: the scene a command's SCENE and --set give, and the log lines."""
 from __future__ import annotations
 
+import argparse
 import logging
 import sys
 
@@ -8,6 +9,13 @@ from ..model.scene import SceneError, load_scene, parse_override
 
 STAGES = logging.getLogger("ngwear.progress")
 """Where the stages of a command are told (shown unless --quiet; see :mod:`ngwear.runs.progress`)."""
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line (the command, what is wrong, where help is), exit 2."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: {message} (see `{self.prog} --help`)\n")
 
 
 def scene_of(args, required: bool = True):

@@ -42,7 +42,10 @@ def find(scene) -> Path:
     path = Path(scene)
     if path.is_file():
         return path
-    if path.suffix or len(path.parts) != 1:
+    bare = not path.suffix and len(path.parts) == 1
+    if path.exists() and not (bare and str(scene) in names()):
+        raise SceneError(f"scene file: {path} is not a regular file (a scene TOML file)")
+    if not bare:
         raise SceneError(f"scene file: {path} does not exist")
     try:
         return scene_file(str(scene))
@@ -84,6 +87,8 @@ def copy(folder) -> list[Path]:
         A file of that name is in ``folder`` already; nothing is written then.
     """
     folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        raise FileExistsError(f"{folder} exists and is not a folder: nothing copied; copy into a new or empty folder")
     targets = [(FOLDER / name, folder / name) for name in shipped_files()]
     existing = [target for _, target in targets if target.exists()]
     if existing:

@@ -80,31 +80,61 @@ def _read_blocks(path: str, _size: int, _mtime: int) -> tuple[Stop, ...]:
 def read_rows(path) -> list[tuple[str, dict]]:
     """(Where, raw block) of each row of a programme's CSV file; SceneError lines name ``programme.file``.
 
-    The header names the columns (:data:`COLUMNS`; ``count`` and ``duration`` required); a cell is read as a TOML
-    value (a number, or ``[start, end]`` quoted); an empty cell takes the key's default.
+    The header names the columns (:data:`COLUMNS`; ``count`` and ``duration`` required), with a unit as ngwear's own
+    CSV files write it if it is the column's (``duration [s]``, :data:`UNITS`); columns without a name and without
+    values (a spreadsheet's trailing separators) are left out.  A cell is read as a TOML value (a number, or
+    ``[start, end]`` quoted); an empty cell takes the key's default.
     """
     path = Path(path)
-    lines = csv.reader(_text(path).splitlines())
-    header = [name.strip() for name in next(lines, [])]
-    missing = [name for name in REQUIRED if name not in header]
-    unknown = [name for name in header if name not in COLUMNS]
-    if missing or unknown or len(set(header)) < len(header):
-        problem = f"has no column {missing[0]!r}" if missing else f"has an unknown or repeated column " \
-            f"{(unknown or [n for n in header if header.count(n) > 1])[0]!r}"
-        raise SceneError(f"programme.file: {path.name} {problem} (its header: {', '.join(header) or 'none'}; "
-                         f"the columns: {', '.join(COLUMNS)}, of them {' and '.join(REQUIRED)} required)")
-    rows = []
-    for number, cells in enumerate(lines, start=2):
-        if not any(cell.strip() for cell in cells):
-            continue
-        where = f"{path.name} line {number}"
-        if len(cells) != len(header):
-            raise SceneError(f"programme.file: {where}: has {len(cells)} cells, the header {len(header)}")
-        rows.append((where, {name: _cell(cell, f"{where}: {name}") for name, cell in zip(header, cells)
-                             if cell.strip()}))
+    lines = csv.reader(_text(path).splitlines(), strict=True, skipinitialspace=True)
+    try:
+        columns = [_column(name, path) for name in next(lines, [])]
+        header = [name for name in columns if name]
+        missing = [name for name in REQUIRED if name not in header]
+        unknown = [name for name in header if name not in COLUMNS]
+        if missing or unknown or len(set(header)) < len(header):
+            problem = f"has no column {missing[0]!r}" if missing else f"has an unknown or repeated column " \
+                f"{(unknown or [n for n in header if header.count(n) > 1])[0]!r}"
+            separated = next((f"; separated by {name}? the columns are separated by commas" for sep, name in
+                              ((";", "semicolons"), ("\t", "tabs")) if any(sep in n for n in header)), "")
+            raise SceneError(f"programme.file: {path.name} {problem} (its header: {', '.join(header) or 'none'}; "
+                             f"the columns: {', '.join(COLUMNS)}, of them {' and '.join(REQUIRED)} required"
+                             f"{separated})")
+        rows = []
+        for number, cells in enumerate(lines, start=2):
+            if not any(cell.strip() for cell in cells):
+                continue
+            where = f"{path.name} line {number}"
+            if len(cells) != len(columns):
+                raise SceneError(f"programme.file: {where}: has {len(cells)} cells, the header {len(columns)}")
+            if any(cell.strip() for name, cell in zip(columns, cells) if not name):
+                raise SceneError(f"programme.file: {where}: has a value in a column without a name")
+            cells = [cell for name, cell in zip(columns, cells) if name]
+            rows.append((where, {name: _cell(cell, f"{where}: {name}") for name, cell in zip(header, cells)
+                                 if cell.strip()}))
+    except csv.Error as err:
+        raise SceneError(f"programme.file: {path.name} line {lines.line_num}: {err}") from None
     if not rows:
         raise SceneError(f"programme.file: {path.name} has no blocks (one row a block below the header)")
     return rows
+
+
+UNITS = {"duration": "s", "dwell": "s"}
+"""The unit a column's header may carry (``duration [s]``); the factors (count, speed, load) carry none."""
+_HEADED = re.compile(r"(\w+)\s*\[\s*([^\]]*?)\s*\]")
+
+
+def _column(text: str, path: Path) -> str:
+    """A header cell's column name: ``name`` or ``name [unit]`` with the column's own unit."""
+    text = text.strip()
+    headed = _HEADED.fullmatch(text)
+    if headed is None:
+        return text
+    name, unit = headed.groups()
+    if UNITS.get(name) != unit:
+        wanted = f"[{UNITS[name]}]" if name in UNITS else "no unit (a factor)"
+        raise SceneError(f"programme.file: {path.name} column {text!r}: its unit must be {wanted}")
+    return name
 
 
 def _text(path: Path) -> str:
@@ -338,8 +368,9 @@ class Programme(Section):
                                   allowed="one block or more")
     file: str | None = key(None, "a CSV file of the blocks (instead of `stops`; relative to the scene file): a header "
                            "naming the columns `count`, `duration` and any of `speed`, `load`, `dwell`, then one row "
-                           "a block (a [start, end] factor quoted: `\"[1.0, 0.0]\"`)", reuse=Level.NOTHING, shown="—",
-                           allowed="an existing CSV file")
+                           "a block (a [start, end] factor quoted: `\"[1.0, 0.0]\"`); comma-separated UTF-8, a "
+                           "byte-order mark and `duration [s]`, `dwell [s]` headers accepted", reuse=Level.NOTHING,
+                           shown="—", allowed="a regular CSV file of at most 10 MB")
     steps_per_stop: Whole = key(20, "uniform time steps of one stop (`time.adaptive` is refused with a programme)",
                                 reuse=Level.NOTHING, ge=1, le=STEPS_PER_STOP)
     jump: Flag = key(False, "apply stops of a block at once (cycle jumps) once their wear increments settle",

@@ -207,6 +207,9 @@ def load_scene(path: str | Path, overrides: dict[str, Any] | None = None) -> Sce
     except RecursionError:
         raise SceneError(f"scene file: {path} is nested too deeply to read (more than {MAX_NESTING} levels are "
                          "refused)") from None
+    if not data and not overrides:
+        raise SceneError(f"scene file: {path} holds no keys (a scene names at least its part, e.g. [geometry] "
+                         "kind = \"strip\")")
     data.setdefault("name", path.stem)
     geometry = data.get("geometry")
     if isinstance(geometry, dict) and isinstance(geometry.get("file"), str):
@@ -300,7 +303,8 @@ def _given(data: dict[str, Any]) -> dict[str, Any]:
 def _prepared(data: dict[str, Any]) -> dict[str, Any]:
     """The given tables (:func:`_given`, changed here) with the defaults that depend on the kind and on other keys."""
     g = data.get("geometry", {})
-    kind = KINDS.get(g.get("kind", "strip")) if isinstance(g, dict) else None
+    name = g.get("kind", "strip") if isinstance(g, dict) else None
+    kind = KINDS.get(name) if isinstance(name, str) else None
     if kind is None:
         return data
     part = _part(g) if kind.from_file else None

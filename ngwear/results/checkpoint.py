@@ -147,11 +147,12 @@ class Checkpoint:
         disc.elastic.ordering = _ordering(folder / CHECKPOINT, data.get("surface_ordering"), disc)
         _check_counts(folder / CHECKPOINT, data, disc, moved=bool(self.surface))
         _check_shapes(folder / CHECKPOINT, data, disc)
+        _check_signs(folder / CHECKPOINT, data)
         if not re.fullmatch(rf"{PREFIX}[0-9a-f]{{12}}", str(data["history"])):    # a folder of its own, here
             raise FolderError("resume", f"{folder / CHECKPOINT} names no history folder of its own "
                                         f"({str(data['history'])[:80]!r})")
         rows, shapes = int(data["rows"]), row_shapes(self.scene, disc)
-        history = History.reopen(folder / str(data["history"]), shapes, rows, json.loads(str(data["checksums"])))
+        history = History.reopen(folder / str(data["history"]), shapes, rows, _checksums(folder / CHECKPOINT, data))
         self.result = from_arrays(self.scene, data, disc, {name: history.buffers[name][:rows] for name in shapes})
         self.recording = Recording(self.result, history)
         self.result.mesh_digest = str(data["mesh_sha256"])
@@ -227,11 +228,12 @@ def _check_shapes(path: Path, data: dict, disc) -> None:
     """Each array of the run's state of the shape the discretization gives it (else a FolderError naming it).
 
     n contact points, d dimensions, v mesh vertices, x unknowns, U geometry updates, F frames' bodies, M recovered
-    fields, K kept temperatures of N heat nodes.
+    fields, K kept temperatures of N heat nodes, R Newton records of L residuals in all.
     """
     updates, frames = len(data["removed_rows"]), len(data.get("body_meshes", ()))
     sizes = {"n": disc.points.n, "d": disc.mesh.dim, "v": disc.mesh.nv, "x": len(unknowns(disc)), "U": updates,
-             "F": frames, "M": len(data.get("moved_steps", ())), "K": len(data.get("temperature_steps", ()))}
+             "F": frames, "M": len(data.get("moved_steps", ())), "K": len(data.get("temperature_steps", ())),
+             "R": len(data["newton_iterations"]), "L": int(np.maximum(data["newton_lengths"], 0).sum())}
     if "heat_temperature" in data:
         sizes["N"] = len(data["heat_temperature"])
     for key, shape in SHAPES.items():
@@ -251,8 +253,38 @@ SHAPES = {"contact_points": ("n", "d"), "weights": ("n",), "friction_coefficient
           "step": (), "rows": (), "wall_time": (), "solve_time": (), "removed": ("U", "n"),
           "moved_weights": ("U", "n"), "surface_reference": ("v", "d"), "surface_coordinates": ("v", "d"),
           "body_meshes": ("F",), "body_coordinates": ("F", "v", "d"), "moved_steps": ("M",),
-          "temperature_steps": ("K",), "temperature_fields": ("K", "N"), "heat_started_temperature": ("N",)}
+          "temperature_steps": ("K",), "temperature_fields": ("K", "N"), "heat_started_temperature": ("N",),
+          **{f"newton_{name}": ("R",) for name in ("converged", "active", "damped", "bulk", "tangents", "cutbacks",
+                                                   "lengths")}, "newton_residuals": ("L",)}
 """The shape of each array of a checkpoint's state (see :func:`_check_shapes`)."""
+
+
+POSITIVE = ("weights", "thickness", "contact_stiffness")
+NON_NEGATIVE = ("step", "friction_coefficient", "wear_coefficient", "rejected", "wall_time", "solve_time", "jumped",
+                "removed_rows", *(f"newton_{name}" for name in ("iterations", "active", "damped", "bulk", "tangents",
+                                                                "cutbacks", "lengths")))
+"""The numbers of a checkpoint that are positive, and those that are steps, counts, times, indices or μ and κ (>= 0)."""
+
+
+def _check_signs(path: Path, data: dict) -> None:
+    """Each number of :data:`POSITIVE` > 0 and of :data:`NON_NEGATIVE` >= 0; the jumped stops increasing."""
+    wrong = [key for key in POSITIVE if key in data and not (data[key] > 0).all()] + \
+        [key for key in NON_NEGATIVE if key in data and not (data[key] >= 0).all()]
+    if len(data["jumped"]) and not (np.diff(data["jumped"]) > 0).all():
+        wrong.append("jumped")
+    if wrong:
+        raise FolderError("resume", f"{path} is damaged (out of range: {', '.join(wrong)})")
+
+
+def _checksums(path: Path, data: dict) -> dict[str, int]:
+    """The rows' CRC-32 by name the checkpoint recorded."""
+    try:
+        checksums = json.loads(str(data["checksums"]))
+    except ValueError:
+        checksums = None
+    if not isinstance(checksums, dict) or not all(isinstance(v, int) for v in checksums.values()):
+        raise FolderError("resume", f"{path} is damaged (its checksums are not a table of the rows' CRC-32)")
+    return checksums
 
 
 def _continuing(saved: Scene, scene: Scene) -> Scene:

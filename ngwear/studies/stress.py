@@ -23,7 +23,6 @@ matrix and writes the Markdown report (:mod:`ngwear.studies.stress_report`).
 """
 from __future__ import annotations
 
-import argparse
 import logging
 import math
 import sys
@@ -261,12 +260,14 @@ def _params(overrides: dict[str, Any], base: str) -> str:
     return text or f"({BASES[base][0]} as is)"
 
 
-def main(argv: list[str] | None = None) -> int:
-    """``python -m ngwear.studies.stress``: run the matrix and write the report.
+def main(argv: list[str] | None = None, prog: str = "python -m ngwear.studies.stress") -> int:
+    """``python -m ngwear.studies.stress`` (``ngwear stress``): run the matrix and write the report.
 
     Exit status 1 when a scene is not as expected (other than the known bugs), else 0.
     """
-    parser = argparse.ArgumentParser(prog="python -m ngwear.studies.stress", description=__doc__.splitlines()[0])
+    from ..cli.shell import OneLineParser
+
+    parser = OneLineParser(prog=prog, description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="only the scenes marked quick")
     parser.add_argument("--out", default=str(REPORT), help=f"report path (default {REPORT})")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="run these scenes only")
