@@ -165,8 +165,8 @@ def test_a_programme_file_is_a_regular_file_or_refused_at_once(tmp_path, path):
 
 @pytest.mark.hostile
 def test_a_file_larger_than_the_bound_is_read_no_further(tmp_path, monkeypatch):
-    from ngwear.model import programme
-    monkeypatch.setattr(programme, "MAX_BYTES", 64)
+    from ngwear.model import programme_csv
+    monkeypatch.setattr(programme_csv, "MAX_BYTES", 64)
     (tmp_path / "p.csv").write_text(CSV + "5,1.0,1.0,1.0,0.0\n" * 10)
     with pytest.raises(SceneError, match=r"^programme.file: p.csv is larger than 0 MB$"):
         strip(file=str(tmp_path / "p.csv"))

@@ -250,12 +250,9 @@ def _check_load_sizes(scene) -> None:
     factor = max(factors, default=1.0)
     scaled = (f" times the largest load factor ({'the programme' if programme is not None else 'loads.time_table'}"
               f", {factor:g})" if factor != 1.0 else "")
-    given = {f"loads.traction.{name}": vec for name, vec in loads.traction.items()}
-    if loads.body_force is not None:
-        given["loads.body_force"] = loads.body_force
-    if loads.plate is not None:
-        given["loads.plate.force"] = loads.plate.force
-    for name, vec in given.items():
+    given = {**{f"loads.traction.{name}": vec for name, vec in loads.traction.items()},
+             "loads.body_force": loads.body_force, "loads.plate.force": loads.plate and loads.plate.force}
+    for name, vec in ((name, vec) for name, vec in given.items() if vec is not None):
         size = max(abs(v) for v in vec) * factor
         if not size <= BIG:
             raise SceneError(f"{name}: its largest component{scaled} is {size:.3g}; must be <= {BIG:g} (the forces "

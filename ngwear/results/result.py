@@ -14,13 +14,10 @@ The contact coefficients at the points, shape (n_c,): ``friction_coefficient`` Î
 per step, ``step_friction`` and ``step_wear_coefficient``).  The per-step fields are declared in
 :mod:`ngwear.results.step_fields`; a run records its rows through a :class:`~ngwear.results.recording.Recording`.
 
-Full displacement fields are kept for the frames (``stored_steps``): the steps nearest to the
-output times (``output.every`` apart from t = 0, or ``output.times``) and the last step, so that the
-number of frames does not grow with the number of steps.  ``save(dir)`` writes ``result.npz``
-(these names as keys, with the Newton records), ``scene.json``, ``summary.json``, ``mesh.vol`` and
-a VTU/PVD series of the frames (with each cell's region), each file written under a temporary name and then renamed, so that
-an interrupt never leaves half a file; :func:`load_result` reads them back.  A scene in SI (``units``) adds
-the unit of every number (:mod:`ngwear.results.units`) to ``summary.json`` and ``result.npz``.
+Full displacement fields are kept for the frames (``stored_steps``): the steps nearest to the output times
+(``output.every`` apart from t = 0, or ``output.times``) and the last step, so that the number of frames does not
+grow with the number of steps.  ``save(dir)`` writes the files of :mod:`ngwear.results.files` (``result.npz`` with
+these names as keys, each under a temporary name, then renamed); :func:`load_result` reads them back.
 """
 from __future__ import annotations
 
