@@ -5,8 +5,10 @@ column whose back the heat has not reached, its orders in time and space; the di
 without convection; the steady state through a convected face; the lumped counterface's approach to
 T_∞ + (1 − η)Q/H_d with time constant C_d/H_d; checkpoints.
 """
+import ngsolve as ngs
 import numpy as np
 import pytest
+import scipy.sparse.linalg as spla
 from scipy.special import erfc
 
 from ngwear.model.keys import SceneError
@@ -16,6 +18,7 @@ from ngwear.model.thermal import partition
 from ngwear.numerics.forms import displacement_space
 from ngwear.numerics.heat import Heat, frictional_power
 from ngwear.numerics.points import contact_points
+from ngwear.numerics.stiffness import assembled
 
 FINAL = 0.02       # the column's time: the heat has gone 4√(κT) = 0.57 of its height 1 deep
 THERMAL = {"conductivity": 1.0, "density": 1.0, "heat_capacity": 1.0}
@@ -122,6 +125,30 @@ def test_convected_energy_balance_closes_and_reaches_the_steady_state():
     depth = np.array(mesh.ngmesh.Coordinates())[:, 1]
     steady = ambient + q / h + q * (length - depth) / k
     assert np.abs(heat.temperature - steady).max() < 1e-9 * steady.max()
+
+
+@pytest.mark.parametrize("kind, size, maxh, dt", [("box", (1.0, 0.5, 0.3), 0.1, 1e-4), ("box", (1.0, 0.5, 0.3), 0.15, 1e-3),
+                                                  ("strip", (1.0, 0.4), 0.1, 1e-4)])
+def test_the_bounded_step_keeps_every_temperature_above_its_start_where_the_consistent_one_undershoots(kind, size, maxh, dt):
+    """A flux switched on, steps short against h²/κ: no node below T₀, where the consistent scheme undershoots.
+
+    Backward Euler with the consistent M and K (``heat.scheme = "consistent"``) cools nodes below T₀ = 0 (by 0.2 % of
+    the peak and more); the bounded step keeps every node at or above it, the heat balance to round-off, the same
+    heat.
+    """
+    heat, _ = heat_of(scene_of(kind=kind, size=size, maxh=maxh, heat={"scheme": "bounded"}))
+    u, v = heat.space.TnT()
+    M = assembled(ngs.BilinearForm(u * v * ngs.dx, symmetric=True))
+    K = assembled(ngs.BilinearForm(ngs.grad(u) * ngs.grad(v) * ngs.dx, symmetric=True))
+    q = np.ones(len(heat.weights))
+    solve, consistent = spla.factorized((M + dt * K).tocsc()), np.zeros(M.shape[0])
+    for _ in range(5):
+        consistent = solve(M @ consistent + dt * heat.evaluation.T @ (heat.weights * q))
+        heat.advance(dt, q)
+        assert heat.temperature.min() >= -1e-14 * heat.temperature.max()
+        assert abs(heat.balance().residual) < 1e-12 * heat.balance().supplied
+    assert consistent.min() < -2e-3 * consistent.max(), "the consistent scheme undershoots here"
+    assert heat.capacity @ heat.temperature == pytest.approx(np.ones(M.shape[0]) @ M @ consistent, rel=1e-12)
 
 
 def test_lumped_counterface_approaches_its_steady_temperature_with_its_time_constant():

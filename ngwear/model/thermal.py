@@ -104,6 +104,11 @@ class HeatSpec(Section):
     initial: Number | None = key(None, "T₀, the initial temperature of the body and of a lumped counterface; the "
                                  "stress-free temperature of `material.expansion`", reuse=Level.NOTHING,
                                  shown="`heat.ambient`")
+    scheme: Literal["consistent", "bounded"] = key(
+        "consistent", "the heat's backward-Euler step: `consistent` (the consistent capacity and conduction, most "
+        "accurate at the face; where a step is short against h²/κ a node may fall below T₀, which a run says), "
+        "`bounded` (flux-corrected: no temperature below the lowest it started from or is cooled towards)",
+        reuse=Level.NOTHING)
 
     @field_validator("convection", mode="before")
     @classmethod

@@ -8,12 +8,18 @@ q = μ p ‖v*‖ the frictional power per unit area, η the body's share (:func
 Γ_C and spreads smoothly; a temperature that is linear on each element is second order at the nodes, and the
 contact points sit on its vertices or edge midpoints), backward Euler on the steps of the wear:
 
-    (M + Δt (A + R)) T^{n+1} = M T^n + Δt (F^{n+1} + T_∞ r),
+    (M + Δt (A + R)) T^{n+1} = M T^n + Δt (F^{n+1} + T_∞ r).
 
-M = ∫ ρc φ_i φ_j dx, A = ∫ k ∇φ_i·∇φ_j dx, R = Σ_b h_b ∫_b φ_i φ_j da, r = R 1, and the frictional heat the
-contact's nodal quadrature gives, F = Eᵀ (η m ∘ q^{n+1}), with the contact points' weights m_i and
-E_ij = φ_j(x_i) (1 at a point's own vertex; ½ at both ends of the edge whose midpoint a P2 point is).  The
-surface temperature at the points is E T.  Since Σ_j φ_j = 1, 1ᵀ M (T − T₀) = ∫ ρc (T − T₀) dx and A 1 = 0, so
+``heat.scheme = "consistent"``: M = ∫ ρc φ_i φ_j dx, A = K = ∫ k ∇φ_i·∇φ_j dx, R = Σ_b h_b ∫_b φ_i φ_j da (the most
+accurate at the face; a node may fall below T₀ where a step is short against h²/κ, which :meth:`Heat.undershoot`
+reports).  ``"bounded"``: the matrices of a discrete maximum principle, M = diag(∫ ρc φ_i dx) the lumped capacity,
+R = diag(r), r_i = Σ_b h_b ∫_b φ_i da, and A = K + D with the couplings an obtuse element makes positive moved onto
+the diagonal, D_ij = −max(K_ij, 0) (i ≠ j), D_ii = −Σ_{j≠i} D_ij (discrete upwinding).  Then M + Δt(A + R) is an
+M-matrix with non-negative row sums, and for F ≥ 0 every T^{n+1}_i ≥ min(min_j T^n_j, T_∞); what it took from the
+consistent step is added back as far as that bound allows (:class:`Antidiffusion`).  The frictional heat is what
+the contact's nodal quadrature gives, F = Eᵀ (η m ∘ q^{n+1}), with the contact points' weights m_i and
+E_ij = φ_j(x_i) (1 at a point's own vertex; ½ at both ends of the edge whose midpoint a P2 point is).  The surface
+temperature at the points is E T.  Since 1ᵀ M = ∫ ρc φ_j dx and A 1 = 0 in either scheme,
 
     ∫ ρc (T^{n+1} − T^n) dx = Δt (η Σ_i m_i q_i^{n+1} − r·(T^{n+1} − T_∞)),
 
@@ -39,6 +45,9 @@ from .stiffness import assembled
 
 FACTORS = 4
 """Factorisations kept, one per step size (the most recently used)."""
+UNDERSHOOT = 0.01
+"""How far below the lowest temperature it starts from or is cooled towards a node may fall, as a share of the spread
+of temperatures above it, before a run says so."""
 
 
 @dataclass(frozen=True)
@@ -96,6 +105,7 @@ class Heat:
         self.temperature = np.full(self.space.ndof, self.start)
         self.counterface = counterface(scene)
         self.time = self.power = self.supplied = self.convected = self.removed = 0.0
+        self.lowest = (self.start, 0.0)
 
     def _assemble(self, mesh: ngs.Mesh, points) -> None:
         """M, A, R, r, E and the contact points' weights on the mesh as it is; no factorisation yet."""
@@ -104,14 +114,20 @@ class Heat:
         u, v = self.space.TnT()
         capacity = mesh.MaterialCF({name: p.capacity for name, p in props.items()})
         conductivity = mesh.MaterialCF({name: p.conductivity for name, p in props.items()})
-        self.mass = assembled(ngs.BilinearForm(capacity * u * v * ngs.dx, symmetric=True))
-        self.stiffness = assembled(ngs.BilinearForm(conductivity * ngs.grad(u) * ngs.grad(v) * ngs.dx, symmetric=True))
-        self.convection = sp.csr_matrix(self.mass.shape)
+        ones = np.ones(self.space.ndof)
+        consistent = assembled(ngs.BilinearForm(capacity * u * v * ngs.dx, symmetric=True))
+        conduction = assembled(ngs.BilinearForm(conductivity * ngs.grad(u) * ngs.grad(v) * ngs.dx, symmetric=True))
+        exchange = sp.csr_matrix(consistent.shape)
         for entry in heat.convection:
-            form = ngs.BilinearForm(entry.coefficient * u * v * ngs.ds(entry.boundary), symmetric=True)
-            self.convection = self.convection + assembled(form)
-        self.capacity = self.mass @ np.ones(self.space.ndof)           # ∫ ρc φ_j dx
-        self.exchange = self.convection @ np.ones(self.space.ndof)     # r = R 1 = Σ_b h_b ∫_b φ_j da
+            exchange = exchange + assembled(ngs.BilinearForm(entry.coefficient * u * v * ngs.ds(entry.boundary),
+                                                             symmetric=True))
+        self.capacity, self.exchange = consistent @ ones, exchange @ ones    # ∫ ρc φ_j dx, r = Σ_b h_b ∫_b φ_j da
+        if heat.scheme == "consistent":
+            self.mass, self.stiffness, self.convection, self.fluxes = consistent, conduction, exchange, None
+        else:
+            self.mass, self.convection = sp.diags(self.capacity).tocsr(), sp.diags(self.exchange).tocsr()
+            self.stiffness = upwinded(conduction)
+            self.fluxes = Antidiffusion.of(consistent, conduction, exchange)
         self.evaluation = _evaluation(self.space, points)
         self.weights = points.weights
         touching = mesh.Boundaries("contact").Neighbours(ngs.VOL).Mask()
@@ -144,10 +160,14 @@ class Heat:
             raise ValueError(f"heat: one frictional power per contact point ({len(self.weights)}) (got {q.shape})")
         self.power = float(self.weights @ q)
         load = self._spread @ q + self._surroundings
-        self.temperature = self._factor(dt).solve(self.mass @ self.temperature + dt * load)
+        low = self._factor(dt).solve(self.mass @ self.temperature + dt * load)
+        self.temperature = low if self.fluxes is None else self.fluxes.corrected(low, self.temperature, dt,
+                                                                                   self.capacity)
         self.time += dt
+        if (coldest := float(self.temperature.min())) < self.lowest[0]:
+            self.lowest = (coldest, self.time)
         self.supplied += dt * self.partition * self.power
-        self.convected += dt * float(self.exchange @ (self.temperature - self.ambient))
+        self.convected += dt * float(self.exchange @ (low - self.ambient))
         self.counterface.advance(self.time, dt, (1 - self.partition) * self.power)
         return self.temperature
 
@@ -174,6 +194,20 @@ class Heat:
         """η Q, the frictional power into the body over the last step."""
         return self.partition * self.power
 
+    @property
+    def floor(self) -> float:
+        """The lowest temperature the body starts from or is cooled towards: T₀, and T_∞ where it convects."""
+        return min(self.start, self.ambient) if self.exchange.any() else self.start
+
+    def undershoot(self) -> tuple[float, float] | None:
+        """(T, t) of the coldest node, if it fell below :attr:`floor` by more than :data:`UNDERSHOOT` of the spread.
+
+        The spread: of the temperatures above the floor.  The consistent step may undershoot; the bounded one never.
+        """
+        coldest, when = self.lowest
+        spread = max(float(self.temperature.max()), self.start) - self.floor
+        return (coldest, when) if self.floor - coldest > UNDERSHOOT * spread else None
+
     def foundation_temperature(self) -> float:
         """T_f, the counterface's temperature now."""
         return self.counterface.temperature(self.time)
@@ -185,16 +219,86 @@ class Heat:
 
     @property
     def state(self) -> dict[str, np.ndarray]:
-        """What a checkpoint keeps: T, (time, Q, supplied, convected, removed) and the counterface's state."""
+        """What a checkpoint keeps: T, its counters and the counterface's state.
+
+        The counters: time, Q, supplied, convected, removed, the lowest T and its time.
+        """
         return {"temperature": self.temperature.copy(),
-                "heat": np.array([self.time, self.power, self.supplied, self.convected, self.removed]),
+                "heat": np.array([self.time, self.power, self.supplied, self.convected, self.removed, *self.lowest]),
                 "counterface": np.array(self.counterface.state, dtype=float)}
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
         """Go on from a :attr:`state` (of a heat on the same mesh)."""
         self.temperature = np.array(state["temperature"], dtype=float)
-        self.time, self.power, self.supplied, self.convected, self.removed = (float(v) for v in state["heat"])
+        self.time, self.power, self.supplied, self.convected, self.removed, *lowest = map(float, state["heat"])
+        self.lowest = tuple(lowest)
         self.counterface.state = state["counterface"]
+
+
+def upwinded(conduction: sp.csr_matrix) -> sp.csr_matrix:
+    """K + D: the positive couplings of K moved onto its diagonal (D 1 = 0, so (K + D) 1 = K 1 = 0).
+
+    K + D is symmetric, positive semidefinite (D is a graph Laplacian of the positive couplings) and has no positive
+    entry off its diagonal.
+    """
+    off = sp.triu(conduction, k=1).tocoo()
+    positive = off.data > 0
+    rows, cols, values = off.row[positive], off.col[positive], off.data[positive]
+    coupling = sp.coo_matrix((values, (rows, cols)), shape=conduction.shape)
+    coupling = (coupling + coupling.T).tocsr()
+    return (conduction - coupling + sp.diags(np.asarray(coupling.sum(axis=1)).ravel())).tocsr()
+
+
+@dataclass(frozen=True)
+class Antidiffusion:
+    """What the low-order scheme took from the consistent one, as fluxes between the coupled nodes i < j.
+
+    The consistent scheme M_C Ṫ + (K + R_C) T = … is the low-order one plus Σ_j f_ij in row i,
+
+        f_ij = m_ij (Ṫ_i − Ṫ_j) + c_ij (T_i − T_j),   c_ij = max(K_ij, 0) + (R_C)_ij,   f_ji = −f_ij,
+
+    (m_ij, K_ij, (R_C)_ij the off-diagonal entries).  :meth:`corrected` adds them back as far as the local bounds
+    allow (linearised flux correction with Zalesak's limiter on the side that loses heat): T = T_L + Δt M⁻¹ Σ_j α_ij
+    f_ij with f_ij of the low-order T_L and Ṫ_L = (T_L − T^n)/Δt, a flux down the gradient of T_L left out, and
+    α_ij = α_ji ∈ [0, 1] the largest that keeps every T_i at or above the least of T_L and T^n at its node and its
+    neighbours.  So no node falls below the lowest temperature it started from or is cooled towards, while a heated
+    face's flash is not clipped (the consistent scheme's surface rise on a resolved half-space to 1e-3); the fluxes
+    cancel in pairs: the heat is T_L's to round-off.
+    """
+
+    rows: np.ndarray
+    cols: np.ndarray
+    mass: np.ndarray
+    coupling: np.ndarray
+    neighbours: np.ndarray
+    starts: np.ndarray
+
+    @classmethod
+    def of(cls, consistent: sp.csr_matrix, conduction: sp.csr_matrix, exchange: sp.csr_matrix) -> "Antidiffusion":
+        """The couplings i < j of the consistent capacity, the positive conduction and the exchange."""
+        mass, positive = sp.triu(consistent, k=1), sp.triu(conduction, k=1)
+        positive = positive.multiply(positive > 0)
+        both = (sp.triu(exchange, k=1) + positive).tocsr()
+        pattern = (abs(mass) + abs(both)).tocoo()
+        rows, cols = pattern.row, pattern.col
+        adjacent = (pattern + pattern.T + sp.eye(consistent.shape[0])).tocsr()     # each node among its neighbours
+        return cls(rows, cols, np.asarray(mass.tocsr()[rows, cols]).ravel(), np.asarray(both[rows, cols]).ravel(),
+                   adjacent.indices, adjacent.indptr[:-1])
+
+    def corrected(self, low: np.ndarray, before: np.ndarray, dt: float, capacity: np.ndarray) -> np.ndarray:
+        """T_L with the fluxes added back within the bounds of T_L (``before``: T^n, ``capacity``: M's diagonal)."""
+        i, j = self.rows, self.cols
+        rate = (low - before) / dt
+        flux = self.mass * (rate[i] - rate[j]) + self.coupling * (low[i] - low[j])     # into i, out of j
+        flux[flux * (low[i] - low[j]) < 0] = 0.0                                       # a diffusive flux: left out
+        n = len(low)
+        bottom = np.minimum(low, before)
+        lowest = np.minimum(bottom, np.minimum.reduceat(bottom[self.neighbours], self.starts))
+        loss = np.bincount(i, np.minimum(flux, 0), n) + np.bincount(j, np.minimum(-flux, 0), n)
+        room = capacity * (lowest - low) / dt                                          # <= 0
+        down = np.where(loss < 0, np.minimum(1.0, room / np.where(loss < 0, loss, -1.0)), 1.0)
+        limited = np.where(flux > 0, down[j], down[i]) * flux                          # the losing node's share
+        return low + dt * (np.bincount(i, limited, n) - np.bincount(j, limited, n)) / capacity
 
 
 def frictional_power(friction: np.ndarray, pressure: np.ndarray, speed: np.ndarray) -> np.ndarray:

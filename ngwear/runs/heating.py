@@ -25,12 +25,15 @@ import numpy as np
 
 from ..numerics.expansion import ThermalLoad
 from ..numerics.heat import Heat, frictional_power
+from .validity import _unit
 
 REFERENCE = "heat_friction_reference"
 """A checkpoint's key of the reference μ."""
 DRIFT = 0.1
 """Largest change of a μ of the state, relative to its largest value, within which the dense Newton matrices of the
 reference μ are kept (:attr:`~ngwear.runs.step.State.reference`)."""
+UNDERSHOOT = "heat.scheme:"
+"""What the warning of an undershoot starts with."""
 STARTED = "heat_started_"
 """The prefix of a checkpoint's keys of the heat's state at the last simulated stop's start (a programme's)."""
 
@@ -155,7 +158,23 @@ class Heating:
         now = self.heat.state
         change = {key: now[key] - self.started[key] for key in now}
         change["heat"][1] = 0.0                                         # the power is the crossing's own (0)
+        change["heat"][5:] = 0.0                                        # the coldest node: the simulated stops'
         self.heat.restore({key: now[key] + stops * change[key] for key in now})
+
+    def report(self, result) -> None:
+        """The consistent step's undershoot as one warning in ``result.warnings``.
+
+        See :meth:`~ngwear.numerics.heat.Heat.undershoot`; it replaces a resumed run's first part's.
+        """
+        result.warnings[:] = [w for w in result.warnings if not w.startswith(UNDERSHOOT)]
+        fell = None if self.heat is None else self.heat.undershoot()
+        if fell is not None:
+            (coldest, when), degrees, seconds = fell, _unit(self.scene, "temperature"), _unit(self.scene, "time")
+            result.warnings.append(
+                f"{UNDERSHOOT} the temperature fell to {coldest:.4g}{degrees} at t = {when:.4g}{seconds}, "
+                f"{self.heat.floor - coldest:.3g}{degrees} below the {self.heat.floor:g}{degrees} it started from (the "
+                "consistent step, where a step is short against h²/κ at the face); refine the face "
+                "(mesh.contact_maxh), or take heat.scheme = 'bounded', which keeps every temperature above it")
 
     def state(self, reference) -> dict[str, np.ndarray]:
         """What a checkpoint keeps to go on bit for bit.

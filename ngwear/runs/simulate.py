@@ -127,6 +127,8 @@ def _simulate(scene, discretization, progress, checkpoint, resume, stop) -> Resu
     result.wall_time, result.rejected = before + time.perf_counter() - began, loop.clock.rejected
     result.solve_time += time.perf_counter() - solving
     loop.validity.report(result)
+    if loop.heating is not None:
+        loop.heating.report(result)
     if loop.clock.unmet:
         result.warnings.append(f"time.tolerance: steps at time.min_step = {scene.time.min_step:g} missed the "
                                "tolerance; lower time.min_step")
