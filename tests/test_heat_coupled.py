@@ -200,6 +200,9 @@ def test_a_programme_with_heat_cools_over_its_dwells_and_tabulates_each_stops_te
     assert stops.loc[1, "temperature_start"] == pytest.approx(stops.loc[0, "temperature_end"], rel=1e-8)   # kept
     assert stops.loc[0, "foundation_temperature_peak"] > stops.loc[0, "foundation_temperature_end"]   # it cooled
     assert stops.loc[1, "energy"] < 0.95 * stops.loc[0, "energy"]                                      # fade
+    block, = result.summary()["blocks"]                 # one block: its peaks are the whole run's
+    assert block["peak_face_temperature"] == result.surface_temperature.max()
+    assert block["peak_track_temperature"] == pytest.approx(max(disc), rel=2e-6)
 
 
 
@@ -405,3 +408,43 @@ def test_the_shipped_heat_scene_says_where_it_cools_below_its_start_and_the_boun
     assert not [w for w in bounded.warnings if w.startswith("heat.scheme:")]
     assert bounded.max_temperature.max() == pytest.approx(consistent.max_temperature.max(), rel=0.02)
     assert max(abs(b.residual) / b.supplied for b in seen if b.supplied) < 1e-12
+
+
+def test_a_thermal_strain_warning_names_the_thermal_expansion():
+    """Strains past 1 % by heat alone (α = 2e-4 1/K on the shipped heat pad) are said of material.expansion.
+
+    The warning gives α ΔT; it named the softest modulus, material.shear_axis.
+    """
+    scene = ngwear.load_scene(scene_file("brake_pad_heat")).replace(**{"material.expansion": 2e-4})
+    result = ngwear.simulate(scene, progress=False)
+    strained = [w for w in result.warnings if "strains reach at least" in w]
+    assert result.completed and len(strained) == 1
+    assert strained[0].startswith("material.expansion = 0.0002 1/K: strains reach at least ")
+    assert "(thermal expansion: α ΔT = " in strained[0] and "shear_axis" not in strained[0]
+    cool = ngwear.simulate(scene.replace(**{"material.expansion": 2e-5}), progress=False)
+    assert not [w for w in cool.warnings if "strains reach at least" in w]
+
+
+def test_temperature_limits_are_said_with_the_region_the_step_and_the_temperature(tmp_path):
+    """Temperature limits on the shipped heat pad: one warning each, as the rows give them; a resume says the same.
+
+    ``material.max_temperature`` and ``foundation.max_temperature``: the first step past it and the peak (the face,
+    the body's hottest, is its friction region's); the backing's own limit, above what it reaches, says nothing.
+    """
+    limits = {"material.max_temperature": 120.0, "material.regions.backing.max_temperature": 1000.0,
+              "foundation.max_temperature": 25.0}
+    scene = ngwear.load_scene(scene_file("brake_pad_heat")).replace(**limits)
+    whole = ngwear.simulate(scene, progress=False)
+    said = {w.split(" = ")[0]: w for w in whole.warnings if w.split(" = ")[0].endswith("max_temperature")}
+    assert set(said) == {"material.max_temperature", "foundation.max_temperature"}
+    for key, rows, what in (("material.max_temperature", whole.max_temperature, "region body"),
+                            ("foundation.max_temperature", whole.foundation_temperature, "the counterface")):
+        first, peak = int(np.argmax(rows > limits[key])), int(np.argmax(rows))
+        assert said[key] == (f"{key} = {limits[key]:g} °C: {what} passed it at step {first} (t = {whole.times[first]:.4g}"
+                             f" s), up to {rows[peak]:.4g} °C at step {peak} (t = {whole.times[peak]:.4g} s)")
+    half = scene.replace(**{"time.T": scene.time.T / 2, "time.steps": scene.time.steps // 2})
+    ngwear.simulate(half, progress=False, checkpoint=tmp_path)
+    resumed = ngwear.simulate(scene, progress=False, resume=tmp_path)
+    assert resumed.warnings == whole.warnings
+    unlimited = ngwear.simulate(scene.replace(**{key: None for key in limits}), progress=False)
+    assert not [w for w in unlimited.warnings if "max_temperature" in w]

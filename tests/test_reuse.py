@@ -215,6 +215,9 @@ CHANGES = {
     "heat.convection": heated(**{"heat.convection": [{"boundary": "top", "coefficient": 2.0}]}),
     "heat.ambient": heated(**{"heat.ambient": 20.0}),
     "heat.initial": heated(**{"heat.initial": 30.0}),
+    "heat.scheme": heated(**{"heat.scheme": "bounded"}),
+    "material.max_temperature": heated(**{"material.max_temperature": 0.5}),
+    "foundation.max_temperature": heated(**{"foundation.max_temperature": 0.5}),
 
 
     # a part's life: read by the time loop alone (a strip shows it; the time grid kept: T and the steps alike)

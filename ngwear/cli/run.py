@@ -130,10 +130,14 @@ def write(result, out: Path, pictures: bool, check: tuple[str, str] | None = Non
             f"{value + 0.0:.4g}" if isinstance(value, float) else f"{value}")       # + 0.0: never −0
         print(f"{key:<{width}}  {text} {unit[key]}" if key in unit and value is not None else f"{key:<{width}}  {text}")
     volume = f" {unit_of(result.scene, 'volume')}" if unit else ""
+    degrees = f" {unit_of(result.scene, 'temperature')}" if unit else ""
     for b in blocks:                                # a programme's wear per block
         per_mj = "" if b["volume_per_megajoule"] is None else f", {b['volume_per_megajoule']:.4g}{volume} per MJ"
+        hot = "" if "peak_face_temperature" not in b else (
+            f", face up to {b['peak_face_temperature']:.4g}{degrees}, track up to {b['peak_track_temperature']:.4g}"
+            f"{degrees}")
         print(f"{'block ' + str(b['block']):<{width}}  {b['stops']} stops, {b['volume_per_stop']:.4g}{volume} worn "
-              f"per stop{per_mj}")
+              f"per stop{per_mj}{hot}")
     for region, entry in materials.items():         # m_F, L_F of each law beside (H_S)
         print(f"{'material':<{width}}  {region}: {describe(entry, unit_of(result.scene, 'pressure'))}")
     if check is not None:

@@ -152,6 +152,10 @@ THERMAL_KEYS = {
     "expansion": (Number | None, key(None, "α_th, the linear thermal expansion coefficient: the thermal strain "
                                      "α_th (T − T₀) I loads the body (`heat.model = \"conduction\"`)",
                                      reuse=Level.NOTHING, shown="0", allowed="a number")),
+    "max_temperature": (Number | None, key(None, "the highest temperature the material stands (`heat.model = "
+                                           "\"conduction\"`): a run whose body passes it there says so, naming the "
+                                           "region, the step and the temperature", reuse=Level.NOTHING,
+                                           shown="none")),
 }
 """A material's thermal keys: they hold for any law, and a region without its own takes ``[material]``'s."""
 THERMAL = tuple(THERMAL_KEYS)
@@ -276,6 +280,9 @@ class Foundation(Section):
                                  shown="—", gt=0)
     heat_capacity: Number | None = key(None, "`heat.partition = \"effusivity\"`: the counterface's c",
                                        reuse=Level.NOTHING, shown="—", gt=0)
+    max_temperature: Number | None = key(None, "`heat`: the highest temperature the counterface stands: a run whose "
+                                         "counterface passes it says so, with the step and the temperature",
+                                         reuse=Level.NOTHING, shown="none")
 
     @field_validator("temperature", mode="before")
     @classmethod

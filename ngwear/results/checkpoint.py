@@ -178,8 +178,10 @@ def _heat_keys(scene: Scene, rows: int) -> tuple[str, ...]:
         return ()
     parts = ("temperature", "heat", "counterface")
     started = parts if scene.programme is not None and rows else ()
+    limited = scene.foundation.max_temperature is not None or any(
+        t.max_temperature is not None for t in scene.material.by_region(scene.geometry.regions).values())
     return (*(f"heat_{p}" for p in parts), "temperature_steps", "temperature_fields",
-            *(f"heat_started_{p}" for p in started))
+            *(f"heat_started_{p}" for p in started), *(("heat_limits",) if limited else ()))
 
 
 def _surface(path: Path, data: dict, mesh) -> dict[str, np.ndarray]:

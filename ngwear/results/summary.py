@@ -102,11 +102,27 @@ def life_metrics(result) -> dict:
         out["stops_to_limit"] = left if np.isfinite(left) else None
     stops = stop_table(result, taper=False)                     # its tapers are the stops', not the summary's
     blocks = per_block(stops["block"].to_numpy(), stops["worn_volume"].to_numpy(), stops["energy"].to_numpy())
+    peaks = block_peaks(result)
     out["blocks"] = [{"block": b, "stops": int(count), "volume_per_stop": float(volume),
-                      "volume_per_megajoule": float(energy) if np.isfinite(energy) else None}
+                      "volume_per_megajoule": float(energy) if np.isfinite(energy) else None, **peaks.get(b, {})}
                      for b, (count, volume, energy) in enumerate(zip(blocks["stops"], blocks["volume_per_stop"],
                                                                      blocks["volume_per_megajoule"])) if count]
     return out
+
+
+def block_peaks(result) -> dict[int, dict[str, float]]:
+    """Per block of a heated programme: ``peak_face_temperature`` and ``peak_track_temperature``.
+
+    The highest temperature of the contact points and of the counterface over the block's simulated stops' rows (a
+    jumped stop repeats a simulated one's).
+    """
+    if "surface_temperature" not in result.rows or not len(result.times):
+        return {}
+    schedule, rows = Schedule.of(result.scene.programme), len(result.times)
+    block = schedule.block[schedule.rows(result.jumped)[0][:rows]]
+    face, track = result.surface_temperature.max(axis=1), result.foundation_temperature
+    return {int(b): {"peak_face_temperature": float(face[block == b].max()),
+                     "peak_track_temperature": float(track[block == b].max())} for b in np.unique(block)}
 
 
 def heat_extremes(result) -> dict[str, float]:

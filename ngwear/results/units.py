@@ -14,7 +14,8 @@ from .whole_run import QUANTITIES as RUN
 QUANTITIES = {"length": ("m", "m"), "time": ("s", "s"), "pressure": ("Pa", "Pa"), "force": ("N", "N/m"),
               "torque": ("N·m", "N·m/m"), "area": ("m²", "m"), "volume": ("m³", "m²"),
               "power": ("W", "W/m"), "energy": ("J", "J/m"), "mass": ("kg", "kg/m"), "angle": ("rad", "rad"),
-              "velocity": ("m/s", "m/s"), "temperature": ("°C", "°C"),
+              "velocity": ("m/s", "m/s"), "temperature": ("°C", "°C"), "temperature difference": ("K", "K"),
+              "expansion": ("1/K", "1/K"),
               "line load": ("N/m", "N/m"), "wear coefficient": ("1/Pa", "1/Pa"), "compliance stiffness": ("Pa/m", "Pa/m")}
 """Each quantity's unit in 3D and in 2D (per unit thickness).  κ in w' = κ‖v*‖p is 1/Pa; L in p = L r₊ is Pa/m
 (``Pa/m^e`` for the power law p = L r₊^e).  Temperatures are the scene's (`heat.ambient`, …): °C (a difference: K)."""

@@ -25,6 +25,8 @@ import numpy as np
 
 from ..numerics.expansion import ThermalLoad
 from ..numerics.heat import Heat, frictional_power
+from .temperature_limits import CHECKPOINT as LIMITS
+from .temperature_limits import Limits
 from .validity import _unit
 
 REFERENCE = "heat_friction_reference"
@@ -62,6 +64,7 @@ class Heating:
         self.heat = Heat(scene, disc.mesh, disc.points) if scene.heat.model == "conduction" else None
         self.programme = scene.programme is not None
         self.started: dict | None = None
+        self.limits = None if self.heat is None else Limits.of(scene, disc.mesh)
         load = None if self.heat is None else ThermalLoad(scene, disc.fes, self.heat.space)
         self.load = load if load is not None and load.matrix is not None else None
 
@@ -76,6 +79,8 @@ class Heating:
         heating = cls(scene, disc)
         if saved and heating.heat is not None:
             heating.heat.restore({k: saved[f"heat_{k}"] for k in ("temperature", "heat", "counterface")})
+        if saved and heating.limits is not None:
+            heating.limits = Limits.of(scene, disc.mesh, saved[LIMITS])
         if saved and f"{STARTED}temperature" in saved:
             heating.started = {k: np.asarray(saved[f"{STARTED}{k}"], dtype=float) for k in heating.heat.state}
         return heating
@@ -140,6 +145,8 @@ class Heating:
             heat.advance(dt, q)
         if not steps:
             heat.power = float(heat.weights @ q)
+        if self.limits is not None and steps:
+            self.limits.check(state.steps, state.instant.t, heat.temperature, heat.foundation_temperature())
         if target.jumped:
             self._jump(target.jumped)
         if self.programme and (target.still or not steps):                     # a stop starts
@@ -162,11 +169,15 @@ class Heating:
         self.heat.restore({key: now[key] + stops * change[key] for key in now})
 
     def report(self, result) -> None:
-        """The consistent step's undershoot as one warning in ``result.warnings``.
+        """The consistent step's undershoot and the temperature limits passed, as warnings in ``result.warnings``.
 
-        See :meth:`~ngwear.numerics.heat.Heat.undershoot`; it replaces a resumed run's first part's.
+        See :meth:`~ngwear.numerics.heat.Heat.undershoot` and :mod:`ngwear.runs.temperature_limits`; they replace a
+        resumed run's first part's.
         """
-        result.warnings[:] = [w for w in result.warnings if not w.startswith(UNDERSHOOT)]
+        result.warnings[:] = [w for w in result.warnings if not w.startswith(UNDERSHOOT)
+                              and not w.split(" = ")[0].endswith(".max_temperature")]
+        if self.limits is not None:
+            result.warnings.extend(self.limits.warnings(self.scene, result.times))
         fell = None if self.heat is None else self.heat.undershoot()
         if fell is not None:
             (coldest, when), degrees, seconds = fell, _unit(self.scene, "temperature"), _unit(self.scene, "time")
@@ -183,6 +194,8 @@ class Heating:
         (``reference``, the run state's).
         """
         state = {} if self.heat is None else {f"heat_{k}": v for k, v in self.heat.state.items()}
+        if self.limits is not None:
+            state[LIMITS] = self.limits.seen.copy()
         if self.started is not None:
             state.update({f"{STARTED}{k}": v for k, v in self.started.items()})
         if reference is not None:

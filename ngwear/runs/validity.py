@@ -7,6 +7,7 @@ Each step costs O(n) on the values every step records (no field is recovered):
   (kept), its status one line naming the likely key (:func:`~ngwear.model.plausibility.softest`): a slip of
   units (``young = 210`` for steel, GPa meant) turns a small-strain run into metres of displacement.  Above
   :data:`WARN` the run goes on, with one warning in ``result.warnings`` (the largest ε̂, its step and time).
+  A heated body's strain is blamed on its thermal expansion where α ΔT makes half of ε̂ or more.
 * **A worn-through layer.** Where w_i ≥ (1 − :data:`THROUGH`) g the layer is worn through: pressed through
   (z = g) it carries at most p(:data:`THROUGH` g), 1 % of p(g) for a linear law, and the paper's model carries the
   load by the rigid reaction λ, which has neither friction nor wear.  One warning naming ``contact.gap`` with the
@@ -31,6 +32,7 @@ THROUGH = 0.01
 """What is left of the layer, as a share of g, where it counts as worn through."""
 ACCURACY = "above 1 %, where the small-strain model loses accuracy"
 FIRMER = "try a stiffer material or smaller loads"
+HOTTER = "is α in 1/K? try a smaller expansion or less heat"
 STRAIN, WORN = ": strains reach at least ", "contact.gap: the layer ("
 """What the warnings of :class:`Validity` hold (to replace those of a resumed run's first part)."""
 
@@ -50,7 +52,8 @@ class Validity:
 
     def __init__(self, result, disc):
         scene = result.scene
-        self.scene, self.segments, self.g = scene, disc.condensation.segments, scene.contact.gap
+        self.scene, self.segments, self.g, self.result = scene, disc.condensation.segments, scene.contact.gap, result
+        self.thermal = _expansion(scene)
         self.area = result.weights / result.weights.sum()
         self.peak, self.worn, self.last = (0.0, -1, 0.0), None, (0.0, 0.0)
         self.key, self.modulus = softest(scene)
@@ -78,8 +81,9 @@ class Validity:
             log.warning("%s: %s at %s: %s", self.scene.name, said, when, ACCURACY)
         self.peak = (strain, j, t)
         if strain > FAIL:
-            slip = unlikely_modulus(self.scene, self.modulus)
-            return f"{when}: {said}, beyond the small-strain model ({'is it in Pa?' if slip else FIRMER})"
+            advice = (HOTTER if "thermal expansion" in said else
+                      "is it in Pa?" if unlikely_modulus(self.scene, self.modulus) else FIRMER)
+            return f"{when}: {said}, beyond the small-strain model ({advice})"
         return None
 
     def wear(self, t: float, w) -> None:
@@ -109,10 +113,21 @@ class Validity:
         result.warnings.extend(self.warnings())
 
     def _strain(self, strain: float, j: int, t: float) -> tuple[str, str]:
-        """(``key = value: strains reach at least ε̂ %``, ``step j (t = …)``)."""
+        """(``key = value: strains reach at least ε̂ %``, ``step j (t = …)``).
+
+        The key is the thermal expansion's where α ΔT, ΔT the body's highest rise at step j, makes half of ε̂ or
+        more (the strain is thermal), else the softest modulus's.
+        """
+        when = f"step {j} (t = {t:.4g}{_unit(self.scene, 'time')})"
+        if self.thermal is not None:
+            key, alpha = self.thermal
+            rise = float(self.result.max_temperature[j]) - self.scene.heat.start
+            if alpha * rise >= 0.5 * strain:
+                return (f"{key} = {alpha:g}{_unit(self.scene, 'expansion')}{STRAIN}{100 * strain:.3g} % (thermal "
+                        f"expansion: α ΔT = {100 * alpha * rise:.3g} % at ΔT = {rise:.4g}"
+                        f"{_unit(self.scene, 'temperature difference')})", when)
         value = "" if self.modulus is None else f" = {self.modulus:g}" + _unit(self.scene, "pressure")
-        return (f"{self.key}{value}{STRAIN}{100 * strain:.3g} %",
-                f"step {j} (t = {t:.4g}{_unit(self.scene, 'time')})")
+        return f"{self.key}{value}{STRAIN}{100 * strain:.3g} %", when
 
     def _worn(self, final: bool = False) -> str:
         (t, share), (end, last), time = self.worn, self.last, _unit(self.scene, "time")
@@ -120,6 +135,18 @@ class Validity:
         return (f"{WORN}g = {self.g:g}{_unit(self.scene, 'length')}) is worn through at t = {t:.4g}{time} over "
                 f"{100 * share:.3g} % of Γ_C{later}; beyond it the paper's model carries the load rigidly, without "
                 "friction or wear")
+
+
+def _expansion(scene) -> tuple[str, float] | None:
+    """(key, α) of the largest thermal expansion of a heated scene's regions (its own key or the default table's)."""
+    if scene.heat.model != "conduction":
+        return None
+    material, tables = scene.material, scene.material.by_region(scene.geometry.regions)
+    region, table = max(tables.items(), key=lambda item: item[1].expansion or 0.0)
+    if not table.expansion:
+        return None
+    own = region in material.regions and material.regions[region].expansion is not None
+    return (f"material.regions.{region}.expansion" if own else "material.expansion"), table.expansion
 
 
 def _unit(scene, quantity: str) -> str:
