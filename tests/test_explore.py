@@ -301,6 +301,6 @@ def test_a_programme_scene_opens_and_its_sliders_act():
     assert steps.key == "programme.steps_per_stop" and steps.label == "steps per stop"
     ex.set(steps=steps.maximum)
     assert ex.result.completed and ex.scene.programme.steps_per_stop == steps.maximum
-    assert len(ex.result.times) == 2 * (steps.maximum + 1)        # two stops: their starts and their m steps each
+    assert len(ex.result.times) == 2 * (steps.maximum + 1) + 1    # two stops (starts and m steps each), the last dwell
     assert ex.picture().size and ex.plots().size
     ex.close()

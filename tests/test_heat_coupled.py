@@ -148,7 +148,7 @@ def test_a_friction_of_temperature_keeps_newtons_factorisations_and_agrees_with_
 
 
 def test_a_programme_with_heat_cools_over_its_dwells_and_tabulates_each_stops_temperatures(monkeypatch):
-    """The fading stop above twice (v: 1 → 0 over 4, 10 steps), a dwell of 6 between: a hand recursion through both.
+    """The fading stop above twice (v: 1 → 0 over 4, 10 steps), a dwell of 6 after each: a hand recursion through all.
 
     The crossing slides nothing: the adiabatic body keeps its heat to round-off, the disc relaxes to T_∞ over the dwell
     by 15 backward-Euler steps of the stop's 0.4, (C_d / (C_d + Δt H_d))¹⁵ = (3 / 3.2)¹⁵ = 0.38 (e⁻¹ = 0.37 exactly,
@@ -165,16 +165,16 @@ def test_a_programme_with_heat_cools_over_its_dwells_and_tabulates_each_stops_te
     scene = Scene.from_dict({**data, "programme": {"stops": [{"count": 2, "duration": 4.0, "speed": [1.0, 0.0],
                                                               "dwell": 6.0}], "steps_per_stop": 10}})
     result = ngwear.simulate(scene, progress=False)
-    assert result.completed and result.steps == 21 and result.times[11] == 10.0
+    assert result.completed and result.steps == 22 and result.times[11] == 10.0 and result.times[22] == 20.0
     crossing = seen[24]                         # row 11: 15 Heat.advance calls (seen[10:25]), which start at row 1
-    assert len(seen) == 35 and crossing.supplied == seen[9].supplied and crossing.convected == seen[9].convected == 0
+    assert len(seen) == 50 and crossing.supplied == seen[9].supplied and crossing.convected == seen[9].convected == 0
     # to the solve's round-off: cond(M + Δt A) ≈ Δt k / (ρc h²) = 0.4 · 1e4 / (2 · 0.05²) ≈ 1e6, 15 times
     assert crossing.stored == pytest.approx(seen[9].stored, rel=1e-8, abs=0)
     assert result.heat_flux[11] == 0 and result.heat_flux[12] > 0
     body, disc, mu = [1.0], [1.0], [0.45]
-    for j in range(1, 22):
+    for j in range(1, 23):                      # row 22: the last dwell, to the programme's end
         mu.append(0.5 - 0.05 * body[-1])
-        steps, power = (15, 0.0) if j == 11 else (1, mu[-1] * (1 - 0.1 * (j % 11)))    # N = 1
+        steps, power = (15, 0.0) if j in (11, 22) else (1, mu[-1] * (1 - 0.1 * (j % 11)))    # N = 1
         body.append(body[-1] + 0.4 * 0.5 * power / 0.2)
         disc.append(disc[-1])
         for _ in range(steps):
@@ -200,6 +200,8 @@ def test_a_programme_with_heat_cools_over_its_dwells_and_tabulates_each_stops_te
     assert stops.loc[1, "temperature_start"] == pytest.approx(stops.loc[0, "temperature_end"], rel=1e-8)   # kept
     assert stops.loc[0, "foundation_temperature_peak"] > stops.loc[0, "foundation_temperature_end"]   # it cooled
     assert stops.loc[1, "energy"] < 0.95 * stops.loc[0, "energy"]                                      # fade
+    assert result.foundation_temperature[22] < result.foundation_temperature[21] and result.heat_flux[22] == 0
+    assert result.speed_factor[22] == result.load_factor[22] == 0.0                  # the last dwell cools the disc
     block, = result.summary()["blocks"]                 # one block: its peaks are the whole run's
     assert block["peak_face_temperature"] == result.surface_temperature.max()
     assert block["peak_track_temperature"] == pytest.approx(max(disc), rel=2e-6)

@@ -121,8 +121,9 @@ def expected(result, steps, updates) -> dict:
     out["wear_volume"] = np.einsum("ji,ji->j", out["total_wear"], out["weights"])
     out["max_wear"] = out["total_wear"].max(axis=1)
     out["friction_force"] = np.hypot(out["tangential_x"], out["tangential_y"])
-    out["apparent_friction"] = out["friction_force"] / out["normal_force"]
-    out["mean_pressure"] = out["normal_force"] / out["contact_area"]
+    for name, (a, b) in {"apparent_friction": ("friction_force", "normal_force"),
+                         "mean_pressure": ("normal_force", "contact_area")}.items():     # 0 where nothing presses
+        out[name] = np.divide(out[a], out[b], out=np.zeros_like(out[a]), where=out[b] > 0)
     out["dissipated_energy"] = cumulative_trapezoid(out["friction_power"], out["times"], initial=0.0)
     for name in ("max_temperature", "foundation_temperature", "heat_flux", "surface_temperature", "step_friction",
                  "step_wear_coefficient"):

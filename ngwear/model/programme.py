@@ -187,13 +187,22 @@ class Schedule:
             tables[which] = rows[keep]
         return tables
 
+    @property
+    def cools(self) -> bool:
+        """Whether the programme ends with a dwell (the last stop's), which a run steps over to the end T."""
+        return bool(self.dwell[-1] > 0)
+
     def rows(self, jumped: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(Stop, step j) of each recorded row of a run of this programme with the stops ``jumped`` not simulated.
 
-        A simulated stop records m + 1 rows: its start (j = 0) and its m steps; a jumped stop records none.
+        A simulated stop records m + 1 rows: its start (j = 0) and its m steps; a jumped stop records none.  The
+        last dwell, if any, is one more row, j = m + 1 of the last stop, at T (:attr:`cools`).
         """
         simulated = np.setdiff1d(np.arange(self.count), jumped)
-        return np.repeat(simulated, self.steps + 1), np.tile(np.arange(self.steps + 1), len(simulated))
+        stops, steps = np.repeat(simulated, self.steps + 1), np.tile(np.arange(self.steps + 1), len(simulated))
+        if self.cools:
+            stops, steps = np.append(stops, self.count - 1), np.append(steps, self.steps + 1)
+        return stops, steps
 
     def ends(self, rows: int) -> np.ndarray:
         """The rows, among the first ``rows`` recorded, that end a simulated stop: m, 2m + 1, … (see :meth:`rows`)."""
@@ -203,7 +212,8 @@ class Schedule:
         """(s_v, s_F) of the first ``rows`` recorded rows (see :meth:`rows`)."""
         stop, j = (a[:rows] for a in self.rows(jumped))
         phase = j / self.steps
-        return tuple(ends[stop, 0] + (ends[stop, 1] - ends[stop, 0]) * phase for ends in (self.speed, self.load))
+        return tuple(np.where(j > self.steps, 0.0, ends[stop, 0] + (ends[stop, 1] - ends[stop, 0]) * phase)
+                     for ends in (self.speed, self.load))
 
 
 # ---------------------------------------------------------------- the scene's [programme] table

@@ -110,13 +110,17 @@ class Motion:
 
     # ---- the factors of a step ---------------------------------------------------------------
     def at(self, t: float, place: tuple[int, int] | None = None) -> Instant:
-        """The instant t: the tables' factors there, or (a programme) those of ``place`` = (stop, step)."""
+        """The instant t: the tables' factors there, or (a programme) those of ``place`` = (stop, step).
+
+        Step m + 1 of the last stop is the programme's last dwell: no sliding, no load.
+        """
         if self.schedule is None:
             speed, load = (1.0 if nodes is None else float(np.interp(t, *nodes)) for nodes in self.tables)
             return Instant(t, speed, load)
         stop, step = place
         phase = step / self.schedule.steps
-        speed, load = (float(ends[stop, 0] + (ends[stop, 1] - ends[stop, 0]) * phase)
+        speed, load = (0.0 if step > self.schedule.steps else float(ends[stop, 0] + (ends[stop, 1] - ends[stop, 0]) *
+                                                                      phase)
                        for ends in (self.schedule.speed, self.schedule.load))
         return Instant(t, speed, load, (int(stop), int(step)))
 

@@ -51,7 +51,8 @@ class Target:
     """Where the next step ends and what it solves: its instant and its wear law, from the clock.
 
     ``still``: the step slides nothing (a programme's crossing of a dwell: no wear, no frictional heat); ``jumped``:
-    the stops a cycle jump applies on it; ``heat_steps``: the heat's backward-Euler steps over it.
+    the stops a cycle jump applies on it; ``heat_steps``: the heat's backward-Euler steps over it; ``unloaded``: the
+    step ends unloaded and at rest (a programme's last dwell), the unloaded body u = 0, p = λ = 0, without a solve.
     """
 
     instant: Instant
@@ -59,6 +60,7 @@ class Target:
     still: bool = False
     jumped: int = 0
     heat_steps: tuple[float, ...] = ()
+    unloaded: bool = False
 
 
 @dataclass
@@ -152,7 +154,12 @@ def advance(disc, caches: StepCaches, state: State, target: Target) -> tuple[Sta
     instant = target.instant
     drive = Drive(instant.speed, instant.load, state.coefficients, state.reference, target.wear)
     previous = None if state.instant is None else state.instant.load
-    if nonlinear(disc):
+    if target.unloaded:                         # nothing pressed, nothing slides: no equation to solve
+        x, lam, record = np.zeros_like(state.x), np.zeros_like(state.lam), NewtonRecord(converged=True)
+        rest = None if state.displacement is None else np.zeros_like(state.displacement)
+        displacements, shown = (() if rest is None or not nonlinear(disc) else
+                                ((instant.t, rest), *state.displacements[:1])), rest
+    elif nonlinear(disc):
         x, lam, record, u = _bulk(disc, caches, state, drive, previous, instant.t)
         displacements, shown = ((instant.t, u), *state.displacements[:1]), u
     else:

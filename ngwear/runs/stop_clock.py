@@ -5,7 +5,8 @@
 a run), then its m steps t_i + d j/m, each with the factors s_v, s_F of its place on the stop's grid
 (:meth:`~ngwear.numerics.contact.Motion.at`), k the differences of the stop's own grid: the stops of a block are one
 problem.  Between two simulated stops one step crosses the dwell (and the jumped stops): no load and no sliding, so
-no wear but what a jump adds; it ends at the next simulated stop's start, solved there with its factors.
+no wear but what a jump adds; it ends at the next simulated stop's start, solved there with its factors.  After
+the last stop one more such step crosses the programme's last dwell to its end T (if it has one), unloaded.
 
 After each simulated stop its wear increment Δw (end minus start) goes to :class:`~ngwear.runs.jumps.CycleJumps`
 (``programme.jump``): a jump of N stops adds N Δw on that crossing step and the N stops are recorded as jumped
@@ -67,8 +68,10 @@ class StopClock:
                 self.jumps.jumped()
 
     def done(self, state, contact) -> bool:
-        """Whether the programme's last stop is done (simulated, or jumped over)."""
-        return self.step == self.m and self._following(contact) >= self.schedule.count
+        """Whether the programme is done: its last stop (simulated, or jumped over) and its last dwell, if any."""
+        if self.step > self.m:
+            return True
+        return self.step == self.m and self._following(contact) >= self.schedule.count and not self.schedule.cools
 
     def _following(self, contact) -> int:
         """The next stop to simulate after the current one (its end reached), once the jump is decided."""
@@ -95,6 +98,13 @@ class StopClock:
                                    contact.alpha(state.coefficients, instant.speed), local[step] - local[step - 1])
             return Target(instant, wear, heat_steps=(instant.t - t,))
         stop = self._following(contact)
+        if stop >= s.count:                             # the last dwell, to the programme's end
+            self.aim = (s.count - 1, self.m + 1)
+            instant = contact.motion.at(s.end, self.aim)
+            length = instant.t - t
+            count = min(math.ceil(length * self.m / s.duration[-1]), DWELL_STEPS)
+            return Target(instant, integrator.rest(state.wear), still=True, heat_steps=(length / count,) * count,
+                          unloaded=True)
         instant = contact.motion.at(float(s.start[stop]), (stop, 0))
         start = state.wear + self.added * self._increment() if self.added else state.wear
         before = stop - 1                               # the dwell before the stop it reaches
