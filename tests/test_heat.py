@@ -245,3 +245,53 @@ def test_frictional_power_and_a_bad_flux():
     scene = scene_of(size=(1.0, 0.2), maxh=0.2)
     with pytest.raises(ValueError, match=r"heat: the scene has no temperature \(heat.model = 'none'\)"):
         heat_of(scene.replace(**{"heat.model": "none"}))
+
+
+def conducting(h, **heat):
+    """The half-space column under ``heat.interface = "conductance"`` with h_c = ``h`` (and ``heat``'s keys)."""
+    return scene_of(maxh=0.01, heat={"interface": "conductance", "contact_conductance": h, **heat})
+
+
+def test_a_face_held_by_a_contact_conductance_warms_as_the_half_space_of_carslaw_and_jaeger():
+    """No friction, the counterface at T_f = 1, h_c = 5 (k = ρc = 1): θ(t) = T_f (1 − e^{h²t} erfc(h√t)) at the face.
+
+    Within 3 % from the 5th step of 20, 1 % at the end; the body's heat is what the conductance gave, to round-off.
+    """
+    from scipy.special import erfcx
+    heat, _ = heat_of(Scene.from_dict({**conducting(5.0).to_dict(), "foundation": {"temperature": 1.0}}))
+    steps, touching = 20, np.ones(len(heat.weights), dtype=bool)
+    surface = []
+    for _ in range(steps):
+        heat.advance(FINAL / steps, np.zeros(len(heat.weights)), touching)
+        surface.append(heat.surface_temperature() @ heat.weights / heat.weights.sum())
+        balance = heat.balance()
+        assert balance.exchanged > 0 and abs(balance.residual) < 1e-12 * balance.exchanged
+    times = FINAL / steps * np.arange(1, steps + 1)
+    exact = 1 - erfcx(5.0 * np.sqrt(times))                   # e^{x²} erfc(x), x = h√t
+    error = np.abs(np.array(surface) / exact - 1)
+    assert error[4:].max() < 0.03 and error[-1] < 0.01, error
+    untouched, _ = heat_of(Scene.from_dict({**conducting(5.0).to_dict(), "foundation": {"temperature": 1.0}}))
+    untouched.advance(FINAL, np.zeros(len(heat.weights)), np.zeros(len(heat.weights), dtype=bool))
+    assert np.all(untouched.temperature == 0.0), "no contact, no exchange"
+
+
+def test_a_large_conductance_gives_the_faces_one_temperature_and_keeps_the_heat_of_both():
+    """A lumped disc on the column heated by q = 1, η = ½ (the default), h_c = 1e6: the faces share one temperature.
+
+    The disc's heat is what it received less what it gave, and body and disc hold every joule friction made, to
+    round-off, whatever the split.
+    """
+    data = conducting(1e6, partition=None).to_dict()
+    scene = Scene.from_dict({**data, "foundation": {"thermal_mass": 0.01, "cooling": 0.0}})
+    assert scene.heat.partition is None
+    heat, _ = heat_of(scene)
+    assert heat.partition == 0.5
+    touching, made = np.ones(len(heat.weights), dtype=bool), 0.0
+    for _ in range(20):
+        heat.advance(FINAL / 20, np.ones(len(heat.weights)), touching)
+        made += FINAL / 20 * heat.power
+    disc, face = heat.counterface, heat.surface_temperature()
+    assert np.abs(face - disc.T).max() < 1e-3 * (disc.T - disc.start)
+    assert disc.stored == pytest.approx(disc.received - disc.cooled - disc.given, rel=1e-12)
+    assert heat.balance().stored + disc.stored == pytest.approx(made, rel=1e-12)
+    assert abs(heat.balance().residual) < 1e-12 * made

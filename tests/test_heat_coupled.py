@@ -42,8 +42,8 @@ def balances(monkeypatch):
     """The body's heat balance after every heat step of the runs that follow (a list that fills)."""
     seen, original = [], Heat.advance
 
-    def advance(heat, dt, generated):
-        out = original(heat, dt, generated)
+    def advance(heat, dt, generated, touching=None):
+        out = original(heat, dt, generated, touching)
         seen.append(heat.balance())
         return out
 
@@ -122,6 +122,38 @@ def test_fading_friction_through_a_stop_is_the_hand_computed_recursion():
     assert np.allclose(result.friction_force, force, rtol=2e-6)
     assert result.friction_force[-1] < 0.8 * result.friction_force[0]         # it faded
 
+
+
+def test_a_contact_conductance_couples_the_body_and_the_disc_as_the_hand_computed_recursion(monkeypatch):
+    """A contact conductance couples body and disc implicitly: the stop above, by hand, as a 2 × 2 system a step.
+
+    ``heat.interface = "conductance"``, h_c = 2: the faces exchange G (T_d − T_b) besides their shares, G = h_c × the
+    touching area; per step the backward-Euler system
+
+        C_b (T_b − T_b') = Δt (η P + G (T_d − T_b)),   C_d (T_d − T_d') = Δt ((1 − η) P + H_d (T_∞ − T_d) − G (T_d − T_b)),
+
+    and the body's balance, the exchange included, to round-off at every step.
+    """
+    seen = balances(monkeypatch)
+    result = ngwear.simulate(lumped_stop(**{"heat.interface": "conductance", "heat.contact_conductance": 2.0}),
+                             progress=False)
+    assert result.completed
+    times, dt, N, h = result.times, 4.0 / 20, 1.0, 2.0
+    touching = (result.pressure + result.reaction > 0) @ result.weights
+    body, disc = [1.0], [1.0]
+    for j, t in enumerate(times[1:], start=1):
+        power, G = (0.5 - 0.05 * body[-1]) * N * (1 - t / 4), h * touching[j]
+        system = np.array([[0.2 + dt * G, -dt * G], [-dt * G, 3.0 + dt * (0.5 + G)]])
+        b, d = np.linalg.solve(system, [0.2 * body[-1] + dt * 0.5 * power,
+                                        3.0 * disc[-1] + dt * (0.5 * power + 0.5 * 1.0)])
+        body.append(b), disc.append(d)
+    assert np.allclose(result.surface_temperature, np.array(body)[:, None], rtol=2e-6)
+    assert np.allclose(result.foundation_temperature, disc, rtol=2e-6)
+    # the balance to the solves' round-off: cond(M + Δt A) ≈ Δt k / (ρc h²) = 0.2 · 1e4 / (2 · 0.05²) = 4e5
+    assert all(b.exchanged != 0 for b in seen[1:]) and max(abs(b.residual) / b.stored for b in seen[1:]) < 1e-8
+    apart = ngwear.simulate(lumped_stop(), progress=False)
+    assert abs(result.surface_temperature[-1, 0] - result.foundation_temperature[-1]) < \
+        abs(apart.surface_temperature[-1, 0] - apart.foundation_temperature[-1]), "the exchange evens them out"
 
 
 def test_a_friction_of_temperature_keeps_newtons_factorisations_and_agrees_with_refactorising(monkeypatch):
@@ -391,8 +423,8 @@ def test_the_shipped_heat_scene_says_where_it_cools_below_its_start_and_the_boun
     """
     lowest, original = [], Heat.advance
 
-    def advance(heat, dt, generated):
-        out = original(heat, dt, generated)
+    def advance(heat, dt, generated, touching=None):
+        out = original(heat, dt, generated, touching)
         lowest.append(float(out.min()))
         return out
 

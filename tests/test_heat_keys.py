@@ -145,3 +145,21 @@ def test_coefficients_of_state_are_evaluated_each_step_the_fixed_ones_kept(strip
     assert np.allclose(later.friction, 0.5 - 0.0005 * (STATE["T"] + 100), rtol=1e-15)
     fixed = strip.contact
     assert stateful(fixed) == () and Coefficients.of(fixed, POINTS).updated(fixed, POINTS, STATE).friction is not None
+
+
+@pytest.mark.parametrize("dotted, fragment", [
+    ({"heat.interface": "conductance"}, "heat.contact_conductance: missing (heat.interface = 'conductance' needs"),
+    ({"heat.contact_conductance": 5.0}, "heat.contact_conductance: only with heat.interface = 'conductance'"),
+    ({"heat.interface": "conductance", "heat.contact_conductance": -1.0}, "heat.contact_conductance: must be >= 0"),
+    ({"heat.interface": "bonded", "heat.contact_conductance": 1.0}, "heat.interface: must be one of partition, "),
+])
+def test_the_contact_conductance_comes_with_its_interface(strip, dotted, fragment):
+    assert refusal(strip, **HEATED, **dotted).startswith(fragment)
+
+
+def test_the_conductance_interface_splits_half_and_half_unless_told(strip):
+    from ngwear.model.thermal import partition
+    given = {k: v for k, v in HEATED.items() if k != "heat.partition"}
+    scene = strip.replace(**given, **{"heat.interface": "conductance", "heat.contact_conductance": 1e4})
+    assert scene.heat.partition is None and partition(scene, ["body"]) == 0.5
+    assert partition(scene.replace(**{"heat.partition": 0.8}), ["body"]) == 0.8

@@ -216,6 +216,8 @@ CHANGES = {
     "heat.ambient": heated(**{"heat.ambient": 20.0}),
     "heat.initial": heated(**{"heat.initial": 30.0}),
     "heat.scheme": heated(**{"heat.scheme": "bounded"}),
+    "heat.interface": heated(**{"heat.interface": "conductance", "heat.contact_conductance": 2.0}),
+    "heat.contact_conductance": heated(**{"heat.interface": "conductance", "heat.contact_conductance": 5.0}),
     "material.max_temperature": heated(**{"material.max_temperature": 0.5}),
     "foundation.max_temperature": heated(**{"foundation.max_temperature": 0.5}),
 

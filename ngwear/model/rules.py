@@ -1,9 +1,8 @@
 """Rules across scene keys: vector lengths by dimension, boundary names by geometry, ranges set by other keys.
 
 :func:`check` runs after every key has been validated on its own; each rule raises a
-:class:`~ngwear.model.keys.SceneError` naming the key that is off and what it must be.  Quantities derived
-from several keys (α = κ‖v*‖, the step k = T/N, k·α·L) must stay finite: a scene whose numbers overflow
-them is refused here, naming the key, not turned into NaN or infinity at run time.
+:class:`~ngwear.model.keys.SceneError` naming the key that is off and what it must be.  Quantities derived from
+several keys (α = κ‖v*‖, k = T/N, k·α·L, the loads) must stay finite: a scene that overflows them is refused.
 """
 from __future__ import annotations
 
@@ -240,10 +239,7 @@ def _check_loads(scene) -> None:
 
 
 def _check_load_sizes(scene) -> None:
-    """Each load times the largest factor it is scaled by (``loads.time_table`` or a programme's ``load``) <= :data:`BIG`.
-
-    Beyond it the forces and the merit of the Newton method overflow: refused, naming the load.
-    """
+    """Each load times its largest factor (``loads.time_table``, a programme's ``load``) <= :data:`BIG` (no overflow)."""
     loads, programme = scene.loads, scene.programme
     factors = ([abs(f) for b in programme.blocks for f in b.load] if programme is not None else
                [abs(f) for _, f in loads.time_table])
@@ -348,9 +344,13 @@ def _check_heat(scene) -> None:
         if table.expansion and table.kind == "energy" and scene.dim == 2:
             raise SceneError(f"{owner}.expansion: not for material.law = 'energy' in 2D (ψ of the in-plane strain "
                              "has no out-of-plane stiffness for the plane-strain thermal stress)")
-    if h.partition is None:
+    if h.partition is None and h.interface == "partition":
         raise SceneError("heat.partition: missing (heat.model = 'conduction' needs the body's share η of the "
                          "frictional heat: a number in [0, 1] or 'effusivity')")
+    if (h.interface == "conductance") != (h.contact_conductance is not None):
+        needs = "missing (heat.interface = 'conductance' needs h_c >= 0)" if h.contact_conductance is None else \
+            "only with heat.interface = 'conductance'"
+        raise SceneError(f"heat.contact_conductance: {needs}")
     if h.partition == "effusivity":
         for name in ("conductivity", "density", "heat_capacity"):
             if getattr(f, name) is None:

@@ -48,9 +48,13 @@ def region_properties(scene) -> dict[str, Thermal]:
 def partition(scene, contact_regions) -> float:
     """η, the body's share of the frictional heat: ``heat.partition``, or e_b / (e_b + e_f) for ``effusivity``.
 
+    With ``heat.interface = "conductance"`` and no partition given: ½.
+
     ``contact_regions``: the regions whose elements carry Γ_C; with ``effusivity`` they must share one e_b.
     """
     share = scene.heat.partition
+    if share is None and scene.heat.interface == "conductance":
+        return 0.5                              # the faces' exchange evens out the split (docs/guide/heat.md)
     if share != "effusivity":
         return float(share)
     props, f = region_properties(scene), scene.foundation
@@ -104,6 +108,13 @@ class HeatSpec(Section):
     initial: Number | None = key(None, "T₀, the initial temperature of the body and of a lumped counterface; the "
                                  "stress-free temperature of `material.expansion`", reuse=Level.NOTHING,
                                  shown="`heat.ambient`")
+    interface: Literal["partition", "conductance"] = key(
+        "partition", "how the frictional heat meets the counterface: `partition` (the body takes the share η of "
+        "q = μ p ‖v*‖, whatever the faces' temperatures), `conductance` (q split by η at the interface, and the faces "
+        "exchange h_c (T_f − T) where they touch, implicitly)", reuse=Level.NOTHING)
+    contact_conductance: Number | None = key(
+        None, "`heat.interface = \"conductance\"`: h_c, the heat the touching faces exchange per unit area and "
+        "degree (where they do not touch, none)", reuse=Level.NOTHING, shown="— (needed with `conductance`)", ge=0)
     scheme: Literal["consistent", "bounded"] = key(
         "consistent", "the heat's backward-Euler step: `consistent` (the consistent capacity and conduction, most "
         "accurate at the face; where a step is short against h²/κ a node may fall below T₀, which a run says), "

@@ -14,6 +14,8 @@ the time constant C_d / H_d (the discrete factor per step 1 / (1 + Δt H_d / C_d
 """
 from __future__ import annotations
 
+import numpy as np
+
 from ..model.keys import piecewise_linear
 
 
@@ -46,7 +48,7 @@ class Lumped:
     def __init__(self, capacity: float, cooling: float, ambient: float, start: float):
         self.capacity, self.cooling, self.ambient = capacity, cooling, ambient
         self.start = self.T = start
-        self.received = self.cooled = 0.0       # ∫ (1 − η) Q dt and ∫ H_d (T_f − T_∞) dt so far
+        self.received = self.cooled = self.given = 0.0     # ∫ (1 − η) Q, ∫ H_d (T_f − T_∞), ∫ Σ g (T_f − T) dt
 
     def temperature(self, t: float) -> float:
         return self.T
@@ -59,19 +61,36 @@ class Lumped:
         self.cooled += dt * H * (self.T - self.ambient)
         return self.T
 
+    def exchange(self, dt: float, power: float, gains: np.ndarray, free: np.ndarray, unit: np.ndarray) -> float:
+        """T_f at the end of a step that also exchanges Σ_i g_i (T_i − T_f) with the body's face, implicitly in both.
+
+        The body's face temperatures are E T = ``free`` + ``unit`` T_f (its solve for T_f = 0 and per unit T_f), so
+
+            C_d (T_f − T_f^n) = Δt ((1 − η) Q + H_d (T_∞ − T_f) + Σ_i g_i (free_i + unit_i T_f − T_f))
+
+        is one linear equation in T_f (its coefficient C_d + Δt (H_d + Σ g_i (1 − unit_i)) > 0 as 0 ≤ unit_i < 1).
+        """
+        C, H = self.capacity, self.cooling
+        self.T = (C * self.T + dt * (power + H * self.ambient + gains @ free)) / (
+            C + dt * (H + gains.sum() - gains @ unit))
+        self.received += dt * power
+        self.cooled += dt * H * (self.T - self.ambient)
+        self.given += dt * float(gains @ (self.T - free - unit * self.T))
+        return self.T
+
     @property
     def stored(self) -> float:
-        """C_d (T_f − T_f(0)): received − cooled, to round-off."""
+        """C_d (T_f − T_f(0)): received − cooled − given, to round-off."""
         return self.capacity * (self.T - self.start)
 
     @property
     def state(self) -> tuple[float, ...]:
-        """(T_f, received, cooled): what a checkpoint keeps."""
-        return self.T, self.received, self.cooled
+        """(T_f, received, cooled, given): what a checkpoint keeps."""
+        return self.T, self.received, self.cooled, self.given
 
     @state.setter
     def state(self, values) -> None:
-        self.T, self.received, self.cooled = (float(v) for v in values)
+        self.T, self.received, self.cooled, self.given = (float(v) for v in values)
 
 
 def counterface(scene):

@@ -39,7 +39,7 @@ import scipy.sparse as sp
 from ngsolve.fem import NODE_TYPE
 
 from ..model.thermal import partition, region_properties
-from .counterface_temperature import counterface
+from .counterface_temperature import Lumped, counterface
 from .pardiso import Pardiso
 from .stiffness import assembled
 
@@ -52,21 +52,23 @@ of temperatures above it, before a run says so."""
 
 @dataclass(frozen=True)
 class Balance:
-    """The body's heat so far: ``stored`` = ``supplied`` − ``convected`` − ``removed``.
+    """The body's heat so far: ``stored`` = ``supplied`` + ``exchanged`` − ``convected`` − ``removed``.
 
     ``stored`` ∫ ρc (T − T₀) dx, ``supplied`` Σ Δt η Q, ``convected`` Σ Δt r·(T − T_∞), ``removed`` the heat of the
-    material the geometry updates took away (:meth:`Heat.moved`; 0 in the layer mode).
+    material the geometry updates took away (:meth:`Heat.moved`; 0 in the layer mode), ``exchanged`` Σ Δt Σ_i g_i (T_f −
+    T_i) what the counterface gave through the contact conductance.
     """
 
     stored: float
     supplied: float
     convected: float
     removed: float = 0.0
+    exchanged: float = 0.0
 
     @property
     def residual(self) -> float:
-        """The balance's defect, stored − (supplied − convected − removed): zero to round-off."""
-        return self.stored - (self.supplied - self.convected - self.removed)
+        """The balance's defect, stored − (supplied + exchanged − convected − removed): zero to round-off."""
+        return self.stored - (self.supplied + self.exchanged - self.convected - self.removed)
 
 
 class Heat:
@@ -104,8 +106,10 @@ class Heat:
         self._assemble(mesh, points)
         self.temperature = np.full(self.space.ndof, self.start)
         self.counterface = counterface(scene)
-        self.time = self.power = self.supplied = self.convected = self.removed = 0.0
+        self.time = self.power = self.supplied = self.convected = self.removed = self.exchanged = 0.0
         self.lowest = (self.start, 0.0)
+        h = scene.heat
+        self.conductance = h.contact_conductance if h.interface == "conductance" else None
 
     def _assemble(self, mesh: ngs.Mesh, points) -> None:
         """M, A, R, r, E and the contact points' weights on the mesh as it is; no factorisation yet."""
@@ -149,18 +153,30 @@ class Heat:
         self.removed += lost
         return lost
 
-    def advance(self, dt: float, generated: np.ndarray) -> np.ndarray:
+    def advance(self, dt: float, generated: np.ndarray, touching: np.ndarray | None = None) -> np.ndarray:
         """T at the end of a step of length ``dt`` (backward Euler), the counterface's too; returns T (nodal).
 
         ``generated``: q_i = μ_i p_i ‖v*_i‖ at the contact points at the step's end, the frictional power per unit
-        area; the body takes η q_i, the counterface (1 − η) Σ_i m_i q_i.
+        area; the body takes η q_i, the counterface (1 − η) Σ_i m_i q_i.  ``touching``: the points in contact
+        (``heat.interface = "conductance"``: the faces exchange h_c (T_f − T) there, implicitly in both).
         """
         q = np.asarray(generated, dtype=float)
         if q.shape != self.weights.shape:
             raise ValueError(f"heat: one frictional power per contact point ({len(self.weights)}) (got {q.shape})")
-        self.power = float(self.weights @ q)
-        load = self._spread @ q + self._surroundings
-        low = self._factor(dt).solve(self.mass @ self.temperature + dt * load)
+        self.power, share = float(self.weights @ q), (1 - self.partition) * float(self.weights @ q)
+        rhs = self.mass @ self.temperature + dt * (self._spread @ q + self._surroundings)
+        gains = self._gains(touching)
+        if gains is None:
+            low, face = self._factor(dt).solve(rhs), None
+        else:                                   # Eᵀ g T_f on the right: T = a + b T_f, T_f by the counterface
+            factor, spread = self._factor(dt, gains), self.evaluation.T @ gains
+            if isinstance(self.counterface, Lumped):
+                a, b = factor.solve(rhs), factor.solve(dt * spread)
+                face = self.counterface.exchange(dt, share, gains, self.evaluation @ a, self.evaluation @ b)
+                low = a + b * face
+            else:
+                face = self.counterface.temperature(self.time + dt)
+                low = factor.solve(rhs + dt * spread * face)
         self.temperature = low if self.fluxes is None else self.fluxes.corrected(low, self.temperature, dt,
                                                                                    self.capacity)
         self.time += dt
@@ -168,18 +184,32 @@ class Heat:
             self.lowest = (coldest, self.time)
         self.supplied += dt * self.partition * self.power
         self.convected += dt * float(self.exchange @ (low - self.ambient))
-        self.counterface.advance(self.time, dt, (1 - self.partition) * self.power)
+        if gains is not None:
+            self.exchanged += dt * float(gains @ (face - self.evaluation @ low))
+        if gains is None or not isinstance(self.counterface, Lumped):
+            self.counterface.advance(self.time, dt, share)
         return self.temperature
 
-    def _factor(self, dt: float) -> Pardiso:
-        """The factorisation of M + Δt (A + R), made on the first step of this size."""
-        if dt in self._factors:
-            self._factors.move_to_end(dt)
+    def _gains(self, touching) -> np.ndarray | None:
+        """g_i = m_i h_c at the points in contact (None: no exchange, ``partition`` or nothing touching)."""
+        if self.conductance is None or touching is None or not np.any(touching):
+            return None
+        return self.weights * self.conductance * np.asarray(touching, dtype=float)
+
+    def _factor(self, dt: float, gains: np.ndarray | None = None) -> Pardiso:
+        """The factorisation of M + Δt (A + R + H), H = Eᵀ diag(g) E (lumped, bounded), made on its first use."""
+        key = (dt, None if gains is None else gains.tobytes())
+        if key in self._factors:
+            self._factors.move_to_end(key)
         else:
             if len(self._factors) == FACTORS:
                 self._factors.popitem(last=False)
-            self._factors[dt] = Pardiso(self.mass + dt * (self.stiffness + self.convection))
-        return self._factors[dt]
+            matrix = self.stiffness + self.convection
+            if gains is not None:
+                touch = (self.evaluation.T @ sp.diags(gains) @ self.evaluation).tocsr()
+                matrix = matrix + (touch if self.fluxes is None else sp.diags(np.asarray(touch.sum(axis=1)).ravel()))
+            self._factors[key] = Pardiso(self.mass + dt * matrix)
+        return self._factors[key]
 
     def surface_temperature(self) -> np.ndarray:
         """T(x_i) at the contact points, shape (n,)."""
@@ -215,22 +245,24 @@ class Heat:
     def balance(self) -> Balance:
         """The body's heat so far: what it stores, what friction supplied, what convection took."""
         stored = float(self.capacity @ (self.temperature - self.start))
-        return Balance(stored, self.supplied, self.convected, self.removed)
+        return Balance(stored, self.supplied, self.convected, self.removed, self.exchanged)
 
     @property
     def state(self) -> dict[str, np.ndarray]:
         """What a checkpoint keeps: T, its counters and the counterface's state.
 
-        The counters: time, Q, supplied, convected, removed, the lowest T and its time.
+        The counters: time, Q, supplied, convected, removed, exchanged, the lowest T and its time.
         """
         return {"temperature": self.temperature.copy(),
-                "heat": np.array([self.time, self.power, self.supplied, self.convected, self.removed, *self.lowest]),
+                "heat": np.array([self.time, self.power, self.supplied, self.convected, self.removed, self.exchanged,
+                                  *self.lowest]),
                 "counterface": np.array(self.counterface.state, dtype=float)}
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
         """Go on from a :attr:`state` (of a heat on the same mesh)."""
         self.temperature = np.array(state["temperature"], dtype=float)
-        self.time, self.power, self.supplied, self.convected, self.removed, *lowest = map(float, state["heat"])
+        self.time, self.power, self.supplied, self.convected, self.removed, self.exchanged, *lowest = map(
+            float, state["heat"])
         self.lowest = tuple(lowest)
         self.counterface.state = state["counterface"]
 

@@ -141,8 +141,9 @@ class Heating:
         speeds = self.contact.motion.speeds(state.instant.speed)
         q = np.zeros_like(state.pressure) if target.still else frictional_power(now.friction, state.pressure, speeds)
         heat = self.heat
+        touching = None if target.still else state.pressure + state.lam > 0
         for dt in steps:
-            heat.advance(dt, q)
+            heat.advance(dt, q, touching)
         if not steps:
             heat.power = float(heat.weights @ q)
         if self.limits is not None and steps:
@@ -165,7 +166,7 @@ class Heating:
         now = self.heat.state
         change = {key: now[key] - self.started[key] for key in now}
         change["heat"][1] = 0.0                                         # the power is the crossing's own (0)
-        change["heat"][5:] = 0.0                                        # the coldest node: the simulated stops'
+        change["heat"][6:] = 0.0                                        # the coldest node: the simulated stops'
         self.heat.restore({key: now[key] + stops * change[key] for key in now})
 
     def report(self, result) -> None:
