@@ -39,6 +39,12 @@ def unit(scene, quantity: str) -> str | None:
     return QUANTITIES[quantity][0 if scene.dim == 3 else 1]
 
 
+def suffix(scene, quantity: str) -> str:
+    """`` unit`` of a quantity in an SI scene (to follow a number), nothing in a dimensionless one."""
+    symbol = unit(scene, quantity)
+    return "" if symbol is None else f" {symbol}"
+
+
 def units(scene, names=NAMES) -> dict[str, str] | None:
     """``{name: unit}`` for the ``names`` of a run's numbers (default: all of :data:`NAMES`); None if dimensionless.
 

@@ -25,9 +25,9 @@ import numpy as np
 
 from ..numerics.expansion import ThermalLoad
 from ..numerics.heat import Heat, frictional_power
+from ..results.units import suffix
 from .temperature_limits import CHECKPOINT as LIMITS
 from .temperature_limits import Limits
-from .validity import _unit
 
 REFERENCE = "heat_friction_reference"
 """A checkpoint's key of the reference μ."""
@@ -80,7 +80,7 @@ class Heating:
         if saved and heating.heat is not None:
             heating.heat.restore({k: saved[f"heat_{k}"] for k in ("temperature", "heat", "counterface")})
         if saved and heating.limits is not None:
-            heating.limits = Limits.of(scene, disc.mesh, saved[LIMITS])
+            heating.limits.seen = np.array(saved[LIMITS], dtype=float)
         if saved and f"{STARTED}temperature" in saved:
             heating.started = {k: np.asarray(saved[f"{STARTED}{k}"], dtype=float) for k in heating.heat.state}
         return heating
@@ -181,7 +181,7 @@ class Heating:
             result.warnings.extend(self.limits.warnings(self.scene, result.times))
         fell = None if self.heat is None else self.heat.undershoot()
         if fell is not None:
-            (coldest, when), degrees, seconds = fell, _unit(self.scene, "temperature"), _unit(self.scene, "time")
+            (coldest, when), degrees, seconds = fell, suffix(self.scene, "temperature"), suffix(self.scene, "time")
             result.warnings.append(
                 f"{UNDERSHOOT} the temperature fell to {coldest:.4g}{degrees} at t = {when:.4g}{seconds}, "
                 f"{self.heat.floor - coldest:.3g}{degrees} below the {self.heat.floor:g}{degrees} it started from (the "

@@ -10,7 +10,7 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
-from ..results.units import unit
+from ..results.units import suffix
 
 KEY = "max_temperature"
 CHECKPOINT = "heat_limits"
@@ -28,17 +28,14 @@ class Limits:
         Per entry: passed (0 or 1), the first step that passed it, its time, the highest temperature, its step.
     """
 
-    def __init__(self, entries, saved=None):
+    def __init__(self, entries):
         self.entries = entries
-        if saved is None:
-            self.seen = np.zeros((len(entries), 5))
-            self.seen[:, 3] = -np.finfo(float).max
-        else:
-            self.seen = np.array(saved, dtype=float)
+        self.seen = np.zeros((len(entries), 5))
+        self.seen[:, 3] = -np.finfo(float).max
 
     @classmethod
-    def of(cls, scene, mesh: ngs.Mesh, saved=None) -> Limits | None:
-        """The limits of ``scene`` on the body's ``mesh`` (None without any); ``saved``: a checkpoint's :attr:`seen`."""
+    def of(cls, scene, mesh: ngs.Mesh) -> Limits | None:
+        """The limits of ``scene`` on the body's ``mesh`` (None without any)."""
         entries, material = [], scene.material
         tables = material.by_region(scene.geometry.regions)
         groups: dict[tuple[str, float], list[str]] = {}
@@ -54,7 +51,7 @@ class Limits:
                 entries.append((name, limit, np.flatnonzero(nodes), "region " + ", ".join(members)))
         if scene.foundation.max_temperature is not None:
             entries.append((f"foundation.{KEY}", scene.foundation.max_temperature, None, "the counterface"))
-        return cls(entries, saved) if entries else None
+        return cls(entries) if entries else None
 
     def check(self, step: int, t: float, temperature: np.ndarray, foundation: float) -> None:
         """After a heat step: each entry's highest temperature now, against its limit."""
@@ -67,7 +64,7 @@ class Limits:
 
     def warnings(self, scene, times: np.ndarray) -> list[str]:
         """One line per limit passed: its key and value, the first step past it, the highest temperature and when."""
-        degrees, seconds = (f" {unit(scene, q)}" if scene.units else "" for q in ("temperature", "time"))
+        degrees, seconds = suffix(scene, "temperature"), suffix(scene, "time")
         out = []
         for (name, limit, _, what), (passed, first, when, peak, at) in zip(self.entries, self.seen):
             if passed:

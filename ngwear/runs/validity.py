@@ -20,7 +20,7 @@ import logging
 import numpy as np
 
 from ..model.plausibility import softest, unlikely_modulus
-from ..results.units import unit
+from ..results.units import suffix
 
 log = logging.getLogger(__name__)
 
@@ -118,21 +118,21 @@ class Validity:
         The key is the thermal expansion's where α ΔT, ΔT the body's highest rise at step j, makes half of ε̂ or
         more (the strain is thermal), else the softest modulus's.
         """
-        when = f"step {j} (t = {t:.4g}{_unit(self.scene, 'time')})"
+        when = f"step {j} (t = {t:.4g}{suffix(self.scene, 'time')})"
         if self.thermal is not None:
             key, alpha = self.thermal
             rise = float(self.result.max_temperature[j]) - self.scene.heat.start
             if alpha * rise >= 0.5 * strain:
-                return (f"{key} = {alpha:g}{_unit(self.scene, 'expansion')}{STRAIN}{100 * strain:.3g} % (thermal "
+                return (f"{key} = {alpha:g}{suffix(self.scene, 'expansion')}{STRAIN}{100 * strain:.3g} % (thermal "
                         f"expansion: α ΔT = {100 * alpha * rise:.3g} % at ΔT = {rise:.4g}"
-                        f"{_unit(self.scene, 'temperature difference')})", when)
-        value = "" if self.modulus is None else f" = {self.modulus:g}" + _unit(self.scene, "pressure")
+                        f"{suffix(self.scene, 'temperature difference')})", when)
+        value = "" if self.modulus is None else f" = {self.modulus:g}" + suffix(self.scene, "pressure")
         return f"{self.key}{value}{STRAIN}{100 * strain:.3g} %", when
 
     def _worn(self, final: bool = False) -> str:
-        (t, share), (end, last), time = self.worn, self.last, _unit(self.scene, "time")
+        (t, share), (end, last), time = self.worn, self.last, suffix(self.scene, "time")
         later = f", over {100 * last:.3g} % at t = {end:.4g}{time}" if final and end > t else ""
-        return (f"{WORN}g = {self.g:g}{_unit(self.scene, 'length')}) is worn through at t = {t:.4g}{time} over "
+        return (f"{WORN}g = {self.g:g}{suffix(self.scene, 'length')}) is worn through at t = {t:.4g}{time} over "
                 f"{100 * share:.3g} % of Γ_C{later}; beyond it the paper's model carries the load rigidly, without "
                 "friction or wear")
 
@@ -148,8 +148,3 @@ def _expansion(scene) -> tuple[str, float] | None:
     own = region in material.regions and material.regions[region].expansion is not None
     return (f"material.regions.{region}.expansion" if own else "material.expansion"), table.expansion
 
-
-def _unit(scene, quantity: str) -> str:
-    """`` unit`` of a quantity in an SI scene, nothing in a dimensionless one."""
-    symbol = unit(scene, quantity)
-    return "" if symbol is None else f" {symbol}"
