@@ -124,25 +124,27 @@ def test_fading_friction_through_a_stop_is_the_hand_computed_recursion():
 
 
 
-def test_a_contact_conductance_couples_the_body_and_the_disc_as_the_hand_computed_recursion(monkeypatch):
+@pytest.mark.parametrize("conductance", [2.0, "4 * p"], ids=["number", "of-the-pressure"])
+def test_a_contact_conductance_couples_the_body_and_the_disc_as_the_hand_computed_recursion(monkeypatch, conductance):
     """A contact conductance couples body and disc implicitly: the stop above, by hand, as a 2 × 2 system a step.
 
-    ``heat.interface = "conductance"``, h_c = 2: the faces exchange G (T_d − T_b) besides their shares, G = h_c × the
-    touching area; per step the backward-Euler system
+    ``heat.interface = "conductance"``, h_c = 2 or 4 p (of the last step's pressure, as μ(T) is of its T): the faces
+    exchange G (T_d − T_b) besides their shares, G = Σ m_i h_c,i over the touching points; per step the system
 
         C_b (T_b − T_b') = Δt (η P + G (T_d − T_b)),   C_d (T_d − T_d') = Δt ((1 − η) P + H_d (T_∞ − T_d) − G (T_d − T_b)),
 
     and the body's balance, the exchange included, to round-off at every step.
     """
     seen = balances(monkeypatch)
-    result = ngwear.simulate(lumped_stop(**{"heat.interface": "conductance", "heat.contact_conductance": 2.0}),
+    result = ngwear.simulate(lumped_stop(**{"heat.interface": "conductance", "heat.contact_conductance": conductance}),
                              progress=False)
     assert result.completed
-    times, dt, N, h = result.times, 4.0 / 20, 1.0, 2.0
-    touching = (result.pressure + result.reaction > 0) @ result.weights
+    times, dt, N = result.times, 4.0 / 20, 1.0
+    touching = result.pressure + result.reaction > 0
     body, disc = [1.0], [1.0]
     for j, t in enumerate(times[1:], start=1):
-        power, G = (0.5 - 0.05 * body[-1]) * N * (1 - t / 4), h * touching[j]
+        h = np.full(len(result.weights), 2.0) if conductance == 2.0 else 4 * result.pressure[j - 1]
+        power, G = (0.5 - 0.05 * body[-1]) * N * (1 - t / 4), (result.weights * h) @ touching[j]
         system = np.array([[0.2 + dt * G, -dt * G], [-dt * G, 3.0 + dt * (0.5 + G)]])
         b, d = np.linalg.solve(system, [0.2 * body[-1] + dt * 0.5 * power,
                                         3.0 * disc[-1] + dt * (0.5 * power + 0.5 * 1.0)])
@@ -482,3 +484,11 @@ def test_temperature_limits_are_said_with_the_region_the_step_and_the_temperatur
     assert resumed.warnings == whole.warnings
     unlimited = ngwear.simulate(scene.replace(**{key: None for key in limits}), progress=False)
     assert not [w for w in unlimited.warnings if "max_temperature" in w]
+
+
+def test_a_contact_conductance_of_the_state_out_of_range_stops_the_run_in_one_line_keeping_the_steps():
+    result = ngwear.simulate(lumped_stop(**{"heat.interface": "conductance",
+                                            "heat.contact_conductance": "1 - 100 * p"}), progress=False)
+    assert not result.completed and result.steps >= 0
+    assert "heat.contact_conductance: must be >= 0 at every contact point" in result.status, result.status
+    assert "\n" not in result.status

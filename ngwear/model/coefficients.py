@@ -22,13 +22,20 @@ import numpy as np
 from . import expressions, function_tokens
 from .keys import SceneError, range_text
 
-RANGES = {"friction": {"lo": 0}, "wear": {"lo": 0}, "stiffness": {"lo": 0, "lo_open": True}}
-"""The range of each coefficient, at every contact point."""
+RANGES = {"contact.friction": {"lo": 0}, "contact.wear": {"lo": 0}, "contact.stiffness": {"lo": 0, "lo_open": True},
+          "heat.contact_conductance": {"lo": 0}}
+"""The range of each coefficient, at every contact point (by its dotted key)."""
+
+
+def _key(name: str) -> str:
+    """The dotted key of a coefficient: ``contact.<name>`` for a contact coefficient's name, else ``name`` itself."""
+    return name if "." in name else f"contact.{name}"
 
 
 def normalised(value, name: str):
     """A float, a checked expression (or function token) string, a tuple of floats or a table of T; else a SceneError."""
-    key, bounds = f"contact.{name}", RANGES[name]
+    key = _key(name)
+    bounds = RANGES[key]
     if isinstance(value, bool):
         raise SceneError(f"{key}: must be a number, an expression in x, y, z or a list of numbers (got {value!r})")
     if isinstance(value, (int, float)):
@@ -59,7 +66,7 @@ def _table(key: str, rows: np.ndarray) -> tuple[tuple[float, float], ...]:
     if not np.isfinite(temperatures).all() or (np.diff(temperatures) <= 0).any():
         raise SceneError(f"{key}: the temperatures of a table [[T, value], …] must be finite and increasing (got "
                          f"{temperatures.tolist()})")
-    bounds = RANGES[key.split(".")[-1]]
+    bounds = RANGES[key]
     bad = ~np.isfinite(values) | (values <= bounds["lo"] if bounds.get("lo_open") else values < bounds["lo"])
     if bad.any():
         i = int(np.argmax(bad))
@@ -75,28 +82,28 @@ def is_table(value) -> bool:
 
 
 def state_of(value, name: str) -> frozenset[str]:
-    """The names of the state (T, p, v) the coefficient ``contact.<name>`` depends on (empty: a field of x alone)."""
+    """The names of the state (T, p, v) the coefficient ``name`` (see :func:`_key`) depends on (empty: of x alone)."""
     if is_table(value):
         return frozenset({"T"})
     if isinstance(value, str) and not function_tokens.is_token(value):
-        return expressions.Expression.parse(value, f"contact.{name}").state
+        return expressions.Expression.parse(value, _key(name)).state
     return frozenset()
 
 
 def check(key: str, values: np.ndarray, points: np.ndarray | None) -> np.ndarray:
     """``values`` checked against the range of ``key`` (``points``: where they are, for the message)."""
     at = points if points is not None else np.zeros((len(values), 3))
-    return expressions.check_values(key, values, at, **RANGES[key.split(".")[-1]])
+    return expressions.check_values(key, values, at, **RANGES[key])
 
 
 def at_points(value, name: str, points: np.ndarray, state: dict | None = None, t: float | None = None) -> np.ndarray:
-    """The coefficient ``contact.<name>`` at the contact points (n × d): one value per point, checked.
+    """The coefficient ``name`` (``contact.<name>``, or a dotted key) at the contact points (n × d), checked.
 
     ``state``: {"T", "p", "v": arrays (n,)} at the points, for a coefficient of state (:func:`state_of`); a
     refusal names the key, the point, the state there and the time ``t``.
     """
-    key, bounds = f"contact.{name}", RANGES[name]
-    needed = state_of(value, name)
+    key = _key(name)
+    bounds, needed = RANGES[key], state_of(value, name)
     if needed and state is None:
         raise SceneError(f"{key}: depends on the state ({', '.join(sorted(needed))}): evaluated with the state at "
                          "the points (the time loop's, ngwear.numerics.contact.Contact.update)")

@@ -22,6 +22,7 @@ import numpy as np
 from pydantic import field_validator
 
 from . import mandel
+from .coefficients import normalised
 from .keys import Level, Number, SceneError, Section, key
 
 
@@ -112,14 +113,22 @@ class HeatSpec(Section):
         "partition", "how the frictional heat meets the counterface: `partition` (the body takes the share η of "
         "q = μ p ‖v*‖, whatever the faces' temperatures), `conductance` (q split by η at the interface, and the faces "
         "exchange h_c (T_f − T) where they touch, implicitly)", reuse=Level.NOTHING)
-    contact_conductance: Number | None = key(
+    contact_conductance: float | str | tuple[float, ...] | tuple[tuple[float, float], ...] | None = key(
         None, "`heat.interface = \"conductance\"`: h_c, the heat the touching faces exchange per unit area and "
-        "degree (where they do not touch, none)", reuse=Level.NOTHING, shown="— (needed with `conductance`)", ge=0)
+        "degree (where they do not touch, none): a number or a field over Γ_C (as `contact.friction`: of x, y, z "
+        "and the state p, T, v)", reuse=Level.NOTHING, shown="— (needed with `conductance`)",
+        allowed=">= 0 at every contact point")
     scheme: Literal["consistent", "bounded"] = key(
         "consistent", "the heat's backward-Euler step: `consistent` (the consistent capacity and conduction, most "
         "accurate at the face; where a step is short against h²/κ a node may fall below T₀, which a run says), "
         "`bounded` (flux-corrected: no temperature below the lowest it started from or is cooled towards)",
         reuse=Level.NOTHING)
+
+    @field_validator("contact_conductance", mode="before")
+    @classmethod
+    def _conductance(cls, value):
+        """A number, an expression (its syntax checked) or a table of T, as a contact coefficient."""
+        return None if value is None else normalised(value, "heat.contact_conductance")
 
     @field_validator("convection", mode="before")
     @classmethod

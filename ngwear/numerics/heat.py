@@ -38,6 +38,7 @@ import numpy as np
 import scipy.sparse as sp
 from ngsolve.fem import NODE_TYPE
 
+from ..model.coefficients import at_points, state_of
 from ..model.thermal import partition, region_properties
 from .counterface_temperature import Lumped, counterface
 from .pardiso import Pardiso
@@ -45,6 +46,8 @@ from .stiffness import assembled
 
 FACTORS = 4
 """Factorisations kept, one per step size (the most recently used)."""
+CONDUCTANCE = "heat.contact_conductance"
+"""The key of h_c (a contact coefficient: a number, a field of x, or of the state p, T, v)."""
 UNDERSHOOT = 0.01
 """How far below the lowest temperature it starts from or is cooled towards a node may fall, as a share of the spread
 of temperatures above it, before a run says so."""
@@ -108,8 +111,7 @@ class Heat:
         self.counterface = counterface(scene)
         self.time = self.power = self.supplied = self.convected = self.removed = self.exchanged = 0.0
         self.lowest = (self.start, 0.0)
-        h = scene.heat
-        self.conductance = h.contact_conductance if h.interface == "conductance" else None
+
 
     def _assemble(self, mesh: ngs.Mesh, points) -> None:
         """M, A, R, r, E and the contact points' weights on the mesh as it is; no factorisation yet."""
@@ -134,6 +136,10 @@ class Heat:
             self.fluxes = Antidiffusion.of(consistent, conduction, exchange)
         self.evaluation = _evaluation(self.space, points)
         self.weights = points.weights
+        law = heat.contact_conductance if heat.interface == "conductance" else None
+        self.conductance_of_state = law is not None and bool(state_of(law, CONDUCTANCE))
+        self.conductance = None if law is None or self.conductance_of_state else at_points(law, CONDUCTANCE,
+                                                                                          points.coords)
         touching = mesh.Boundaries("contact").Neighbours(ngs.VOL).Mask()
         self.partition = partition(self.scene, [name for i, name in enumerate(mesh.GetMaterials()) if touching[i]])
         self._spread = (self.evaluation.T @ sp.diags(self.partition * self.weights)).tocsr()     # Eᵀ diag(η m)
@@ -191,7 +197,10 @@ class Heat:
         return self.temperature
 
     def _gains(self, touching) -> np.ndarray | None:
-        """g_i = m_i h_c at the points in contact (None: no exchange, ``partition`` or nothing touching)."""
+        """g_i = m_i h_c,i at the points in contact (None: no exchange, ``partition`` or nothing touching).
+
+        h_c at the points: fixed, or of the state, set before each step from the last one's (``conductance``).
+        """
         if self.conductance is None or touching is None or not np.any(touching):
             return None
         return self.weights * self.conductance * np.asarray(touching, dtype=float)

@@ -23,8 +23,9 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..model.coefficients import at_points
 from ..numerics.expansion import ThermalLoad
-from ..numerics.heat import Heat, frictional_power
+from ..numerics.heat import CONDUCTANCE, Heat, frictional_power
 from ..results.units import suffix
 from .temperature_limits import CHECKPOINT as LIMITS
 from .temperature_limits import Limits
@@ -106,17 +107,20 @@ class Heating:
                 self.load = ThermalLoad(self.scene, disc.fes, self.heat.space)
 
     def before(self, state, caches):
-        """Before the step after the state's: its coefficients at the state (T, p, ‖v*‖), the thermal load of T.
+        """Before the step after the state's: its coefficients at the state (T, p, ‖v*‖), h_c too, the load of T.
 
         Returns the state with the coefficients and the reference μ the step is solved with (f_th goes into
         ``caches``); a coefficient out of range raises its SceneError (one line naming the key, the point, the state
         there and t).
         """
-        contact = self.contact
+        contact, heat = self.contact, self.heat
+        values = {"p": state.pressure, "v": contact.motion.speeds(state.instant.speed)}
+        if heat is not None:
+            values["T"] = heat.surface_temperature()
+            if heat.conductance_of_state:                   # h_c of the last step's state, as μ and κ are
+                heat.conductance = at_points(self.scene.heat.contact_conductance, CONDUCTANCE, contact.coords, values,
+                                             state.instant.t)
         if contact.stateful:
-            values = {"p": state.pressure, "v": contact.motion.speeds(state.instant.speed)}
-            if self.heat is not None:
-                values["T"] = self.heat.surface_temperature()
             coefficients = state.coefficients.updated(self.scene.contact, contact.coords, values, state.instant.t)
             friction, reference = coefficients.friction, state.reference
             if reference is not None and \
