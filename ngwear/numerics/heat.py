@@ -112,7 +112,6 @@ class Heat:
         self.time = self.power = self.supplied = self.convected = self.removed = self.exchanged = 0.0
         self.lowest = (self.start, 0.0)
 
-
     def _assemble(self, mesh: ngs.Mesh, points) -> None:
         """M, A, R, r, E and the contact points' weights on the mesh as it is; no factorisation yet."""
         props, heat = region_properties(self.scene), self.scene.heat
@@ -169,7 +168,8 @@ class Heat:
         q = np.asarray(generated, dtype=float)
         if q.shape != self.weights.shape:
             raise ValueError(f"heat: one frictional power per contact point ({len(self.weights)}) (got {q.shape})")
-        self.power, share = float(self.weights @ q), (1 - self.partition) * float(self.weights @ q)
+        self.power = float(self.weights @ q)
+        share = (1 - self.partition) * self.power
         rhs = self.mass @ self.temperature + dt * (self._spread @ q + self._surroundings)
         gains = self._gains(touching)
         if gains is None:
