@@ -46,6 +46,12 @@ def region_properties(scene) -> dict[str, Thermal]:
             for name, table in scene.material.by_region(scene.geometry.regions).items()}
 
 
+def limited(scene) -> bool:
+    """Whether the scene limits a temperature: ``material.max_temperature`` of a region, ``foundation.max_temperature``."""
+    return scene.foundation.max_temperature is not None or any(
+        table.max_temperature is not None for table in scene.material.by_region(scene.geometry.regions).values())
+
+
 def partition(scene, contact_regions) -> float:
     """η, the body's share of the frictional heat: ``heat.partition``, or e_b / (e_b + e_f) for ``effusivity``.
 

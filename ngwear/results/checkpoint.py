@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model.scene import Scene, SceneError
+from ..model.thermal import limited
 from ..numerics.systems import unknowns
 from .folder import FolderError, read_arrays, replacing
 from .mesh_file import checked_mesh, kept_mesh
@@ -178,10 +179,8 @@ def _heat_keys(scene: Scene, rows: int) -> tuple[str, ...]:
         return ()
     parts = ("temperature", "heat", "counterface")
     started = parts if scene.programme is not None and rows else ()
-    limited = scene.foundation.max_temperature is not None or any(
-        t.max_temperature is not None for t in scene.material.by_region(scene.geometry.regions).values())
     return (*(f"heat_{p}" for p in parts), "temperature_steps", "temperature_fields",
-            *(f"heat_started_{p}" for p in started), *(("heat_limits",) if limited else ()))
+            *(f"heat_started_{p}" for p in started), *(("heat_limits",) if limited(scene) else ()))
 
 
 def _surface(path: Path, data: dict, mesh) -> dict[str, np.ndarray]:

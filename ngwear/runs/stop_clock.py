@@ -101,17 +101,21 @@ class StopClock:
         if stop >= s.count:                             # the last dwell, to the programme's end
             self.aim = (s.count - 1, self.m + 1)
             instant = contact.motion.at(s.end, self.aim)
-            length = instant.t - t
-            count = min(math.ceil(length * self.m / s.duration[-1]), DWELL_STEPS)
-            return Target(instant, integrator.rest(state.wear), still=True, heat_steps=(length / count,) * count,
-                          unloaded=True)
+            return Target(instant, integrator.rest(state.wear), still=True,
+                          heat_steps=self._dwell_steps(instant.t - t, s.count - 1), unloaded=True)
         instant = contact.motion.at(float(s.start[stop]), (stop, 0))
         start = state.wear + self.added * self._increment() if self.added else state.wear
         before = stop - 1                               # the dwell before the stop it reaches
         length = float(s.dwell[before]) if self.added else instant.t - t
-        count = min(math.ceil(length * self.m / s.duration[before]), DWELL_STEPS) if length > 0 else 0
         return Target(instant, integrator.rest(start), still=True, jumped=int(self.added),
-                      heat_steps=(length / count,) * count if count else ())
+                      heat_steps=self._dwell_steps(length, before))
+
+    def _dwell_steps(self, length: float, stop: int) -> tuple[float, ...]:
+        """The heat's steps over a dwell of ``length`` after ``stop``: of that stop's d/m, at most :data:`DWELL_STEPS`."""
+        if length <= 0:
+            return ()
+        count = min(math.ceil(length * self.m / self.schedule.duration[stop]), DWELL_STEPS)
+        return (length / count,) * count
 
     def judge(self, times, rates) -> bool:
         """Every step is accepted (a stop's steps are uniform); the run is now at the step solved."""

@@ -10,6 +10,7 @@ from __future__ import annotations
 import ngsolve as ngs
 import numpy as np
 
+from ..model.thermal import limited
 from ..results.units import suffix
 
 KEY = "max_temperature"
@@ -36,6 +37,8 @@ class Limits:
     @classmethod
     def of(cls, scene, mesh: ngs.Mesh) -> Limits | None:
         """The limits of ``scene`` on the body's ``mesh`` (None without any)."""
+        if not limited(scene):
+            return None
         entries, material = [], scene.material
         tables = material.by_region(scene.geometry.regions)
         groups: dict[tuple[str, float], list[str]] = {}
@@ -51,7 +54,7 @@ class Limits:
                 entries.append((name, limit, np.flatnonzero(nodes), "region " + ", ".join(members)))
         if scene.foundation.max_temperature is not None:
             entries.append((f"foundation.{KEY}", scene.foundation.max_temperature, None, "the counterface"))
-        return cls(entries) if entries else None
+        return cls(entries)
 
     def check(self, step: int, t: float, temperature: np.ndarray, foundation: float) -> None:
         """After a heat step: each entry's highest temperature now, against its limit."""
