@@ -18,6 +18,7 @@ from ..results.checkpoint import saved_scene
 from ..results.folder import NoSpace, hold, no_space
 from ..results.material_summary import describe
 from ..results.summary import LAST_STEP
+from ..results.units import suffix
 from ..results.units import unit as unit_of
 from ..runs.checks import WORN_OUT
 from ..runs.simulate import Stages, simulate
@@ -129,8 +130,7 @@ def write(result, out: Path, pictures: bool, check: tuple[str, str] | None = Non
         text = "never" if key in ("gap_reached_at", "stops_to_limit") and value is None else (
             f"{value + 0.0:.4g}" if isinstance(value, float) else f"{value}")       # + 0.0: never −0
         print(f"{key:<{width}}  {text} {unit[key]}" if key in unit and value is not None else f"{key:<{width}}  {text}")
-    volume = f" {unit_of(result.scene, 'volume')}" if unit else ""
-    degrees = f" {unit_of(result.scene, 'temperature')}" if unit else ""
+    volume, degrees = suffix(result.scene, "volume"), suffix(result.scene, "temperature")
     for b in blocks:                                # a programme's wear per block
         per_mj = "" if b["volume_per_megajoule"] is None else f", {b['volume_per_megajoule']:.4g}{volume} per MJ"
         hot = "" if "peak_face_temperature" not in b else (
